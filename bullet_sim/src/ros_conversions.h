@@ -1,0 +1,37 @@
+// The one place where bullet_sim's core types become ROS messages.
+#pragma once
+
+#include <geometry_msgs/TransformStamped.h>
+#include <tf2/LinearMath/Transform.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/time.h>
+#include <sensor_msgs/LaserScan.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <string>
+#include <vector>
+
+#include "bullet_sim/simulator.h"
+
+namespace bullet_sim {
+
+tf2::Transform toTf(const Pose2& pose);
+geometry_msgs::TransformStamped toTransform(const tf2::Transform& t, const ros::Time& stamp, const std::string& parent,
+                                            const std::string& child);
+
+// Odometry as the robot's encoders report it (pose, covariance and twist), odom -> base.
+nav_msgs::Odometry toOdometry(const Simulator& sim, const ros::Time& stamp, const std::string& odom_frame,
+                              const std::string& base_frame);
+
+// The true pose and twist in the world frame (evaluation only).
+nav_msgs::Odometry toGroundTruth(const Simulator& sim, const ros::Time& stamp, const std::string& world_frame,
+                                 const std::string& base_frame);
+
+// Fills `msg` (kept between calls so that ranges are not reallocated) with a scan.
+void toLaserScan(const Simulator& sim, const std::vector<float>& ranges, const ros::Time& stamp, double scan_period,
+                 const std::string& frame, sensor_msgs::LaserScan* msg);
+
+// Walls, furniture, pillars, and the ground-truth regions and doors, for rviz.
+visualization_msgs::MarkerArray worldMarkers(const World& world, const std::string& frame);
+
+}  // namespace bullet_sim
