@@ -14,7 +14,9 @@ DEB_PACKAGES=(
   libtf2-ros-dev libtf2-geometry-msgs-dev libtf2-eigen-dev python3-tf2-ros tf2-tools
   libstd-msgs-dev libstd-srvs-dev libgeometry-msgs-dev libsensor-msgs-dev libnav-msgs-dev
   libvisualization-msgs-dev libros-rosgraph-msgs-dev libactionlib-dev libactionlib-msgs-dev python3-actionlib
-  ros-robot-state-publisher
+  ros-robot-state-publisher rosbash
+  python3-sensor-msgs python3-nav-msgs python3-geometry-msgs python3-std-msgs python3-visualization-msgs
+  python3-tf2-msgs python3-rosgraph-msgs python3-std-srvs python3-actionlib-msgs
   libbullet-dev liburdfdom-dev libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev
   libgtest-dev libbenchmark-dev clang-14 libclang-rt-14-dev
   rviz xvfb x11-apps imagemagick python3-yaml python3-numpy python3-matplotlib
