@@ -26,8 +26,8 @@ east-west hallways into a ladder with six hallway loops.  Each piece of a
 north-south hallway between two east-west hallways is its own region
 (`vhall_<k>_<j>`), and each junction opening between hallway regions is listed
 as a door whose width is the hallway width.  Every room is 6.4 m deep and
-about 4.6-6 m wide, has one door to its hallway, and a few pairs of neighbouring
-rooms share an extra connecting door.
+about 4-6 m wide, has one door (0.9-1.2 m) to its hallway, and a few pairs of
+neighbouring rooms share an extra connecting door.
 
 The small `World` / `RoomFrame` helpers below are generic: the hand-designed
 worlds (institute, small_loop) were laid out with the same conventions.
@@ -35,8 +35,6 @@ worlds (institute, small_loop) were laid out with the same conventions.
 
 import math
 import sys
-
-EPS = 1e-9
 
 
 def fmt(x):
@@ -306,8 +304,8 @@ def row_blocks(row):
 
 def split_block(rng, x0, x1):
     width = x1 - x0
-    n = max(1, int(round(width / 5.2)))
-    weights = [1.0 + rng.uniform(-0.12, 0.12) for _ in range(n)]
+    n = max(1, int(math.ceil(width / 5.4)))
+    weights = [1.0 + rng.uniform(-0.1, 0.1) for _ in range(n)]
     total = sum(weights)
     xs, acc = [x0], 0.0
     for w in weights[:-1]:
@@ -355,7 +353,7 @@ def build_large_floor():
         "Four east-west hallways (hall_0..hall_3, 2.2 m wide, the whole width) at",
         "y = 6.4, 21.4, 36.4, 51.4 (south walls); three north-south hallways at",
         "x = 24.0, 49.0, 74.0 (west walls) join them into a ladder with six loops.",
-        "Rooms are 6.4 m deep, about 4.6-6 m wide, in eight rows, each with one door",
+        "Rooms are 6.4 m deep and %s m wide, in eight rows, each with one door",
         "to its hallway; some neighbouring rooms also share a connecting door.",
         "Junction openings between hallway regions are listed as doors (width 2.2).",
     ]
@@ -392,7 +390,7 @@ def build_large_floor():
             w.door(vhall_name(k, j), hall_name(j + 1), (cx, y1), HALL_W,
                    "hallway junctions", junction=True)
 
-    rooms = {}
+    rooms, widths = {}, []
     for r, (y0, y1, hj, side) in enumerate(ROWS):
         rects = []
         for (bx0, bx1) in row_blocks(r):
@@ -418,8 +416,9 @@ def build_large_floor():
             f = RoomFrame(x0, y0, x1, y1, side)
             wd = rng.choice([0.9, 0.9, 1.0, 1.1, 1.2])
             ud = snap(rng.uniform(0.85 + wd / 2.0, f.W - 0.85 - wd / 2.0))
-            rooms[(r, i)] = dict(name=name, frame=f, ud=ud, wd=wd, hall=hj)
+            rooms[(r, i)] = dict(name=name, frame=f, ud=ud, wd=wd, hall=hj, row=r)
             w.region_rect(name, "room", x0, y0, x1, y1, "row %d rooms" % r)
+            widths.append(x1 - x0)
         for i in links:
             rooms[(r, i)]["link"] = i + 1
             rooms[(r, i + 1)]["link"] = i
@@ -444,6 +443,11 @@ def build_large_floor():
                 right_is_east = (side == "S")
                 sides.add("right" if east == right_is_east else "left")
             furnish(w, rng, f, room["ud"], room["wd"], "%s" % room["name"], sides)
+    w.header = [h % ("%s-%s" % (fmt(min(widths)), fmt(max(widths)))) if "%s" in h else h
+                for h in w.header]
+    w.header.insert(8, "%d rooms, %d doors (%d connecting doors between rooms)."
+                    % (len(widths), len(w.doors),
+                       sum(1 for d in w.doors if d[1].startswith("room") and d[2].startswith("room"))))
     return w, rooms
 
 
@@ -470,10 +474,7 @@ def build_tour(w, rooms):
         inner = f.pt(room["ud"], f.D / 2.0)
         goto(inner)
         if "link" in room and not room.get("done_link"):
-            other = None
-            for key, cand in rooms.items():
-                if cand["name"] == room["name"]:
-                    other = rooms[(key[0], room["link"])]
+            other = rooms[(room["row"], room["link"])]
             f2 = other["frame"]
             other["done_link"] = room["done_link"] = True
             goto(f2.pt(other["ud"], f2.D / 2.0))

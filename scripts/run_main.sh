@@ -12,7 +12,9 @@ export PATH="/usr/bin:$PATH"
 
 bash "$ROOT/scripts/setup.sh"
 # shellcheck disable=SC1091
+set +u  # ROS setup scripts read unset variables
 source "$WS/devel/setup.bash"
+set -u
 BAG="$OUT/${WORLD}_tour.bag"
 echo "[main] simulating '$WORLD' at 10x real time, recording $BAG"
 roslaunch hybrid_slam sim.launch world:="$WORLD" rate:=10 rviz:=false seed:=1 record:="$BAG"

@@ -51,10 +51,18 @@ CollisionWorld::CollisionWorld(const World& world, double robot_radius)
     shapes_.push_back(std::move(shape));
     objects_.push_back(std::move(object));
   };
-  for (const OrientedBox& b : world.solidBoxes())
-    add(std::make_unique<btBoxShape>(btVector3(b.half_x, b.half_y, height_ / 2)), b.center, b.yaw);
-  for (const Cylinder& c : world.cylinders)
-    add(std::make_unique<btCylinderShapeZ>(btVector3(c.radius, c.radius, height_ / 2)), c.center, 0.0);
+  // Zero collision margins: the shapes are exactly the world's (Bullet's default 4 cm margin rounds
+  // box edges and shifts ray hits by up to a few centimetres).
+  for (const OrientedBox& b : world.solidBoxes()) {
+    auto box = std::make_unique<btBoxShape>(btVector3(b.half_x, b.half_y, height_ / 2));
+    box->setMargin(0.0);
+    add(std::move(box), b.center, b.yaw);
+  }
+  for (const Cylinder& c : world.cylinders) {
+    auto cylinder = std::make_unique<btCylinderShapeZ>(btVector3(c.radius, c.radius, height_ / 2));
+    cylinder->setMargin(0.0);
+    add(std::move(cylinder), c.center, 0.0);
+  }
   world_->updateAabbs();
   // A sphere at mid-height cuts the vertical obstacles exactly like the round footprint does.
   footprint_ = std::make_unique<btSphereShape>(robot_radius);

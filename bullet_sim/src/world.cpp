@@ -147,7 +147,15 @@ void World::bounds(Vec2* min, Vec2* max) const {
     max->x = std::max(max->x, x + pad);
     max->y = std::max(max->y, y + pad);
   };
-  for (const auto& b : solidBoxes()) grow(b.center.x, b.center.y, std::hypot(b.half_x, b.half_y));
+  for (const auto& b : solidBoxes()) {
+    const double c = std::cos(b.yaw), s = std::sin(b.yaw);
+    const double ex = std::abs(c) * b.half_x + std::abs(s) * b.half_y;  // half extents of the rotated box
+    const double ey = std::abs(s) * b.half_x + std::abs(c) * b.half_y;
+    min->x = std::min(min->x, b.center.x - ex);
+    min->y = std::min(min->y, b.center.y - ey);
+    max->x = std::max(max->x, b.center.x + ex);
+    max->y = std::max(max->y, b.center.y + ey);
+  }
   for (const auto& c : cylinders) grow(c.center.x, c.center.y, c.radius);
   if (min->x > max->x) *min = *max = {0.0, 0.0};
 }
