@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "bullet_sim/ray_caster.h"
+
 namespace bullet_sim {
 namespace {
 
@@ -160,12 +162,19 @@ visualization_msgs::MarkerArray worldMarkers(const World& world, const std::stri
     label.text = r.name;
     out.markers.push_back(label);
   }
+  // A door is drawn as a flat bar across its opening: the wall runs along the axis on which the
+  // opening's edges are nearest.
+  const RayCaster2D caster(world);
   for (const Door& d : world.doors) {
-    auto m = base("doors", visualization_msgs::Marker::CYLINDER);
+    auto m = base("doors", visualization_msgs::Marker::CUBE);
+    const double along_x = caster.cast(d.center.x, d.center.y, 1, 0, 50) + caster.cast(d.center.x, d.center.y, -1, 0, 50);
+    const double along_y = caster.cast(d.center.x, d.center.y, 0, 1, 50) + caster.cast(d.center.x, d.center.y, 0, -1, 50);
     m.pose.position = point(d.center.x, d.center.y, 0.02);
-    m.scale.x = m.scale.y = d.width;
-    m.scale.z = 0.02;
-    m.color = rgba(1.0f, 0.6f, 0.0f, 0.5f);
+    m.pose.orientation = yawToQuaternion(along_x <= along_y ? 0.0 : M_PI / 2);
+    m.scale.x = d.width;
+    m.scale.y = 0.15;
+    m.scale.z = 0.04;
+    m.color = rgba(1.0f, 0.6f, 0.0f, 0.9f);
     out.markers.push_back(m);
   }
   return out;

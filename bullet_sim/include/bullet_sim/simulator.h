@@ -33,9 +33,9 @@ struct SimParams {
   double laser_noise_stddev = 0.01;   // m, Gaussian range noise
 
   // Odometry error model (per wheel): measured = true * (1 + radius_error) + N(0, k^2 |true|)
-  double odom_left_radius_error = 0.004;   // relative, systematic
-  double odom_right_radius_error = -0.003; // relative, systematic
-  double odom_wheelbase_error = 0.01;      // relative error of the wheelbase the odometry assumes
+  double odom_left_radius_error = 0.001;   // relative, systematic
+  double odom_right_radius_error = -0.001; // relative, systematic
+  double odom_wheelbase_error = 0.003;     // relative error of the wheelbase the odometry assumes
   double odom_wheel_noise = 0.005;         // k, m^(1/2): variance k^2 |distance| per wheel
 
   uint64_t seed = 1;
