@@ -62,7 +62,7 @@ RayCaster2D::RayCaster2D(const World& world) {
   if (depth_ >= kMaxStack) throw std::runtime_error("RayCaster2D: obstacle tree too deep");
 }
 
-double RayCaster2D::cast(double ox, double oy, double dx, double dy, double max_range) const {
+double RayCaster2D::cast(double ox, double oy, double dx, double dy, double max_range, size_t* hit_index) const {
   const double inf = std::numeric_limits<double>::infinity();
   double best = max_range;
   bool hit = false;
@@ -85,7 +85,8 @@ double RayCaster2D::cast(double ox, double oy, double dx, double dy, double max_
     if (e.t > best) continue;
     const btDbvtNode* node = e.node;
     if (node->isleaf()) {
-      const Primitive& p = primitives_[static_cast<size_t>(reinterpret_cast<std::intptr_t>(node->data))];
+      const size_t index = static_cast<size_t>(reinterpret_cast<std::intptr_t>(node->data));
+      const Primitive& p = primitives_[index];
       if (p.radius > 0.0) {
         // |o + t d - c|^2 = r^2, nearest root with t >= 0
         const double fx = ox - p.ax, fy = oy - p.ay;
@@ -97,6 +98,7 @@ double RayCaster2D::cast(double ox, double oy, double dx, double dy, double max_
           if (t >= 0.0 && t < best) {
             best = t;
             hit = true;
+            if (hit_index) *hit_index = index;
           }
         }
       } else {
@@ -110,6 +112,7 @@ double RayCaster2D::cast(double ox, double oy, double dx, double dy, double max_
           if (t >= 0.0 && t < best && s >= 0.0 && s <= 1.0) {
             best = t;
             hit = true;
+            if (hit_index) *hit_index = index;
           }
         }
       }

@@ -23,20 +23,22 @@ class RayCaster2D {
 
   // Distance from (ox, oy) along the unit direction (dx, dy) to the first obstacle surface, or
   // +infinity if there is none closer than max_range. Thread-safe (const, no shared scratch).
-  double cast(double ox, double oy, double dx, double dy, double max_range) const;
+  // `hit`, when given, receives the index of the primitive hit (unchanged when nothing is hit).
+  double cast(double ox, double oy, double dx, double dy, double max_range, size_t* hit = nullptr) const;
 
   // `count` rays from (ox, oy) at angles start + i * increment (rad, world frame); writes the exact
   // distances (or +inf) to out[0..count).
   void castFan(double ox, double oy, double start, double increment, size_t count, double max_range, float* out) const;
 
+  // A box face (segment a-b, radius 0) or a pillar (circle of centre a): what the laser can hit.
+  struct Primitive {
+    double ax, ay, bx, by, radius;
+  };
   size_t primitiveCount() const { return primitives_.size(); }
+  const Primitive& primitive(size_t i) const { return primitives_[i]; }
   int treeDepth() const { return depth_; }
 
  private:
-  struct Primitive {
-    // Segment a-b when radius == 0, otherwise a circle of centre a.
-    double ax, ay, bx, by, radius;
-  };
   static constexpr int kMaxStack = 256;
 
   std::vector<Primitive> primitives_;

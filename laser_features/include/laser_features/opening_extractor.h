@@ -1,0 +1,108 @@
+// Openings a robot can pass (doors, hallway branches): the places where Tomatis, Nourbakhsh &
+// Siegwart 2001 switch between the topological and the metric map. Three cues, each with a check
+// that the gap is free and deep enough:
+//  (a) range discontinuities: a jump from near to far (or to no return) between neighbouring valid
+//      beams; the opening spans from the near edge point to the nearest point on the far side;
+//  (b) gaps between collinear segments (two pieces of one wall with a door between them);
+//  (c) in a hallway, "large steps perpendicular to the direction of motion": a gap between two pieces
+//      of the same side wall, parallel to the hallway axis, possibly offset (a side branch).
+// A gap found by several cues is reported once, preferring (b), then (c), then (a).
+#pragma once
+
+#include "laser_features/geometry.h"
+#include "laser_features/line_extractor.h"
+#include "laser_features/place_classifier.h"
+#include "laser_features/scan.h"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <vector>
+
+namespace laser_features {
+
+enum class OpeningKind : uint8_t { kUnknown = 0, kDoor = 1, kJunction = 2 };
+enum class OpeningSource : uint8_t { kRangeDiscontinuity = 0, kCollinearGap = 1, kHallwayStep = 2 };
+
+struct Opening {
+  Eigen::Vector2d left = Eigen::Vector2d::Zero();    // m, edge on the left looking along theta
+  Eigen::Vector2d right = Eigen::Vector2d::Zero();   // m, edge on the right looking along theta
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();  // m, midpoint of the edges
+  double theta = 0.0;  // rad, normal through the opening, pointing away from the sensor
+  double width = 0.0;  // m, passable width
+  OpeningKind kind = OpeningKind::kUnknown;  // door (width <= door_max_width), junction (wider), or
+                                             // unknown (one edge is no wall end: an occlusion gap)
+  OpeningSource source = OpeningSource::kRangeDiscontinuity;
+  // [0, 1]: how deep the free space behind the opening is (saturating at 2 min_depth) times how well
+  // its edges are supported (by wall segments for (a) and (b), 0.8 for (c)); halved for (a) when the
+  // far edge is not a wall end.
+  double confidence = 0.0;
+};
+
+/// Parameters of OpeningExtractor (each with its unit and default).
+struct OpeningExtractorParams {
+  double robot_radius = 0.25;       // m, openings narrower than 2 robot_radius are never reported
+  double min_width = 0.7;           // m, narrowest opening reported
+  double max_width = 3.0;           // m, widest opening reported
+  double door_max_width = 1.3;      // m, up to this width an opening is a door, beyond a junction
+  double min_depth = 0.5;           // m, free space needed behind the opening line
+  double jump_min = 0.5;            // m, range jump between neighbouring beams that starts cue (a)
+  double collinear_chi2 = 13.82;    // -, (b): same line if chi^2 (2 dof) below this (99.9 %) ...
+  double collinear_angle = 0.0524;  // rad (3 deg), ... or if |d alpha| and ...
+  double collinear_distance = 0.05; // m, ... |d r| are both below these
+  double line_tolerance = 0.05;     // m, beams ending this close to the opening line hit its edge
+  double min_line_distance = 0.1;   // m, openings whose line passes closer to the sensor are skipped
+  double max_range_fraction = 0.9;  // -, (a): a near edge beyond this fraction of range_max is where the
+                                    //   scanner stops seeing a wall, not where the wall ends
+  double hallway_parallel_angle = 0.1745;  // rad (10 deg), (c): wall pieces this parallel to the axis
+  double hallway_step_max_offset = 0.5;    // m, (c): largest lateral offset between the two pieces
+  double duplicate_distance = 0.3;  // m, openings with centres closer than this are the same
+};
+
+class OpeningExtractor {
+ public:
+  using Params = OpeningExtractorParams;
+
+  explicit OpeningExtractor(const Params& params = Params());
+  const Params& params() const { return params_; }
+  /// Pre-sizes the work buffers for scans of up to `beams` beams.
+  void reserve(size_t beams);
+
+  /// Fills `openings` (cleared first). `lines` are the segments of the same scan; `place` gives the
+  /// hallway axis for cue (c).
+  void extract(const ScanPoints& points, const std::vector<LineSegment>& lines,
+               const PlaceEstimate& place, std::vector<Opening>* openings);
+
+ private:
+  /// What the beams between the two edges of a candidate opening see.
+  struct Passage {
+    bool clear = false;
+    double depth = 0.0;  // m, deepest point behind the opening line (infinite for a no-return beam)
+  };
+
+  double minWidth() const;
+  void labelBeams(const ScanPoints& points, const std::vector<LineSegment>& lines);
+  Eigen::Vector2d segmentEdge(const ScanPoints& points, const LineSegment& segment, bool at_end) const;
+  Eigen::Vector2d beamEdge(const ScanPoints& points, const std::vector<LineSegment>& lines,
+                           size_t beam, int outward) const;
+  bool isJumpEdge(const ScanPoints& points, size_t beam, int towards) const;
+  Passage checkPassage(const ScanPoints& points, const Eigen::Vector2d& edge_a,
+                       const Eigen::Vector2d& edge_b, const Line& opening_line) const;
+  bool makeOpening(const ScanPoints& points, const Eigen::Vector2d& edge_a, const Eigen::Vector2d& edge_b,
+                   OpeningSource source, double support, Opening* opening) const;
+  void addIfNew(const Opening& opening, std::vector<Opening>* openings) const;
+
+  void findCollinearGaps(const ScanPoints& points, const std::vector<LineSegment>& lines,
+                         std::vector<Opening>* openings) const;
+  void findHallwaySteps(const ScanPoints& points, const std::vector<LineSegment>& lines,
+                        const PlaceEstimate& place, std::vector<Opening>* openings) const;
+  void findRangeDiscontinuities(const ScanPoints& points, const std::vector<LineSegment>& lines,
+                                std::vector<Opening>* openings) const;
+  void searchFarSide(const ScanPoints& points, const std::vector<LineSegment>& lines, size_t near,
+                     int direction, std::vector<Opening>* openings) const;
+
+  Params params_;
+  std::vector<int32_t> beam_line_;  // per beam: index of the line segment it belongs to, or -1
+};
+
+}  // namespace laser_features

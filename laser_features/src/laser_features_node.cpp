@@ -1,0 +1,107 @@
+// laser_features_node: scan in, features out. All extraction is in the core library; this node
+// reads parameters, converts messages and reports bad input (throttled, once per cause).
+#include <ros/ros.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <map>
+
+#include "laser_features/feature_extractor.h"
+#include "laser_features/params_visit.h"
+#include "ros_conversions.h"
+
+namespace laser_features {
+namespace {
+
+// Each parameter from the private namespace; the default is the core's (config/laser_features.yaml
+// holds the same values).
+struct RosParamReader {
+  const ros::NodeHandle& nh;
+  void operator()(const char* name, double* value) const { nh.param(name, *value, *value); }
+  void operator()(const char* name, int* value) const { nh.param(name, *value, *value); }
+  void operator()(const char* name, size_t* value) const {
+    int v = static_cast<int>(*value);
+    nh.param(name, v, v);
+    *value = static_cast<size_t>(std::max(1, v));
+  }
+};
+
+FeatureExtractor::Params readParams(const ros::NodeHandle& pnh) {
+  FeatureExtractor::Params p;
+  visitParams(&p, RosParamReader{pnh});
+  return p;
+}
+
+class FeaturesNode {
+ public:
+  FeaturesNode(ros::NodeHandle nh, ros::NodeHandle pnh)
+      : extractor_(readParams(pnh)), tf_listener_(tf_buffer_) {
+    pnh.param<std::string>("base_frame", base_frame_, "base_link");
+    pnh.param("require_transform", require_transform_, true);
+    pnh.param("transform_timeout", transform_timeout_, 0.1);
+    features_pub_ = nh.advertise<hybrid_slam_msgs::LaserFeatures>("features", 10);
+    markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("features_markers", 2);
+    scan_sub_ = nh.subscribe("scan", 10, &FeaturesNode::onScan, this);
+    ROS_INFO("laser_features: extracting from '%s' into '%s'", scan_sub_.getTopic().c_str(),
+             features_pub_.getTopic().c_str());
+  }
+
+ private:
+  // One throttled error per cause (the cause's text is the key).
+  void reportOnce(const std::string& cause, const std::string& detail) {
+    const ros::WallTime now = ros::WallTime::now();
+    auto it = last_report_.find(cause);
+    if (it != last_report_.end() && (now - it->second).toSec() < 10.0) return;
+    if (last_report_.size() > 100) last_report_.clear();  // causes with varying text stay bounded
+    last_report_[cause] = now;
+    ROS_ERROR("laser_features: %s: %s", scan_sub_.getTopic().c_str(), detail.c_str());
+  }
+
+  void onScan(const sensor_msgs::LaserScanConstPtr& scan) {
+    if (require_transform_ && scan->header.frame_id != base_frame_) {
+      std::string why;
+      if (!tf_buffer_.canTransform(base_frame_, scan->header.frame_id, scan->header.stamp,
+                                   ros::Duration(transform_timeout_), &why)) {
+        reportOnce("no transform " + scan->header.frame_id,
+                   "no transform from the scan's frame '" + scan->header.frame_id + "' to '" + base_frame_ +
+                       "'; scan skipped (" + why + ")");
+        return;
+      }
+    }
+    ScanView view;
+    std::string error = toScanView(*scan, &view);
+    if (error.empty()) extractor_.extract(view, &features_, &error);
+    if (!error.empty()) {
+      reportOnce(error, "bad scan, publishing no features: " + error);
+      features_.clear();
+    }
+    toMsg(features_, scan->header, &msg_);
+    features_pub_.publish(msg_);
+    if (markers_pub_.getNumSubscribers() > 0) {
+      toMarkers(features_, scan->header, &markers_);
+      markers_pub_.publish(markers_);
+    }
+  }
+
+  FeatureExtractor extractor_;
+  Features features_;
+  hybrid_slam_msgs::LaserFeatures msg_;
+  visualization_msgs::MarkerArray markers_;
+  std::string base_frame_;
+  bool require_transform_ = true;
+  double transform_timeout_ = 0.1;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_;
+  std::map<std::string, ros::WallTime> last_report_;
+  ros::Publisher features_pub_, markers_pub_;
+  ros::Subscriber scan_sub_;
+};
+
+}  // namespace
+}  // namespace laser_features
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "laser_features");
+  laser_features::FeaturesNode node{ros::NodeHandle(), ros::NodeHandle("~")};
+  ros::spin();
+  return 0;
+}

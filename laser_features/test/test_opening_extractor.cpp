@@ -1,0 +1,166 @@
+// Openings: doors seen frontally and obliquely (width within 5 cm), junctions, no opening in a
+// closed room or behind an occluding box, no duplicates.
+#include "laser_features/feature_extractor.h"
+
+#include "synthetic_scan.h"
+#include "test_helpers.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace laser_features {
+namespace {
+
+using namespace synthetic;
+using testing_helpers::allFinite;
+
+constexpr double kSigma = 0.01;
+
+Features extractFeatures(const World& world, const Pose2D& sensor, const ScanSpec& spec, std::mt19937* rng) {
+  const std::vector<float> ranges = simulateScan(world, sensor, spec, kSigma, rng);
+  FeatureExtractor extractor;
+  Features features;
+  std::string error;
+  EXPECT_TRUE(extractor.extract(makeView(spec, ranges), &features, &error)) << error;
+  EXPECT_TRUE(allFinite(features));
+  return features;
+}
+
+/// The openings whose centre is within `radius` of `p` (sensor frame).
+std::vector<Opening> openingsNear(const Features& features, const Eigen::Vector2d& p, double radius) {
+  std::vector<Opening> near;
+  for (const Opening& opening : features.openings)
+    if ((opening.center - p).norm() < radius) near.push_back(opening);
+  return near;
+}
+
+/// Checks one opening at the world door centre with the given width and outward world direction.
+void expectOpening(const Features& features, const Pose2D& sensor, const Eigen::Vector2d& world_center,
+                   double width, double world_direction, OpeningKind kind) {
+  const Eigen::Vector2d center = pointInSensorFrame(world_center, sensor);
+  const std::vector<Opening> near = openingsNear(features, center, 0.6);
+  ASSERT_EQ(near.size(), 1u) << "openings near the door: " << near.size() << " of " << features.openings.size();
+  const Opening& opening = near[0];
+  EXPECT_NEAR(opening.width, width, 0.05);
+  EXPECT_LT((opening.center - center).norm(), 0.1);
+  EXPECT_NEAR(normalizeAngle(opening.theta - (world_direction - sensor.theta)), 0.0, 0.1);
+  EXPECT_EQ(opening.kind, kind);
+  EXPECT_NEAR((opening.left - opening.right).norm(), opening.width, 1e-9);
+  // Left is on the left when looking along theta.
+  EXPECT_GT(unitVector(opening.theta + kPi / 2).dot(opening.left - opening.center), 0.0);
+  EXPECT_GT(opening.confidence, 0.3);
+}
+
+TEST(OpeningExtractor, DoorSeenFrontally) {
+  std::mt19937 rng(1);
+  for (const double width : {0.8, 0.9, 1.0, 1.2}) {
+    const World world = roomWithDoor(2.5, width);
+    const Pose2D sensor{2.0, 2.2, 0.3};
+    const Features features = extractFeatures(world, sensor, ScanSpec::full(720), &rng);
+    SCOPED_TRACE(width);
+    expectOpening(features, sensor, {6.0, 2.5}, width, 0.0, OpeningKind::kDoor);
+  }
+}
+
+TEST(OpeningExtractor, DoorSeenObliquelyFromAHallway) {
+  std::mt19937 rng(2);
+  for (const double sensor_x : {7.0, 8.5, 11.5}) {
+    const World world = hallwayWithSideDoor(10.0, 0.9);
+    const Pose2D sensor{sensor_x, 1.0, 0.2};
+    const Features features = extractFeatures(world, sensor, ScanSpec::full(720), &rng);
+    SCOPED_TRACE(sensor_x);
+    expectOpening(features, sensor, {10.0, 2.0}, 0.9, kPi / 2, OpeningKind::kDoor);
+    EXPECT_EQ(features.place_type, PlaceType::kHallway);
+  }
+}
+
+TEST(OpeningExtractor, DoorWidthAccurateOverManyTrials) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> x(1.0, 4.5), y(1.0, 4.0), heading(-kPi, kPi);
+  const World world = roomWithDoor(2.5, 0.9);
+  int found = 0;
+  for (int trial = 0; trial < 50; ++trial) {
+    const Pose2D sensor{x(rng), y(rng), heading(rng)};
+    const Features features = extractFeatures(world, sensor, ScanSpec::full(720), &rng);
+    const std::vector<Opening> near = openingsNear(features, pointInSensorFrame({6.0, 2.5}, sensor), 0.6);
+    EXPECT_LE(near.size(), 1u);
+    if (near.empty()) continue;
+    ++found;
+    EXPECT_NEAR(near[0].width, 0.9, 0.05);
+    EXPECT_EQ(near[0].kind, OpeningKind::kDoor);
+  }
+  EXPECT_GE(found, 47);
+}
+
+TEST(OpeningExtractor, SideBranchIsAJunction) {
+  World world;  // a hallway along x with a 2 m wide corridor branching off upwards at x in [9, 11]
+  world.addWall(0, 0, 30, 0);
+  world.addWall(0, 2, 9, 2);
+  world.addWall(11, 2, 30, 2);
+  world.addWall(9, 2, 9, 12);
+  world.addWall(11, 2, 11, 12);
+  world.addWall(0, 0, 0, 2);
+  world.addWall(30, 0, 30, 2);
+  std::mt19937 rng(4);
+  const Pose2D sensor{7.0, 1.0, -0.1};
+  const Features features = extractFeatures(world, sensor, ScanSpec::full(720), &rng);
+  expectOpening(features, sensor, {10.0, 2.0}, 2.0, kPi / 2, OpeningKind::kJunction);
+}
+
+// Cue (c): the upper hallway wall steps back by 0.3 m across a 1 m gap (a recessed side door);
+// the two wall pieces are parallel to the hallway but not collinear.
+TEST(OpeningExtractor, HallwayStepIsFound) {
+  World world;
+  world.addWall(0, 0, 30, 0);
+  world.addWall(0, 2, 9, 2);
+  world.addWall(10, 2.3, 30, 2.3);
+  world.addWall(7, 2, 7, 6);  // the room behind the gap
+  world.addWall(13, 2.3, 13, 6);
+  world.addWall(7, 6, 13, 6);
+  world.addWall(0, 0, 0, 2);
+  world.addWall(30, 0, 30, 2.3);
+  std::mt19937 rng(8);
+  const Pose2D sensor{6.0, 0.6, 0.0};
+  const Features features = extractFeatures(world, sensor, ScanSpec::full(720), &rng);
+  ASSERT_EQ(features.place_type, PlaceType::kHallway);
+  const std::vector<Opening> near = openingsNear(features, pointInSensorFrame({9.5, 2.15}, sensor), 0.4);
+  ASSERT_EQ(near.size(), 1u);
+  EXPECT_EQ(near[0].source, OpeningSource::kHallwayStep);
+  EXPECT_NEAR(near[0].width, std::hypot(1.0, 0.3), 0.05);
+  EXPECT_EQ(near[0].kind, OpeningKind::kDoor);
+  EXPECT_NEAR(normalizeAngle(near[0].theta - (kPi / 2 + std::atan(0.3))), 0.0, 0.05);  // normal of the gap
+}
+
+TEST(OpeningExtractor, NoOpeningInAClosedRoom) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 20; ++trial) {
+    const World room = rectangularRoom(6.0, 4.0);
+    const Pose2D sensor{1.0 + 0.2 * trial, 1.0 + 0.1 * trial, 0.3 * trial};
+    const Features features = extractFeatures(room, sensor, ScanSpec::full(720), &rng);
+    EXPECT_TRUE(features.openings.empty()) << "trial " << trial << ": " << features.openings.size();
+  }
+}
+
+TEST(OpeningExtractor, NoDoorBehindAnOccludingBox) {
+  World world = rectangularRoom(8.0, 6.0);
+  world.addBox(4.0, 5.4, 1.0, 0.4);  // a cabinet 0.4 m in front of the top wall: it shadows the wall
+  std::mt19937 rng(6);
+  const Pose2D sensor{4.2, 2.0, 0.0};
+  const Features features = extractFeatures(world, sensor, ScanSpec::full(720), &rng);
+  for (const Opening& opening : features.openings)
+    EXPECT_EQ(opening.kind, OpeningKind::kUnknown) << opening.center.transpose() << " width " << opening.width;
+}
+
+TEST(OpeningExtractor, HalfScanSeesTheDoorToo) {
+  std::mt19937 rng(7);
+  const World world = roomWithDoor(2.5, 0.9);
+  const Pose2D sensor{2.5, 2.0, 0.1};
+  for (const bool clockwise : {true, false}) {
+    const Features features = extractFeatures(world, sensor, ScanSpec::half(361, clockwise), &rng);
+    expectOpening(features, sensor, {6.0, 2.5}, 0.9, 0.0, OpeningKind::kDoor);
+  }
+}
+
+}  // namespace
+}  // namespace laser_features
