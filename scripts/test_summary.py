@@ -2,9 +2,10 @@
 """Counts the test cases in catkin's JUnit results and prints 'N passed, N failed, N skipped'.
 
 Usage: test_summary.py RESULTS_DIR [EXPECTED_FILES]
-Each test executable's own results are counted once: a rostest writes its gtest's XML inside a
-'rostest-*.xml' summary, so only that summary's cases are read for it. A result file that is
-missing or unreadable counts as a failure. Exits 1 when anything failed or nothing ran.
+Each test case is counted once: a rostest's summary ('rostest-*.xml') holds one case per test
+node, whose own cases are in 'rosunit-<name>.xml'; those are counted (and the summary's failure
+when the node died before writing them). An unreadable result file counts as a failure. Exits 1
+when anything failed or nothing ran.
 """
 import glob
 import os
@@ -30,22 +31,42 @@ def main():
     results = sys.argv[1]
     counts = {'passed': 0, 'failed': 0, 'skipped': 0}
     failures = []
+
+    def count(path, statuses):
+        for name, status in statuses:
+            counts[status] += 1
+            if status == 'failed':
+                failures.append('%s (%s)' % (name, os.path.relpath(path, results)))
+
     files = sorted(glob.glob(os.path.join(results, '**', '*.xml'), recursive=True))
-    rostest_dirs = {os.path.dirname(f) for f in files if os.path.basename(f).startswith('rostest-')}
     for f in files:
         base = os.path.basename(f)
-        # Inside a package that has rostests, the rostest summary already holds each rostest's cases;
-        # its per-node files are named after the test node (rosunit-*), not gtest-*.
-        if base.startswith('rosunit-') and os.path.dirname(f) in rostest_dirs:
-            continue
+        if base.startswith('rosunit-'):
+            continue  # read through its rostest summary below
         try:
-            for name, status in cases(f):
-                counts[status] += 1
-                if status == 'failed':
-                    failures.append('%s (%s)' % (name, os.path.relpath(f, results)))
+            cases_here = list(cases(f))
         except (ET.ParseError, OSError) as e:
             counts['failed'] += 1
             failures.append('%s: unreadable result file (%s)' % (os.path.relpath(f, results), e))
+            continue
+        if not base.startswith('rostest-'):
+            count(f, cases_here)
+            continue
+        # A rostest summary holds one case 'test<name>' per test node; the node's own cases are in
+        # rosunit-<name>.xml next to it. Count those, and the summary's failure if they show none.
+        for name, status in cases_here:
+            test_name = name.split('.')[-1][len('test'):]
+            detail = os.path.join(os.path.dirname(f), 'rosunit-%s.xml' % test_name)
+            try:
+                detailed = list(cases(detail)) if os.path.exists(detail) else []
+            except (ET.ParseError, OSError):
+                detailed = []
+            if not detailed:
+                count(f, [(name, status)])
+                continue
+            count(detail, detailed)
+            if status == 'failed' and not any(st == 'failed' for _, st in detailed):
+                count(f, [(name, 'failed')])
     for name in failures:
         print('FAILED: ' + name)
     total = sum(counts.values())

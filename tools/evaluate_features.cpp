@@ -2,6 +2,7 @@
 //
 //   evaluate_features --bag tour.bag --world worlds/institute.yaml [--stride N] [--max-scans N]
 //                     [--lines FILE] [--dump-scans FILE] [--label NAME] [--config YAML]
+//   evaluate_features --bag real.bag [--scan-topic T] [--plot FILE] [--plot-scans N] [--label NAME]
 //
 // Reads the scans and the ground truth of a bag recorded by `sim.launch record:=…`, runs the
 // laser_features extractor (default parameters, or those of --config, e.g. config/laser_features.yaml) on every N-th scan and compares with the world:
@@ -10,6 +11,8 @@
 // lines produced by another extractor instead (one line per segment: "scan alpha r c00 c01 c10 c11
 // sx sy ex ey", scan = index among the evaluated scans); `--dump-scans FILE` writes the evaluated
 // scans as text ("angle_min increment range_min range_max n r0 … r(n-1)") for such an extractor.
+// Without --world it reports features per scan and the time on any bag (real data) and can dump a
+// few scans with their features for scripts/plot_features.py.
 // Evaluation only: this is the one place besides the simulator that reads ground truth.
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
@@ -41,6 +44,8 @@ namespace {
 
 struct Options {
   std::string bag, world, lines_file, dump_file, config, label = "hybrid_slam";
+  std::string scan_topic = "/scan", plot_file;
+  int plot_scans = 6;
   int stride = 1;
   int max_scans = 0;
 };
@@ -251,6 +256,73 @@ void scoreOpenings(const std::vector<lf::Opening>& extracted, const bs::World& w
   for (bool f : found) s->found_doors += f;
 }
 
+size_t scan_beams_of(rosbag::Bag& bag, const std::string& topic) {
+  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topic)))
+    if (auto s = m.instantiate<sensor_msgs::LaserScan>()) return s->ranges.size();
+  return 0;
+}
+
+// Without a world: features per scan and time on any bag (real data), and a dump of a few scans
+// with their features for scripts/plot_features.py.
+int reportRealData(const Options& opt, const lf::FeatureExtractor::Params& params, rosbag::Bag* bag) {
+  rosbag::View view(*bag, rosbag::TopicQuery(opt.scan_topic));
+  if (view.size() == 0) {
+    std::string topics;
+    for (const rosbag::ConnectionInfo* c : rosbag::View(*bag).getConnections()) topics += " " + c->topic;
+    std::fprintf(stderr, "evaluate_features: %s has no messages on %s; its topics:%s\n", opt.bag.c_str(),
+                 opt.scan_topic.c_str(), topics.c_str());
+    return 1;
+  }
+  const size_t total = view.size();
+  const size_t plot_every = std::max<size_t>(1, total / opt.plot_scans);
+  std::ofstream plot;
+  if (!opt.plot_file.empty()) plot.open(opt.plot_file);
+  lf::FeatureExtractor extractor(params);
+  lf::Features features;
+  std::vector<double> micros, lines, corners, openings;
+  int errors = 0, hallway = 0, room = 0;
+  size_t index = 0;
+  for (const rosbag::MessageInstance& m : view) {
+    auto scan = m.instantiate<sensor_msgs::LaserScan>();
+    if (!scan) continue;
+    lf::ScanView v{scan->angle_min, scan->angle_increment, scan->range_min, scan->range_max, scan->ranges.data(),
+                   scan->ranges.size()};
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool ok = extractor.extract(v, &features);
+    micros.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+    errors += !ok;
+    lines.push_back(features.lines.size());
+    corners.push_back(features.corners.size());
+    openings.push_back(features.openings.size());
+    hallway += features.place_type == lf::PlaceType::kHallway;
+    room += features.place_type == lf::PlaceType::kRoom;
+    if (plot.is_open() && index % plot_every == plot_every / 2) {
+      plot << "scan " << index << " " << scan->header.stamp.toSec() << "\n";
+      plot << "points";
+      for (size_t i = 0; i < scan->ranges.size(); ++i) {
+        const float r = scan->ranges[i];
+        if (!std::isfinite(r) || r < scan->range_min || r > scan->range_max) continue;
+        const double a = scan->angle_min + i * scan->angle_increment;
+        plot << " " << r * std::cos(a) << " " << r * std::sin(a);
+      }
+      plot << "\n";
+      for (const auto& l : features.lines)
+        plot << "line " << l.start.x() << " " << l.start.y() << " " << l.end.x() << " " << l.end.y() << "\n";
+      for (const auto& c : features.corners)
+        plot << "corner " << c.position.x() << " " << c.position.y() << " " << c.theta << " " << c.convex << "\n";
+      for (const auto& o : features.openings)
+        plot << "opening " << o.left.x() << " " << o.left.y() << " " << o.right.x() << " " << o.right.y() << " "
+             << static_cast<int>(o.kind) << "\n";
+      plot << "place " << static_cast<int>(features.place_type) << " " << features.place_confidence << "\n";
+    }
+    ++index;
+  }
+  std::printf("| %s | %zu | %zu | %.1f | %.1f | %.1f | %.0f%% / %.0f%% | %.1f µs | %d |\n", opt.label.c_str(), index,
+              scan_beams_of(*bag, opt.scan_topic), mean(lines), mean(corners), mean(openings), 100.0 * hallway / index,
+              100.0 * room / index, percentile(micros, 0.5), errors);
+  return 0;
+}
+
 bool parse(int argc, char** argv, Options* o) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -261,11 +333,14 @@ bool parse(int argc, char** argv, Options* o) {
     else if (a == "--dump-scans") o->dump_file = next();
     else if (a == "--label") o->label = next();
     else if (a == "--config") o->config = next();
+    else if (a == "--scan-topic") o->scan_topic = next();
+    else if (a == "--plot") o->plot_file = next();
+    else if (a == "--plot-scans") o->plot_scans = std::max(1, std::atoi(next().c_str()));
     else if (a == "--stride") o->stride = std::max(1, std::atoi(next().c_str()));
     else if (a == "--max-scans") o->max_scans = std::atoi(next().c_str());
     else return false;
   }
-  return !o->bag.empty() && !o->world.empty();
+  return !o->bag.empty();
 }
 
 }  // namespace
@@ -274,10 +349,38 @@ int main(int argc, char** argv) {
   Options opt;
   if (!parse(argc, argv, &opt)) {
     std::fprintf(stderr,
-                 "usage: evaluate_features --bag BAG --world WORLD.yaml [--stride N] [--max-scans N] "
-                 "[--lines FILE] [--dump-scans FILE] [--label NAME] [--config YAML]\n");
+                 "usage: evaluate_features --bag BAG [--world WORLD.yaml] [--stride N] [--max-scans N] [--lines FILE]\n"
+                 "       [--dump-scans FILE] [--label NAME] [--config YAML] [--scan-topic T] [--plot FILE] [--plot-scans N]\n"
+                 "  with --world: scores against the simulator's ground truth (bag from sim.launch record:=...)\n"
+                 "  without: features per scan and time on any bag, one Markdown table row\n");
     return 2;
   }
+  lf::FeatureExtractor::Params params;
+  if (!opt.config.empty()) {
+    // The node's YAML (config/laser_features.yaml format): every parameter it names.
+    try {
+      const YAML::Node root = YAML::LoadFile(opt.config);
+      lf::visitParams(&params, [&](const char* name, auto* value) {
+        YAML::Node node = YAML::Clone(root);
+        std::stringstream path(name);
+        std::string part;
+        while (std::getline(path, part, '/') && node.IsMap()) node = node[part];
+        if (node.IsDefined() && node.IsScalar()) *value = node.as<std::remove_pointer_t<decltype(value)>>();
+      });
+    } catch (const YAML::Exception& e) {
+      std::fprintf(stderr, "evaluate_features: %s: %s\n", opt.config.c_str(), e.what());
+      return 1;
+    }
+  }
+  rosbag::Bag bag;
+  try {
+    bag.open(opt.bag, rosbag::bagmode::Read);
+  } catch (const rosbag::BagException& e) {
+    std::fprintf(stderr, "evaluate_features: %s: %s\n", opt.bag.c_str(), e.what());
+    return 1;
+  }
+  if (opt.world.empty()) return reportRealData(opt, params, &bag);
+
   bs::World world;
   try {
     world = bs::loadWorldFile(opt.world);
@@ -304,13 +407,6 @@ int main(int argc, char** argv) {
   std::ofstream dump;
   if (!opt.dump_file.empty()) dump.open(opt.dump_file);
 
-  rosbag::Bag bag;
-  try {
-    bag.open(opt.bag, rosbag::bagmode::Read);
-  } catch (const rosbag::BagException& e) {
-    std::fprintf(stderr, "evaluate_features: %s: %s\n", opt.bag.c_str(), e.what());
-    return 1;
-  }
   // Ground truth first (it may be recorded just after the scan of the same instant).
   std::vector<std::pair<double, lf::Pose2D>> truth_track;
   for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery("/ground_truth")))
@@ -319,23 +415,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "evaluate_features: %s has no /ground_truth: record it with sim.launch record:=...\n",
                  opt.bag.c_str());
     return 1;
-  }
-  lf::FeatureExtractor::Params params;
-  if (!opt.config.empty()) {
-    // The node's YAML (config/laser_features.yaml format): every parameter it names.
-    try {
-      const YAML::Node root = YAML::LoadFile(opt.config);
-      lf::visitParams(&params, [&](const char* name, auto* value) {
-        YAML::Node node = YAML::Clone(root);
-        std::stringstream path(name);
-        std::string part;
-        while (std::getline(path, part, '/') && node.IsMap()) node = node[part];
-        if (node.IsDefined() && node.IsScalar()) *value = node.as<std::remove_pointer_t<decltype(value)>>();
-      });
-    } catch (const YAML::Exception& e) {
-      std::fprintf(stderr, "evaluate_features: %s: %s\n", opt.config.c_str(), e.what());
-      return 1;
-    }
   }
   lf::FeatureExtractor extractor(params);
   lf::Features features;
