@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """rostest: the scripted tour of a world ends, without a bump, having entered every room."""
 import unittest
 

@@ -1,0 +1,408 @@
+#include "ekf_local_map/persistence.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+
+namespace ekf_local_map {
+
+namespace {
+
+constexpr size_t kLineRecordBytes = 6 * 8;
+constexpr size_t kDoorRecordBytes = 4 + 9 * 8;
+
+std::string headerText(uint32_t version) {
+  return std::string(kPlacesMagic) + "\nversion " + std::to_string(version) + "\n";
+}
+
+// ---- encoding --------------------------------------------------------------------------------
+
+class Writer {
+ public:
+  explicit Writer(std::string* out) : out_(out) {}
+  void u32(uint32_t v) {
+    for (int b = 0; b < 4; ++b) out_->push_back(char((v >> (8 * b)) & 0xffu));
+  }
+  void f64(double v) {
+    uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    for (int b = 0; b < 8; ++b) out_->push_back(char((bits >> (8 * b)) & 0xffu));
+  }
+  void pose(const Pose2D& p) {
+    f64(p.x);
+    f64(p.y);
+    f64(p.theta);
+  }
+
+ private:
+  std::string* out_;
+};
+
+void encodePlace(const Place& place, std::string* out) {
+  Writer w(out);
+  const StochasticMap& map = place.map;
+  w.u32(place.id);
+  w.pose(place.display_pose);
+  w.u32(map.relocationPending() ? 1u : 0u);
+  w.u32(uint32_t(map.numLines()));
+  w.u32(uint32_t(place.doors.size()));
+  w.pose(map.robotPose());
+  for (size_t i = 0; i < map.numLines(); ++i) {
+    const MapLine line = map.line(i);
+    w.f64(line.line.alpha);
+    w.f64(line.line.r);
+    w.f64(line.extent_start.x());
+    w.f64(line.extent_start.y());
+    w.f64(line.extent_end.x());
+    w.f64(line.extent_end.y());
+  }
+  for (const auto& entry : place.doors) {
+    const Door& door = entry.second;
+    w.u32(door.id);
+    w.pose(door.pose);
+    for (int r = 0; r < 3; ++r)
+      for (int c = r; c < 3; ++c) w.f64(door.cov(r, c));
+  }
+  const Eigen::MatrixXd P = map.covariance();
+  for (Eigen::Index r = 0; r < P.rows(); ++r)
+    for (Eigen::Index c = 0; c <= r; ++c) w.f64(P(r, c));
+}
+
+// ---- decoding --------------------------------------------------------------------------------
+
+/// Bounds-checked little-endian reader; the first failure is kept in `error`.
+class Reader {
+ public:
+  Reader(const std::string& bytes, size_t begin, size_t end) : bytes_(bytes), pos_(begin), end_(end) {}
+  bool ok() const { return error_.empty(); }
+  const std::string& error() const { return error_; }
+  size_t position() const { return pos_; }
+  size_t remaining() const { return end_ - pos_; }
+  void fail(const std::string& what) {
+    if (error_.empty()) error_ = what;
+  }
+
+  uint32_t u32(const char* what) {
+    if (!need(4, what)) return 0;
+    uint32_t v = 0;
+    for (int b = 0; b < 4; ++b) v |= uint32_t(uint8_t(bytes_[pos_ + size_t(b)])) << (8 * b);
+    pos_ += 4;
+    return v;
+  }
+  double f64(const char* what) {
+    if (!need(8, what)) return 0.0;
+    uint64_t bits = 0;
+    for (int b = 0; b < 8; ++b) bits |= uint64_t(uint8_t(bytes_[pos_ + size_t(b)])) << (8 * b);
+    pos_ += 8;
+    double v;
+    std::memcpy(&v, &bits, sizeof v);
+    if (!std::isfinite(v)) fail(std::string("non-finite number in ") + what + " at byte " + std::to_string(pos_ - 8));
+    return v;
+  }
+  Pose2D pose(const char* what) {
+    Pose2D p;
+    p.x = f64(what);
+    p.y = f64(what);
+    p.theta = f64(what);
+    return p;
+  }
+  bool need(size_t n, const char* what) {
+    if (!ok()) return false;
+    if (remaining() < n) {
+      fail(std::string("the file ends early (truncated?) while reading ") + what + " at byte " + std::to_string(pos_));
+      return false;
+    }
+    return true;
+  }
+
+ private:
+  const std::string& bytes_;
+  size_t pos_;
+  size_t end_;
+  std::string error_;
+};
+
+bool normalizedAngle(double a) { return a > -laser_features::kPi - 1e-12 && a <= laser_features::kPi + 1e-12; }
+
+/// Positive semi-definite within rounding (the eigenvalues of a saved P are >= 0 up to ~1e-15 of its norm).
+bool positiveSemiDefinite(const Eigen::MatrixXd& M) {
+  if (M.size() == 0) return true;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(M, Eigen::EigenvaluesOnly);
+  if (eigen.info() != Eigen::Success) return false;
+  const double scale = std::max(eigen.eigenvalues().cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+  return eigen.eigenvalues().minCoeff() >= -1e-9 * scale;
+}
+
+std::string placeContext(size_t index, uint32_t id) {
+  return "place #" + std::to_string(index) + " (id " + std::to_string(id) + ")";
+}
+
+/// Reads one place record; returns false with the reader's or `error`'s message.
+bool decodePlace(Reader* in, size_t index, const StochasticMapParams& params, Place* place, std::string* error) {
+  place->id = in->u32("a place id");
+  const std::string where = placeContext(index, place->id);
+  place->display_pose = in->pose("a place's display pose");
+  const uint32_t flags = in->u32("a place's flags");
+  const uint32_t num_lines = in->u32("a place's line count");
+  const uint32_t num_doors = in->u32("a place's door count");
+  if (!in->ok()) return false;
+  if (flags > 1u) {
+    *error = where + ": unknown flags " + std::to_string(flags);
+    return false;
+  }
+  // Refuse impossible counts before allocating anything for them.
+  const uint64_t n = 3 + 2 * uint64_t(num_lines);
+  const uint64_t needed = 24 + uint64_t(num_lines) * kLineRecordBytes + uint64_t(num_doors) * kDoorRecordBytes +
+                          n * (n + 1) / 2 * 8;
+  if (needed > in->remaining()) {
+    *error = where + ": " + std::to_string(num_lines) + " lines and " + std::to_string(num_doors) +
+             " doors need " + std::to_string(needed) + " more bytes, the file has " +
+             std::to_string(in->remaining()) + " (truncated?)";
+    return false;
+  }
+  const Pose2D robot = in->pose("the robot pose");
+  std::vector<MapLine> lines(num_lines);
+  for (MapLine& line : lines) {
+    line.line.alpha = in->f64("a line");
+    line.line.r = in->f64("a line");
+    line.extent_start.x() = in->f64("a line extent");
+    line.extent_start.y() = in->f64("a line extent");
+    line.extent_end.x() = in->f64("a line extent");
+    line.extent_end.y() = in->f64("a line extent");
+  }
+  for (uint32_t d = 0; d < num_doors; ++d) {
+    Door door;
+    door.id = in->u32("a door id");
+    door.pose = in->pose("a door pose");
+    for (int r = 0; r < 3; ++r)
+      for (int c = r; c < 3; ++c) door.cov(r, c) = door.cov(c, r) = in->f64("a door covariance");
+    if (!in->ok()) return false;
+    if (!place->doors.emplace(door.id, door).second) {
+      *error = where + ": door id " + std::to_string(door.id) + " appears twice";
+      return false;
+    }
+    if (!normalizedAngle(door.pose.theta) || !positiveSemiDefinite(door.cov)) {
+      *error = where + ", door " + std::to_string(door.id) + ": angle not in (-pi, pi] or covariance not positive semi-definite";
+      return false;
+    }
+  }
+  Eigen::MatrixXd P(n, n);
+  for (Eigen::Index r = 0; r < Eigen::Index(n); ++r)
+    for (Eigen::Index c = 0; c <= r; ++c) P(r, c) = P(c, r) = in->f64("the covariance");
+  if (!in->ok()) return false;
+
+  if (!normalizedAngle(robot.theta)) {
+    *error = where + ": robot heading " + std::to_string(robot.theta) + " not in (-pi, pi]";
+    return false;
+  }
+  for (size_t i = 0; i < lines.size(); ++i) {
+    if (!normalizedAngle(lines[i].line.alpha) || lines[i].line.r < 0.0) {
+      *error = where + ", line " + std::to_string(i) + ": (alpha, r) = (" + std::to_string(lines[i].line.alpha) +
+               ", " + std::to_string(lines[i].line.r) + ") is not canonical (alpha in (-pi, pi], r >= 0)";
+      return false;
+    }
+  }
+  if ((P.diagonal().array() < 0.0).any() || !positiveSemiDefinite(P)) {
+    *error = where + ": the covariance (" + std::to_string(n) + "x" + std::to_string(n) +
+             ") is not positive semi-definite";
+    return false;
+  }
+  place->map = StochasticMap(params);
+  place->map.setState(robot, lines, P, flags & 1u);
+  return true;
+}
+
+IoResult failure(const std::string& name, const std::string& what) {
+  return {false, "cannot load places from '" + name + "': " + what};
+}
+
+// ---- atomic write ----------------------------------------------------------------------------
+
+std::string errnoText() { return std::strerror(errno); }
+
+bool writeAll(int fd, const std::string& bytes) {
+  size_t done = 0;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    done += size_t(n);
+  }
+  return true;
+}
+
+std::string directoryOf(const std::string& path) {
+  const size_t slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+}  // namespace
+
+uint32_t crc32(const void* data, size_t size, uint32_t crc) {
+  static const auto table = [] {
+    std::array<uint32_t, 256> t{};
+    for (uint32_t i = 0; i < 256; ++i) {
+      uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  const auto* p = static_cast<const uint8_t*>(data);
+  crc = ~crc;
+  for (size_t i = 0; i < size; ++i) crc = table[(crc ^ p[i]) & 0xffu] ^ (crc >> 8);
+  return ~crc;
+}
+
+std::string encodePlaces(const PlaceMaps& maps) {
+  std::string out = headerText(kPlacesFormatVersion);
+  Writer w(&out);
+  w.u32(uint32_t(maps.size()));
+  w.u32(maps.nextId());
+  for (const auto& entry : maps.places()) encodePlace(entry.second, &out);
+  w.u32(crc32(out.data(), out.size()));
+  return out;
+}
+
+IoResult decodePlaces(const std::string& bytes, const std::string& name, PlaceMaps* maps) {
+  // Magic line, then the version line (checked before the checksum: a newer format may differ).
+  const std::string magic = std::string(kPlacesMagic) + "\n";
+  if (bytes.compare(0, magic.size(), magic) != 0) {
+    return failure(name, std::string("not a places file (the first line is not '") + kPlacesMagic + "')");
+  }
+  const size_t version_end = bytes.find('\n', magic.size());
+  const std::string version_line =
+      bytes.substr(magic.size(), version_end == std::string::npos ? 32 : version_end - magic.size());
+  unsigned long version = 0;
+  {
+    char* end = nullptr;
+    const char* digits = version_line.c_str() + 8;
+    if (version_line.compare(0, 8, "version ") != 0 || version_end == std::string::npos ||
+        !std::isdigit(static_cast<unsigned char>(*digits)) || (version = std::strtoul(digits, &end, 10), *end != '\0')) {
+      return failure(name, "malformed version line '" + version_line + "' (expected 'version <n>')");
+    }
+  }
+  if (version > kPlacesFormatVersion) {
+    return failure(name, "format version " + std::to_string(version) + " is newer than this build reads (" +
+                             std::to_string(kPlacesFormatVersion) + "); update the software");
+  }
+  if (version < 1) return failure(name, "unknown format version " + std::to_string(version));
+  const size_t body = version_end + 1;
+  if (bytes.size() < body + 4) return failure(name, "the file ends early (truncated?) before the checksum");
+  const size_t checksum_at = bytes.size() - 4;
+
+  PlaceMaps loaded(maps->params());
+  std::map<uint32_t, Place> places;
+  Reader in(bytes, body, checksum_at);
+  const uint32_t count = in.u32("the place count");
+  const uint32_t next_id = in.u32("the next place id");
+  std::string error;
+  for (uint32_t k = 0; k < count && in.ok() && error.empty(); ++k) {
+    Place place{0, {}, StochasticMap(StochasticMapParams{}), {}};
+    if (!decodePlace(&in, k, maps->params(), &place, &error)) break;
+    const uint32_t id = place.id;
+    if (!places.emplace(id, std::move(place)).second) error = "place id " + std::to_string(id) + " appears twice";
+  }
+  // What the structure says is wrong, if anything (reported with the checksum result: a
+  // truncated file fails both).
+  if (!in.ok()) {
+    error = in.error();
+  } else if (error.empty() && in.remaining() != 0) {
+    error = std::to_string(in.remaining()) + " unexpected bytes before the checksum";
+  }
+  Reader trailer(bytes, checksum_at, bytes.size());
+  const uint32_t stored = trailer.u32("the checksum");
+  const uint32_t computed = crc32(bytes.data(), checksum_at);
+  if (stored != computed) {
+    return failure(name, "checksum mismatch (stored " + std::to_string(stored) + ", computed " +
+                             std::to_string(computed) + "): the file is corrupt or truncated" +
+                             (error.empty() ? std::string() : "; " + error));
+  }
+  if (!error.empty()) return failure(name, error);
+
+  loaded.assign(std::move(places), next_id);
+  maps->swap(loaded);  // all or nothing
+  return {};
+}
+
+IoResult savePlaces(const PlaceMaps& maps, const std::string& path) {
+  const std::string bytes = encodePlaces(maps);
+  const std::string tmp = path + ".tmp";
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) return {false, "cannot save places to '" + path + "': cannot create '" + tmp + "': " + errnoText()};
+  std::string error;
+  if (!writeAll(fd, bytes)) {
+    error = "write failed: " + errnoText();
+  } else if (::fsync(fd) != 0) {
+    error = "fsync failed: " + errnoText();
+  }
+  if (::close(fd) != 0 && error.empty()) error = "close failed: " + errnoText();
+  if (error.empty() && ::rename(tmp.c_str(), path.c_str()) != 0) error = "rename of '" + tmp + "' failed: " + errnoText();
+  if (!error.empty()) {
+    ::unlink(tmp.c_str());
+    return {false, "cannot save places to '" + path + "': " + error};
+  }
+  // Make the rename itself durable.
+  const int dir = ::open(directoryOf(path).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir >= 0) {
+    ::fsync(dir);
+    ::close(dir);
+  }
+  return {};
+}
+
+IoResult loadPlaces(const std::string& path, PlaceMaps* maps) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return failure(path, std::string("cannot open: ") + errnoText());
+  std::ostringstream contents;
+  contents << file.rdbuf();
+  if (file.bad()) return failure(path, "read error");
+  return decodePlaces(contents.str(), path, maps);
+}
+
+std::vector<PlaceStorage> storageStats(const PlaceMaps& maps) {
+  std::vector<PlaceStorage> stats;
+  for (const auto& entry : maps.places()) {
+    const StochasticMap& map = entry.second.map;
+    PlaceStorage s;
+    s.id = entry.first;
+    s.lines = map.numLines();
+    std::string record;
+    encodePlace(entry.second, &record);
+    s.bytes = record.size();
+    s.line_bytes = map.numLines() * kLineRecordBytes;
+    if (map.numLines() > 0) {
+      Eigen::Vector2d lo = map.line(0).extent_start, hi = lo;
+      for (size_t i = 0; i < map.numLines(); ++i) {
+        const MapLine line = map.line(i);
+        lo = lo.cwiseMin(line.extent_start).cwiseMin(line.extent_end);
+        hi = hi.cwiseMax(line.extent_start).cwiseMax(line.extent_end);
+      }
+      s.area_m2 = (hi - lo).prod();
+    }
+    if (s.area_m2 > 0.0) {
+      s.bytes_per_m2 = double(s.bytes) / s.area_m2;
+      s.line_bytes_per_m2 = double(s.line_bytes) / s.area_m2;
+    }
+    stats.push_back(s);
+  }
+  return stats;
+}
+
+}  // namespace ekf_local_map

@@ -1,0 +1,195 @@
+// Places: creation (origin at the robot's pose on entry), activation, closing, only the active place
+// updated; doors; relocation on entering a known place through a door, its success in the right
+// room and its failure (nothing fused) in a wrong room or with only parallel lines.
+#include "ekf_local_map/place_maps.h"
+
+#include "simulated_room.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace ekf_local_map {
+namespace {
+
+using laser_features::compose;
+using laser_features::normalizeAngle;
+using namespace testing_support;
+
+const Pose2D kSensorMount{0.12, -0.03, 0.05};
+
+/// Drives a short arc in the office room of the active place; returns the true pose at the end.
+Pose2D mapOfficeRoom(StochasticMap* map, std::mt19937* rng, Pose2D truth = {0, 0, 0}) {
+  const OdometryNoise noise = testOdometryNoise();
+  map->update(observeAll(officeRoom(), truth, kSensorMount, rng), kSensorMount, nullptr);
+  for (int step = 0; step < 40; ++step) {
+    const Pose2D u = arcIncrement(0.05, 0.0625);
+    truth = compose(truth, u);
+    map->predict(noisyIncrement(u, noise, rng), noise.covariance(u));
+    map->update(observeAll(officeRoom(), truth, kSensorMount, rng), kSensorMount, nullptr);
+  }
+  return truth;
+}
+
+TEST(PlaceMaps, CreateActivateClose) {
+  PlaceMaps places(testParams());
+  EXPECT_EQ(places.active(), nullptr);
+  const uint32_t a = places.createPlace({10.0, 5.0, 0.3});
+  ASSERT_NE(places.active(), nullptr);
+  EXPECT_EQ(places.activeId(), a);
+  // The place frame is the robot's pose on entry.
+  EXPECT_EQ(places.active()->robotPose().x, 0.0);
+  EXPECT_EQ(places.active()->robotCovariance(), Eigen::Matrix3d::Zero());
+  EXPECT_EQ(places.place(a)->display_pose.x, 10.0);
+
+  std::mt19937 rng(1);
+  mapOfficeRoom(places.active(), &rng);
+  const size_t lines_a = places.place(a)->map.numLines();
+  EXPECT_EQ(lines_a, officeRoom().size());
+
+  const uint32_t b = places.createPlace({20.0, 5.0, 0.0});
+  EXPECT_NE(a, b);
+  EXPECT_EQ(places.activeId(), b);
+  EXPECT_EQ(places.active()->numLines(), 0u);
+  places.active()->update(observeAll(otherRoom(), {0, 0, 0}, kSensorMount, &rng), kSensorMount, nullptr);
+  EXPECT_EQ(places.place(b)->map.numLines(), otherRoom().size());
+  EXPECT_EQ(places.place(a)->map.numLines(), lines_a);  // only the active place changes
+
+  places.close();
+  EXPECT_EQ(places.active(), nullptr);
+  EXPECT_FALSE(places.activeId().has_value());
+  EXPECT_TRUE(places.activate(a));
+  EXPECT_EQ(places.active(), &places.place(a)->map);
+  EXPECT_FALSE(places.activate(99));
+  EXPECT_EQ(places.activeId(), a);
+  EXPECT_EQ(places.placeIds(), (std::vector<uint32_t>{a, b}));
+}
+
+TEST(PlaceMaps, DoorsAreStoredPerPlace) {
+  PlaceMaps places(testParams());
+  const uint32_t a = places.createPlace({});
+  EXPECT_TRUE(places.addDoor(a, 3, {1.0, -1.5, 0.5 * kPi}, Eigen::Matrix3d::Identity() * 1e-4));
+  EXPECT_FALSE(places.addDoor(a + 1, 3, {1.0, -1.5, 0.0}, Eigen::Matrix3d::Identity()));
+  EXPECT_FALSE(places.addDoor(a, 4, {std::nan(""), 0.0, 0.0}, Eigen::Matrix3d::Identity()));
+  ASSERT_EQ(places.place(a)->doors.size(), 1u);
+  EXPECT_EQ(places.place(a)->doors.at(3).pose.y, -1.5);
+
+  // A door at the robot: its covariance is the robot's, propagated.
+  places.active()->predict({0.5, 0.0, 0.1}, Eigen::Vector3d(1e-4, 1e-4, 1e-4).asDiagonal());
+  ASSERT_TRUE(places.addDoorAtRobot(5, {0.3, 0.0, 0.0}));
+  const Door& door = places.place(a)->doors.at(5);
+  EXPECT_NEAR(door.pose.x, 0.5 + 0.3 * std::cos(0.1), 1e-12);
+  EXPECT_GT(door.cov(1, 1), 1e-4);  // heading uncertainty moves the door sideways
+  places.close();
+  EXPECT_FALSE(places.addDoorAtRobot(6, {}));
+}
+
+TEST(Relocation, AtADoorOfTheRightRoomSucceeds) {
+  std::mt19937 rng(2);
+  PlaceMaps places(testParams());
+  const uint32_t office = places.createPlace({});
+  const Pose2D truth_at_door = mapOfficeRoom(places.active(), &rng);
+  ASSERT_TRUE(places.addDoorAtRobot(1, {0.0, 0.0, 0.0}));  // the robot stands in the door
+  places.close();  // topological mode: the office's map is kept
+
+  // Later the robot comes back through the same door, 0.3 m further in and 10 degrees turned.
+  const Pose2D offset{0.3, 0.0, 0.17};
+  const Pose2D truth = compose(truth_at_door, offset);
+  // The topological layer's estimate of the offset is rough.
+  const Eigen::Matrix3d offset_cov = Eigen::Vector3d(0.1 * 0.1, 0.1 * 0.1, 0.08 * 0.08).asDiagonal();
+  ASSERT_TRUE(places.relocateAtDoor(office, 1, {0.35, -0.05, 0.22}, offset_cov));
+  EXPECT_EQ(places.activeId(), office);
+  StochasticMap& map = *places.active();
+  EXPECT_TRUE(map.relocationPending());
+  const size_t lines = map.numLines();
+
+  UpdateReport report;
+  map.update(observeAll(officeRoom(), truth, kSensorMount, &rng), kSensorMount, &report);
+  ASSERT_TRUE(report.relocation_attempted);
+  EXPECT_TRUE(report.relocation.success()) << toString(report.relocation.verdict);
+  EXPECT_GE(report.relocation.matched, 5u);
+  EXPECT_TRUE(report.fused);
+  EXPECT_FALSE(map.relocationPending());
+  EXPECT_LT(positionError(map.robotPose(), truth), 0.01);
+  EXPECT_LT(std::abs(normalizeAngle(map.robotPose().theta - truth.theta)), 0.005);
+  EXPECT_LT(map.robotNees(truth), 16.0);
+  EXPECT_EQ(map.numLines(), lines);
+  // and the filter carries on normally.
+  map.update(observeAll(officeRoom(), truth, kSensorMount, &rng), kSensorMount, &report);
+  EXPECT_FALSE(report.relocation_attempted);
+  EXPECT_EQ(report.matched, officeRoom().size());
+}
+
+TEST(Relocation, InTheWrongRoomFailsAndFusesNothing) {
+  std::mt19937 rng(3);
+  PlaceMaps places(testParams());
+  const uint32_t office = places.createPlace({});
+  mapOfficeRoom(places.active(), &rng);
+  ASSERT_TRUE(places.addDoor(office, 1, {0.0, 0.0, 0.0}, Eigen::Matrix3d::Identity() * 1e-6));
+  places.close();
+
+  // The robot believes it enters the office, but it is in the other room.
+  ASSERT_TRUE(places.relocateAtDoor(office, 1, {0.0, 0.0, 0.0}, Eigen::Vector3d(0.04, 0.04, 0.01).asDiagonal()));
+  StochasticMap& map = *places.active();
+  std::vector<MapLine> lines_before;
+  for (size_t i = 0; i < map.numLines(); ++i) lines_before.push_back(map.line(i));
+  const Eigen::MatrixXd P = map.covariance();
+  const Eigen::VectorXd x = map.state();
+
+  UpdateReport report;
+  for (int scan = 0; scan < 5; ++scan) {
+    map.update(observeAll(otherRoom(), {0.0, 0.0, 0.0}, kSensorMount, &rng), kSensorMount, &report);
+    ASSERT_TRUE(report.relocation_attempted);
+    EXPECT_FALSE(report.relocation.success())
+        << "scan " << scan << ": " << report.relocation.matched << " matches, joint NIS " << report.relocation.joint_nis;
+    EXPECT_FALSE(report.fused);
+    EXPECT_EQ(report.new_lines, 0u);
+    EXPECT_TRUE(map.relocationPending());
+    EXPECT_EQ(map.state(), x);  // the office's map is not corrupted
+    EXPECT_EQ(map.covariance(), P);
+  }
+  std::printf("wrong room: %s (%u matches, joint NIS %.1f, bound %.1f)\n", toString(report.relocation.verdict),
+              report.relocation.matched, report.relocation.joint_nis, report.relocation.joint_nis_bound);
+}
+
+TEST(Relocation, ParallelLinesOnlyDoNotFixThePose) {
+  std::mt19937 rng(4);
+  // A corridor-like place: two long walls and a shelf, all parallel.
+  const std::vector<TrueSegment> corridor = {
+      {{-3.0, -1.0}, {5.0, -1.0}}, {{-3.0, 1.2}, {5.0, 1.2}}, {{0.0, 0.8}, {2.0, 0.8}}};
+  StochasticMap map(testParams());
+  map.update(observeAll(corridor, {0, 0, 0}, kSensorMount, &rng), kSensorMount, nullptr);
+  ASSERT_EQ(map.numLines(), 3u);
+  map.relocate({0.5, 0.0, 0.0}, Eigen::Vector3d(0.04, 0.04, 0.01).asDiagonal());
+  UpdateReport report;
+  map.update(observeAll(corridor, {0.5, 0.0, 0.0}, kSensorMount, &rng), kSensorMount, &report);
+  EXPECT_EQ(report.relocation.matched, 3u);
+  EXPECT_EQ(report.relocation.verdict, RelocationResult::Verdict::kParallelLines);
+  EXPECT_FALSE(report.fused);
+}
+
+TEST(Relocation, TooFewLinesFails) {
+  std::mt19937 rng(5);
+  StochasticMap map(testParams());
+  map.update(observeAll(officeRoom(), {0, 0, 0}, kSensorMount, &rng), kSensorMount, nullptr);
+  map.relocate({0.0, 0.0, 0.0}, Eigen::Vector3d(0.01, 0.01, 0.01).asDiagonal());
+  std::vector<LineSegment> two = observeAll(officeRoom(), {0, 0, 0}, kSensorMount, &rng);
+  two.resize(2);
+  UpdateReport report;
+  map.update(two, kSensorMount, &report);
+  EXPECT_EQ(report.relocation.verdict, RelocationResult::Verdict::kTooFewMatches);
+  EXPECT_TRUE(map.relocationPending());
+}
+
+TEST(PlaceMaps, RelocateAtAnUnknownDoorChangesNothing) {
+  PlaceMaps places(testParams());
+  const uint32_t a = places.createPlace({});
+  places.close();
+  EXPECT_FALSE(places.relocateAtDoor(a, 9, {}, Eigen::Matrix3d::Identity()));
+  EXPECT_FALSE(places.relocateAtDoor(a + 7, 0, {}, Eigen::Matrix3d::Identity()));
+  EXPECT_FALSE(places.activeId().has_value());
+  EXPECT_FALSE(places.place(a)->map.relocationPending());
+}
+
+}  // namespace
+}  // namespace ekf_local_map
