@@ -121,8 +121,11 @@ class RoomDrive(unittest.TestCase):
                 if state['place'] is None and now_inside:
                     answer = create(use_display_pose=False)
                     k0 = key(answer.origin_stamp)
-                    self.assertIn(k0, truth, 'no ground truth at the place origin\'s stamp')
-                    self.assertIn(k0, odom, 'no odometry at the place origin\'s stamp')
+                    # That instant's ground truth and odometry may still be on their way.
+                    deadline = rospy.Time.now() + rospy.Duration(2.0)
+                    while (k0 not in truth or k0 not in odom) and rospy.Time.now() < deadline:
+                        rospy.sleep(0.05)
+                    self.assertTrue(k0 in truth and k0 in odom, 'no ground truth or odometry at %.3f' % k0)
                     state['t0'], state['o0'] = truth[k0], odom[k0]
                     state['place'] = answer.place_id
                     rospy.loginfo('place %d created at the true pose (%.2f, %.2f)', state['place'], x, y)
