@@ -18,6 +18,7 @@
 #include <optional>
 
 #include "ekf_local_map/odometry_noise.h"
+#include "ekf_local_map/params_visit.h"
 #include "ekf_local_map/persistence.h"
 #include "ekf_local_map/place_maps.h"
 #include "ros_conversions.h"
@@ -27,24 +28,22 @@ namespace {
 
 using laser_features::Pose2D;
 
+// Each parameter from the private namespace; the default is the core's (config/ekf_local_map.yaml
+// holds the same values).
+struct RosParamReader {
+  const ros::NodeHandle& nh;
+  void operator()(const char* name, double* value) const { nh.param(name, *value, *value); }
+  template <typename Unsigned>
+  void operator()(const char* name, Unsigned* value) const {
+    int v = static_cast<int>(*value);
+    nh.param(name, v, v);
+    *value = static_cast<Unsigned>(std::max(1, v));
+  }
+};
+
 StochasticMapParams readMapParams(const ros::NodeHandle& pnh) {
-  StochasticMapParams p;  // defaults of config/ekf_local_map.yaml
-  pnh.param("gate_probability", p.gate_probability, p.gate_probability);
-  pnh.param("new_line_exclusion_nis", p.new_line_exclusion_nis, p.new_line_exclusion_nis);
-  pnh.param("extent_margin", p.extent_margin, p.extent_margin);
-  int v = static_cast<int>(p.new_line_min_points);
-  pnh.param("new_line_min_points", v, v);
-  p.new_line_min_points = static_cast<uint32_t>(std::max(1, v));
-  pnh.param("new_line_min_length", p.new_line_min_length, p.new_line_min_length);
-  pnh.param("observation_cov_inflation", p.observation_cov_inflation, p.observation_cov_inflation);
-  pnh.param("observation_alpha_sigma_floor", p.observation_alpha_sigma_floor, p.observation_alpha_sigma_floor);
-  pnh.param("observation_r_sigma_floor", p.observation_r_sigma_floor, p.observation_r_sigma_floor);
-  pnh.param("expected_line_range", p.expected_line_range, p.expected_line_range);
-  v = static_cast<int>(p.relocation_min_matches);
-  pnh.param("relocation_min_matches", v, v);
-  p.relocation_min_matches = static_cast<uint32_t>(std::max(1, v));
-  pnh.param("relocation_joint_probability", p.relocation_joint_probability, p.relocation_joint_probability);
-  pnh.param("relocation_min_angle", p.relocation_min_angle, p.relocation_min_angle);
+  StochasticMapParams p;
+  visitParams(&p, RosParamReader{pnh});
   return p;
 }
 

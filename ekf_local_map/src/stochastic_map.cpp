@@ -342,7 +342,6 @@ void StochasticMap::findCandidates(const std::vector<LineSegment>& observations,
     if (!data.valid || report.outcomes[j] == ObservationOutcome::kMatched) continue;
     data.in_exclusion_gate = false;
     for (size_t i = 0; i < numLines(); ++i) {
-      if (line_taken_[i]) continue;
       const LinePrediction& p = predictions_[i];
       // Cheap rejection first: |r_z - r_h| is the smallest r innovation of either representation
       // (r >= 0), and nu_r^2 / S_rr <= nu^T S^-1 nu.
@@ -352,8 +351,8 @@ void StochasticMap::findCandidates(const std::vector<LineSegment>& observations,
       const LineInnovation innovation = lineInnovation(observations[j].line, p.h);  // eq. 13
       const double d2 = mahalanobisSq(innovation.nu, p.HPHt + data.R);          // eqs. 13–14
       if (!(d2 < exclusion) || !extentsOverlap(i, data)) continue;
-      data.in_exclusion_gate = true;
-      candidates_.push_back({d2, uint32_t(j), uint32_t(i)});
+      data.in_exclusion_gate = true;  // also for a line already taken: then it is a duplicate piece
+      if (!line_taken_[i]) candidates_.push_back({d2, uint32_t(j), uint32_t(i)});
     }
   }
 }

@@ -163,19 +163,20 @@ TEST(Update, ALineWhoseRCrossesZeroIsCanonicalizedWithItsCovariance) {
   // A map line 0.5 mm from the place origin (where the robot is), correlated with everything; the
   // observation puts it 4 mm on the other side: the posterior r < 0 is brought back to r >= 0 by
   // (alpha + pi, -r), which negates r's row and column of P.
+  // (The line sits in the middle of the state, so that r has both a row and a column part.)
   std::mt19937 rng(31);
   std::vector<TrueSegment> segments = officeRoom();
   segments.resize(4);
-  segments.push_back({{-2.0, 0.0005}, {3.0, 0.0005}});
+  segments.insert(segments.begin() + 2, TrueSegment{{-2.0, 0.0005}, {3.0, 0.0005}});
   const Pose2D mount{0.0, 0.0, 0.0};
   StochasticMap map = randomMap(segments, {0.0, 0.0, 0.0}, 1e-4, &rng);
   const Eigen::VectorXd x = map.state();
   const Eigen::MatrixXd P = map.covariance();
-  const Eigen::Index l = 3 + 2 * 4;
+  const Eigen::Index l = 3 + 2 * 2;
   ASSERT_NEAR(x(l + 1), 0.0005, 1e-12);
 
   std::vector<TrueSegment> seen = segments;
-  seen[4] = {{-2.0, -0.004}, {3.0, -0.004}};
+  seen[2] = {{-2.0, -0.004}, {3.0, -0.004}};
   const std::vector<LineSegment> observations = observeAll(seen, {0.0, 0.0, 0.0}, mount, nullptr);
   UpdateReport report;
   map.update(observations, mount, &report);
@@ -189,7 +190,7 @@ TEST(Update, ALineWhoseRCrossesZeroIsCanonicalizedWithItsCovariance) {
   flip(l + 1) = -1.0;
   expected.P = flip.asDiagonal() * expected.P * flip.asDiagonal();
 
-  EXPECT_GE(map.line(4).line.r, 0.0);
+  EXPECT_GE(map.line(2).line.r, 0.0);
   EXPECT_LT(stateDifference(map.state(), expected.x).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT((map.covariance() - expected.P).cwiseAbs().maxCoeff(), 1e-14);
 }
@@ -209,6 +210,49 @@ TEST(Update, CommonHeadingErrorIsJointlyCompatible) {
   EXPECT_EQ(report.matched, officeRoom().size());
   for (const LineMatch& match : report.matches) EXPECT_GT(match.nis, 5.991);  // each outside its gate
   EXPECT_LT(std::abs(map.robotPose().theta), 0.003);
+  EXPECT_EQ(map.numLines(), officeRoom().size());
+}
+
+TEST(Update, PairsLostWithAnOutlierAreRecoveredAgainstThePosterior) {
+  // A 3.2 sigma heading error, two imprecise walls, and a shelf that was moved 2.5 cm: the moved
+  // shelf spoils the joint test, so only the individually gated pairs (the imprecise walls among
+  // them) are fused; the others, out of their gates against the prior, match in the second pass
+  // against the posterior. The shelf stays unexplained: ambiguous, neither fused nor added.
+  const Pose2D mount = kSensorMount;
+  StochasticMap map(testParams());
+  map.update(observeAll(officeRoom(), {0, 0, 0}, mount, nullptr), mount, nullptr);
+  map.predict({0.0, 0.0, 0.016}, Eigen::Vector3d(1e-6, 1e-6, 0.005 * 0.005).asDiagonal());
+  std::vector<LineSegment> observations;
+  for (size_t i = 0; i < officeRoom().size(); ++i) {
+    TrueSegment segment = officeRoom()[i];
+    if (i == 5) segment.a.x() += 0.025, segment.b.x() += 0.025;
+    observations.push_back(observeSegment(segment, i, mount, nullptr, (i == 0 || i == 3) ? 4.0 : 1.0));
+  }
+  UpdateReport report;
+  map.update(observations, mount, &report);
+  EXPECT_EQ(report.matched, 6u);
+  EXPECT_EQ(report.outcomes[5], ObservationOutcome::kAmbiguous);
+  EXPECT_EQ(report.new_lines, 0u);
+  EXPECT_LT(std::abs(map.robotPose().theta), 0.003);
+}
+
+TEST(Update, EachLineIsUsedAtMostOncePerScan) {
+  // The bottom wall seen as two collinear pieces (a cupboard in front of its middle): the closer
+  // match is fused, the other piece is ambiguous (neither fused a second time nor a new line).
+  std::mt19937 rng(34);
+  StochasticMap map(testParams());
+  map.update(observeAll(officeRoom(), {0, 0, 0}, kSensorMount, &rng), kSensorMount, nullptr);
+  std::vector<TrueSegment> seen = officeRoom();
+  seen[0] = {{-2.5, -1.5}, {0.0, -1.5}};
+  seen.push_back({{0.8, -1.5}, {3.5, -1.5}});
+  UpdateReport report;
+  map.update(observeAll(seen, {0, 0, 0}, kSensorMount, &rng), kSensorMount, &report);
+  size_t uses_of_wall = 0;
+  for (const LineMatch& match : report.matches) uses_of_wall += match.line == 0 ? 1 : 0;
+  EXPECT_EQ(uses_of_wall, 1u);
+  EXPECT_EQ(report.matched, officeRoom().size());
+  EXPECT_EQ(report.ambiguous, 1u);
+  EXPECT_EQ(report.new_lines, 0u);
   EXPECT_EQ(map.numLines(), officeRoom().size());
 }
 
