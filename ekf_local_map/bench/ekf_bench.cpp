@@ -56,7 +56,8 @@ LineSegment observe(const Segment& s, const Pose2D& sensor_pose, std::mt19937* r
   LineSegment observation;
   Line line = laser_features::lineThroughPoints(a, b);
   line.cov << 9e-6, 1e-6, 1e-6, 1.6e-5;
-  const Eigen::Vector2d noise = Eigen::LLT<Eigen::Matrix2d>(line.cov).matrixL() * Eigen::Vector2d(normal(*rng), normal(*rng));
+  const Eigen::Vector2d noise =
+      Eigen::LLT<Eigen::Matrix2d>(line.cov).matrixL() * Eigen::Vector2d(normal(*rng), normal(*rng));
   line.alpha += noise.x();
   line.r += noise.y();
   laser_features::canonicalize(&line);
@@ -89,7 +90,9 @@ struct Fixture {
       // Each scan sees the first 10 lines again (keeping the robot localized) and 10 new ones.
       std::vector<LineSegment> scan;
       for (size_t i = 0; i < std::min(n, first + kObservationsPerScan); ++i) {
-        if (i < kObservationsPerScan || i >= first) scan.push_back(observe(segments[i], compose(truth, kSensorMount), &rng));
+        if (i < kObservationsPerScan || i >= first) {
+          scan.push_back(observe(segments[i], compose(truth, kSensorMount), &rng));
+        }
       }
       UpdateReport report;
       map.update(scan, kSensorMount, &report);
@@ -97,7 +100,9 @@ struct Fixture {
     ok = map.numLines() == n;
     for (int k = 0; k < 16; ++k) {
       std::vector<LineSegment> scan;
-      for (size_t i = 0; i < kObservationsPerScan; ++i) scan.push_back(observe(segments[i], compose(truth, kSensorMount), &rng));
+      for (size_t i = 0; i < kObservationsPerScan; ++i) {
+        scan.push_back(observe(segments[i], compose(truth, kSensorMount), &rng));
+      }
       scans.push_back(scan);
     }
   }

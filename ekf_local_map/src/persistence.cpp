@@ -195,7 +195,8 @@ bool decodePlace(Reader* in, size_t index, const StochasticMapParams& params, Pl
       return false;
     }
     if (!normalizedAngle(door.pose.theta) || !positiveSemiDefinite(door.cov)) {
-      *error = where + ", door " + std::to_string(door.id) + ": angle not in (-pi, pi] or covariance not positive semi-definite";
+      *error = where + ", door " + std::to_string(door.id) +
+               ": angle not in (-pi, pi] or covariance not positive semi-definite";
       return false;
     }
   }
@@ -289,14 +290,12 @@ IoResult decodePlaces(const std::string& bytes, const std::string& name, PlaceMa
   const size_t version_end = bytes.find('\n', magic.size());
   const std::string version_line =
       bytes.substr(magic.size(), version_end == std::string::npos ? 32 : version_end - magic.size());
-  unsigned long version = 0;
-  {
-    char* end = nullptr;
-    const char* digits = version_line.c_str() + 8;
-    if (version_line.compare(0, 8, "version ") != 0 || version_end == std::string::npos ||
-        !std::isdigit(static_cast<unsigned char>(*digits)) || (version = std::strtoul(digits, &end, 10), *end != '\0')) {
-      return failure(name, "malformed version line '" + version_line + "' (expected 'version <n>')");
-    }
+  const bool version_prefix = version_line.compare(0, 8, "version ") == 0 && version_end != std::string::npos;
+  const char* digits = version_prefix ? version_line.c_str() + 8 : "";
+  char* digits_end = nullptr;
+  const unsigned long version = std::isdigit(static_cast<unsigned char>(*digits)) ? std::strtoul(digits, &digits_end, 10) : 0;
+  if (!version_prefix || digits_end == nullptr || *digits_end != '\0') {
+    return failure(name, "malformed version line '" + version_line + "' (expected 'version <n>')");
   }
   if (version > kPlacesFormatVersion) {
     return failure(name, "format version " + std::to_string(version) + " is newer than this build reads (" +
@@ -353,7 +352,9 @@ IoResult savePlaces(const PlaceMaps& maps, const std::string& path) {
     error = "fsync failed: " + errnoText();
   }
   if (::close(fd) != 0 && error.empty()) error = "close failed: " + errnoText();
-  if (error.empty() && ::rename(tmp.c_str(), path.c_str()) != 0) error = "rename of '" + tmp + "' failed: " + errnoText();
+  if (error.empty() && ::rename(tmp.c_str(), path.c_str()) != 0) {
+    error = "rename of '" + tmp + "' failed: " + errnoText();
+  }
   if (!error.empty()) {
     ::unlink(tmp.c_str());
     return {false, "cannot save places to '" + path + "': " + error};

@@ -16,8 +16,7 @@ PlaceMaps::PlaceMaps(const StochasticMapParams& params) : params_(params) {}
 
 uint32_t PlaceMaps::createPlace(const Pose2D& display_pose_in_map) {
   const uint32_t id = next_id_++;
-  Place& place = places_.emplace(id, Place{id, display_pose_in_map, StochasticMap(params_), {}}).first->second;
-  (void)place;
+  places_.emplace(id, Place{id, display_pose_in_map, StochasticMap(params_), {}});
   active_ = id;
   return id;
 }
@@ -83,8 +82,8 @@ bool PlaceMaps::relocateAtDoor(uint32_t place_id, uint32_t door_id, const Pose2D
   const Pose2D pose = laser_features::compose(door->second.pose, robot_offset_from_door, &J_door, &J_offset);
   const Eigen::Matrix3d cov = J_door * door->second.cov * J_door.transpose() +
                               J_offset * offset_cov * J_offset.transpose();
+  if (!p->map.relocate(pose, cov)) return false;
   active_ = place_id;
-  p->map.relocate(pose, cov);
   return true;
 }
 

@@ -215,7 +215,11 @@ bool StochasticMap::predict(const Pose2D& odom_increment, const Eigen::Matrix3d&
 // ---------------------------------------------------------------------------------------------
 // Relocation
 
-void StochasticMap::relocate(const Pose2D& pose_in_place, const Eigen::Matrix3d& cov) {
+bool StochasticMap::relocate(const Pose2D& pose_in_place, const Eigen::Matrix3d& cov) {
+  if (!std::isfinite(pose_in_place.x) || !std::isfinite(pose_in_place.y) ||
+      !std::isfinite(pose_in_place.theta) || !cov.allFinite()) {
+    return false;
+  }
   x_(0) = pose_in_place.x;
   x_(1) = pose_in_place.y;
   x_(2) = normalizeAngle(pose_in_place.theta);
@@ -223,6 +227,7 @@ void StochasticMap::relocate(const Pose2D& pose_in_place, const Eigen::Matrix3d&
   const Eigen::Index m = Eigen::Index(stateSize()) - 3;
   if (m > 0) P_.block(3, 0, m, 3).setZero();  // the robot's past in this place is forgotten
   relocation_pending_ = true;
+  return true;
 }
 
 uint32_t StochasticMap::countExpectedLines(const std::vector<LineSegment>& observations,
@@ -380,8 +385,8 @@ bool StochasticMap::selectJointlyCompatible(const std::vector<LineSegment>& obse
   std::vector<LineMatch>& matches = report->matches;
   if (matches.size() <= first) return false;
   const double gate = chiSquareQuantile(params_.gate_probability, 2);
-  const bool all_individually_gated =
-      std::all_of(matches.begin() + std::ptrdiff_t(first), matches.end(), [gate](const LineMatch& m) { return m.nis < gate; });
+  const bool all_individually_gated = std::all_of(matches.begin() + std::ptrdiff_t(first), matches.end(),
+                                                  [gate](const LineMatch& m) { return m.nis < gate; });
   const bool stacked = stackInnovations(observations, first, *report);
   if (all_individually_gated) return stacked;
   const size_t k = matches.size() - first;

@@ -50,7 +50,9 @@ class RandomModels : public ::testing::Test {
  protected:
   std::mt19937 rng{7};
   double uniform(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
-  Pose2D randomPose(double extent = 5.0) { return {uniform(-extent, extent), uniform(-extent, extent), uniform(-kPi, kPi)}; }
+  Pose2D randomPose(double extent = 5.0) {
+    return {uniform(-extent, extent), uniform(-extent, extent), uniform(-kPi, kPi)};
+  }
   Pose2D randomSensorMount() { return {uniform(-0.3, 0.3), uniform(-0.2, 0.2), uniform(-kPi, kPi)}; }
   Line randomLine() { return {uniform(-kPi, kPi), uniform(0.5, 8.0), Eigen::Matrix2d::Identity() * 1e-4}; }
 };

@@ -141,7 +141,8 @@ TEST(Relocation, InTheWrongRoomFailsAndFusesNothing) {
     map.update(observeAll(otherRoom(), {0.0, 0.0, 0.0}, kSensorMount, &rng), kSensorMount, &report);
     ASSERT_TRUE(report.relocation_attempted);
     EXPECT_FALSE(report.relocation.success())
-        << "scan " << scan << ": " << report.relocation.matched << " matches, joint NIS " << report.relocation.joint_nis;
+        << "scan " << scan << ": " << report.relocation.matched << " matches, joint NIS "
+        << report.relocation.joint_nis;
     EXPECT_FALSE(report.fused);
     EXPECT_EQ(report.new_lines, 0u);
     EXPECT_TRUE(map.relocationPending());

@@ -531,7 +531,8 @@ TEST(Update, KnownLinesHiddenBehindNewOnesAreNotAGatingFailure) {
   // robot sees together with other new lines: a new part of the place, not a teleport.
   const std::vector<TrueSegment> cabinet = {
       {{5.0, -0.5}, {5.0, 0.5}}, {{5.0, 0.5}, {6.0, 0.5}}, {{6.0, 0.5}, {6.0, -0.5}}, {{6.0, -0.5}, {5.0, -0.5}}};
-  const std::vector<TrueSegment> new_part = {{{3.0, -4.0}, {3.0, 4.0}}, {{-3.0, -2.0}, {3.0, -2.0}}, {{-3.0, 2.0}, {3.0, 2.0}}};
+  const std::vector<TrueSegment> new_part = {
+      {{3.0, -4.0}, {3.0, 4.0}}, {{-3.0, -2.0}, {3.0, -2.0}}, {{-3.0, 2.0}, {3.0, 2.0}}};
   std::mt19937 rng(21);
   StochasticMap map(testParams());
   ASSERT_TRUE(map.setState({4.0, 0.0, 0.0}, {}, Eigen::Matrix3d::Zero()));

@@ -19,10 +19,11 @@
 // - Prediction touches the robot rows only (O(n)).
 // - All matches of a scan are fused in one stacked update: W = P H^T (H is sparse: robot and one
 //   line per match), S = H W + R, S = L L^T (Cholesky), V = W L^-T, x += V L^-1 nu, P -= V V^T
-//   (a symmetric rank-2k update of the lower triangle). This equals the Joseph form
-//   (I - K H) P (I - K H)^T + K R K^T for the optimal gain (a test checks it against a dense Joseph
-//   reference), costs a third of it, and keeps P exactly symmetric; the Cholesky factor of S keeps
-//   the subtracted term positive semi-definite.
+//   (a symmetric rank-2k update of the lower triangle, N^2 k multiply-adds for N state entries and
+//   k matches). This equals the Joseph form (I - K H) P (I - K H)^T + K R K^T for the optimal gain
+//   (a test checks it against a dense Joseph reference) at a third of the cost of even a
+//   sparsity-aware Joseph form, keeps P exactly symmetric, and the Cholesky factor of S keeps the
+//   subtracted term positive semi-definite.
 // - Association is global nearest neighbour: every (observation, line) pair with overlapping
 //   segment extents inside the wide exclusion gate is a candidate; candidates are taken greedily
 //   by increasing Mahalanobis distance, each observation and each line at most once per scan.
@@ -30,7 +31,16 @@
 //   outside it only when the whole set of pairs is jointly compatible (stacked NIS below
 //   chi^2_2k at gate_probability), because a common robot-pose error moves all innovations out
 //   of their individual gates at once.
+// - After fusing, the observations still unmatched are associated once more against the
+//   posterior (a second, sequential batch: exact, as the observations are independent), so that a
+//   re-observation pushed out of its gate by a pose error the first batch corrected is fused rather
+//   than turned into a duplicate line. Only then are new lines added (eqs. 9–11), from the
+//   posterior robot pose.
+// - A gating failure (lines expected, lines seen, none matched: an odometry jump or kidnapping)
+//   leaves the state untouched and adds no line. "Expected" means within range and not hidden
+//   behind an observed segment, so that entering an unmapped corner of a place is not a failure.
 // - No heap allocation per scan in steady state (the buffers keep their capacity).
+// Equation numbers are those of the paper's section 3.4 as issue 4 cites them (eqs. 6–17).
 #pragma once
 
 #include "ekf_local_map/measurement_model.h"
@@ -102,7 +112,8 @@ const char* toString(ObservationOutcome outcome);
 struct LineMatch {
   uint32_t observation = 0;  // index into the observations given to update()
   uint32_t line = 0;         // map line index
-  double nis = 0.0;          // normalized innovation squared, nu^T S^-1 nu (eq. 13)
+  double nis = 0.0;          // normalized innovation squared nu^T S^-1 nu (eq. 13), against the
+                             //   prior (or, for the second pass, the first batch's posterior)
 };
 
 /// Result of a relocation attempt (see StochasticMap::relocate).
@@ -185,8 +196,9 @@ class StochasticMap {
   /// zeroed (the robot's past in this place is forgotten). The next update() evaluates the
   /// relocation (report->relocation): success needs relocation_min_matches matched lines that are
   /// jointly compatible and span relocation_min_angle. On failure nothing is fused or added and the
-  /// relocation stays pending, so that the caller can back out or try again.
-  void relocate(const Pose2D& pose_in_place, const Eigen::Matrix3d& cov);
+  /// relocation stays pending, so that the caller can back out or try again. Returns false,
+  /// changing nothing, for a non-finite pose or covariance.
+  bool relocate(const Pose2D& pose_in_place, const Eigen::Matrix3d& cov);
   bool relocationPending() const { return relocation_pending_; }
 
   // ---- state ------------------------------------------------------------------------------
