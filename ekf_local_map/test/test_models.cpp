@@ -3,6 +3,7 @@
 // sensor mounted off the robot's base; the innovation's sign for the flipped representation; the
 // observation checks; the odometry noise model against Monte Carlo samples of the wheel model;
 // the chi-square quantiles against tables.
+#include "laser_features/testing/numeric_jacobian.h"
 #include "ekf_local_map/chi_square.h"
 #include "ekf_local_map/measurement_model.h"
 #include "ekf_local_map/odometry_noise.h"
@@ -21,30 +22,12 @@ namespace {
 using laser_features::normalizeAngle;
 using namespace testing_support;
 
-constexpr double kStep = 1e-6;
 constexpr double kJacobianTol = 1e-6;
-
-Eigen::Vector3d toVector(const Pose2D& p) { return {p.x, p.y, p.theta}; }
-Pose2D toPose(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-Eigen::Vector3d poseDifference(const Pose2D& a, const Pose2D& b) {
-  return {a.x - b.x, a.y - b.y, normalizeAngle(a.theta - b.theta)};
-}
-Eigen::Vector2d lineParamDifference(const Line& a, const Line& b) {
-  return {normalizeAngle(a.alpha - b.alpha), a.r - b.r};
-}
-
-/// Central-difference Jacobian of f: R^N -> R^M; `diff` subtracts outputs (wrapping angles).
-template <int M, int N, typename F, typename Diff>
-Eigen::Matrix<double, M, N> numericJacobian(F f, Diff diff, const Eigen::Matrix<double, N, 1>& x) {
-  Eigen::Matrix<double, M, N> J;
-  for (int k = 0; k < N; ++k) {
-    Eigen::Matrix<double, N, 1> plus = x, minus = x;
-    plus(k) += kStep;
-    minus(k) -= kStep;
-    J.col(k) = diff(f(plus), f(minus)) / (2.0 * kStep);
-  }
-  return J;
-}
+using laser_features::testing::lineParamDifference;
+using laser_features::testing::numericJacobian;
+using laser_features::testing::poseDifference;
+using laser_features::testing::toPose;
+using laser_features::testing::toVector;
 
 class RandomModels : public ::testing::Test {
  protected:

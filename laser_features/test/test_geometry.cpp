@@ -1,5 +1,6 @@
 // Geometry: angle wrapping, pose compounding, line transforms and their Jacobians checked against
 // central finite differences, transform round trips, the r-sign flip, Mahalanobis wrap-around.
+#include "laser_features/testing/numeric_jacobian.h"
 #include "laser_features/geometry.h"
 
 #include <gtest/gtest.h>
@@ -9,32 +10,12 @@
 namespace laser_features {
 namespace {
 
-constexpr double kStep = 1e-6;       // finite-difference step
 constexpr double kJacobianTol = 1e-6;
-
-Eigen::Vector3d toVector(const Pose2D& p) { return {p.x, p.y, p.theta}; }
-Pose2D toPose(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-
-/// Difference of two (x, y, theta) vectors with the angle wrapped.
-Eigen::Vector3d poseDifference(const Pose2D& a, const Pose2D& b) {
-  return {a.x - b.x, a.y - b.y, normalizeAngle(a.theta - b.theta)};
-}
-Eigen::Vector2d lineParamDifference(const Line& a, const Line& b) {
-  return {normalizeAngle(a.alpha - b.alpha), a.r - b.r};
-}
-
-/// Central-difference Jacobian of f: R^N -> R^M, where `diff` subtracts outputs (wrapping angles).
-template <int M, int N, typename F, typename Diff>
-Eigen::Matrix<double, M, N> numericJacobian(F f, Diff diff, const Eigen::Matrix<double, N, 1>& x) {
-  Eigen::Matrix<double, M, N> J;
-  for (int k = 0; k < N; ++k) {
-    Eigen::Matrix<double, N, 1> plus = x, minus = x;
-    plus(k) += kStep;
-    minus(k) -= kStep;
-    J.col(k) = diff(f(plus), f(minus)) / (2.0 * kStep);
-  }
-  return J;
-}
+using laser_features::testing::lineParamDifference;
+using laser_features::testing::numericJacobian;
+using laser_features::testing::poseDifference;
+using laser_features::testing::toPose;
+using laser_features::testing::toVector;
 
 class RandomGeometry : public ::testing::Test {
  protected:
