@@ -162,17 +162,10 @@ void scoreLines(const std::vector<Segment>& extracted, const std::vector<TrueLin
       }
     }
     if (best < 0) {
-      if (std::getenv("EVAL_DEBUG_LINES"))
-        std::fprintf(stderr, "false line: length %.2f r %.2f alpha %.1f range %.2f..%.2f\n", (e.end - e.start).norm(),
-                     e.line.r, e.line.alpha * 180 / M_PI, e.start.norm(), e.end.norm());
       ++s->false_lines;
       continue;
     }
     face_found[best] = true;
-    if (std::getenv("EVAL_DEBUG_LINES") && std::abs(best_diff[1]) > 0.03)
-      std::fprintf(stderr, "line dr %.3f da %.2f deg: length %.2f r %.2f range %.2f..%.2f face beams %d\n", best_diff[1],
-                   best_diff[0] * 180 / M_PI, (e.end - e.start).norm(), e.line.r, e.start.norm(), e.end.norm(),
-                   truth[best].beams);
     s->d_alpha.push_back(std::abs(best_diff[0]));
     s->d_r.push_back(std::abs(best_diff[1]));
     s->d_mid.push_back(std::abs(lf::signedDistanceToLine(truth[best].line, 0.5 * (e.start + e.end))));
@@ -463,10 +456,6 @@ int main(int argc, char** argv) {
         if (features.place_type == lf::PlaceType::kUnknown) ++s.place_unknown;
         s.place_right += right;
         (hallway ? s.hallway_scans : s.room_scans)++;
-        if (std::getenv("EVAL_DEBUG_PLACE") && !right)
-          std::fprintf(stderr, "place wrong at (%.2f, %.2f) in %s: L %.2f W %.2f axis %.0f conf %.2f\n", laser.x, laser.y,
-                       world.regions[region].name.c_str(), features.place.length, features.place.width,
-                       features.place.axis * 180 / M_PI, features.place_confidence);
         (hallway ? s.hallway_right : s.room_right) += right;
       }
     }
