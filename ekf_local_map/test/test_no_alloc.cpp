@@ -13,34 +13,12 @@
 #include <new>
 #include <random>
 
+// The program-wide counting operator new of this binary.
+#include "laser_features/testing/counting_allocator.h"
+
 namespace {
-std::atomic<long> g_allocations{0};
-
-void* countedAllocation(std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* countedAlignedAllocation(std::size_t size, std::align_val_t alignment) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  const std::size_t a = static_cast<std::size_t>(alignment);
-  if (void* p = std::aligned_alloc(a, (size + a - 1) / a * a)) return p;
-  throw std::bad_alloc();
-}
+long heapAllocations() { return laser_features::testing::allocationCount(); }
 }  // namespace
-
-void* operator new(std::size_t size) { return countedAllocation(size); }
-void* operator new[](std::size_t size) { return countedAllocation(size); }
-void* operator new(std::size_t size, std::align_val_t a) { return countedAlignedAllocation(size, a); }
-void* operator new[](std::size_t size, std::align_val_t a) { return countedAlignedAllocation(size, a); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 
 namespace ekf_local_map {
 namespace {
@@ -49,10 +27,10 @@ using laser_features::compose;
 using namespace testing_support;
 
 TEST(NoAllocation, CounterWorks) {
-  const long before = g_allocations.load();
+  const long before = heapAllocations();
   std::vector<int>* v = new std::vector<int>(10);
   delete v;
-  EXPECT_EQ(g_allocations.load() - before, 2);
+  EXPECT_EQ(heapAllocations() - before, 2);
 }
 
 TEST(NoAllocation, SteadyStatePredictAndUpdateDoNotAllocate) {
@@ -96,7 +74,7 @@ TEST(NoAllocation, SteadyStatePredictAndUpdateDoNotAllocate) {
     map.update(scans[size_t(step)], mount, &report);
   }
 
-  const long before = g_allocations.load();
+  const long before = heapAllocations();
   size_t matched = 0, new_lines = 0;
   for (size_t step = 20; step < scans.size(); ++step) {
     map.predict(increments[step], noise.covariance(increments[step]));
@@ -104,7 +82,7 @@ TEST(NoAllocation, SteadyStatePredictAndUpdateDoNotAllocate) {
     matched += report.matched;
     new_lines += report.new_lines;
   }
-  const long allocations = g_allocations.load() - before;
+  const long allocations = heapAllocations() - before;
   EXPECT_EQ(allocations, 0);
   EXPECT_GT(matched, 500u);
   EXPECT_EQ(new_lines, 1u);  // the bench, added once, then matched

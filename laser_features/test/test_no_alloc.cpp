@@ -11,34 +11,12 @@
 #include <new>
 #include <random>
 
+// The program-wide counting operator new of this binary.
+#include "laser_features/testing/counting_allocator.h"
+
 namespace {
-std::atomic<long> g_allocations{0};
-
-void* countedAllocation(std::size_t size) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  throw std::bad_alloc();
-}
-void* countedAlignedAllocation(std::size_t size, std::align_val_t alignment) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  const std::size_t a = static_cast<std::size_t>(alignment);
-  if (void* p = std::aligned_alloc(a, (size + a - 1) / a * a)) return p;
-  throw std::bad_alloc();
-}
+long heapAllocations() { return laser_features::testing::allocationCount(); }
 }  // namespace
-
-void* operator new(std::size_t size) { return countedAllocation(size); }
-void* operator new[](std::size_t size) { return countedAllocation(size); }
-void* operator new(std::size_t size, std::align_val_t a) { return countedAlignedAllocation(size, a); }
-void* operator new[](std::size_t size, std::align_val_t a) { return countedAlignedAllocation(size, a); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 
 namespace laser_features {
 namespace {
@@ -46,10 +24,10 @@ namespace {
 using namespace synthetic;
 
 TEST(NoAllocation, CounterWorks) {
-  const long before = g_allocations.load();
+  const long before = heapAllocations();
   std::vector<int>* v = new std::vector<int>(10);
   delete v;
-  EXPECT_EQ(g_allocations.load() - before, 2);
+  EXPECT_EQ(heapAllocations() - before, 2);
 }
 
 TEST(NoAllocation, SteadyStateExtractionDoesNotAllocate) {
@@ -66,7 +44,7 @@ TEST(NoAllocation, SteadyStateExtractionDoesNotAllocate) {
     Features features;
     for (const auto& ranges : scans) extractor.extract(makeView(spec, ranges), &features);  // warm up
 
-    const long before = g_allocations.load();
+    const long before = heapAllocations();
     size_t lines = 0;
     for (int repeat = 0; repeat < 4; ++repeat) {
       for (const auto& ranges : scans) {
@@ -74,7 +52,7 @@ TEST(NoAllocation, SteadyStateExtractionDoesNotAllocate) {
         lines += features.lines.size();
       }
     }
-    const long allocations = g_allocations.load() - before;
+    const long allocations = heapAllocations() - before;
     EXPECT_EQ(allocations, 0) << beams << " beams";
     EXPECT_GT(lines, 0u);
   }
