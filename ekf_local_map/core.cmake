@@ -10,7 +10,6 @@ set(EKF_LOCAL_MAP_CORE_DIR ${CMAKE_CURRENT_LIST_DIR})
 find_package(Eigen3 REQUIRED)  # header-only
 
 add_library(ekf_local_map_core
-  ${EKF_LOCAL_MAP_CORE_DIR}/src/chi_square.cpp
   ${EKF_LOCAL_MAP_CORE_DIR}/src/measurement_model.cpp
   ${EKF_LOCAL_MAP_CORE_DIR}/src/odometry_noise.cpp
   ${EKF_LOCAL_MAP_CORE_DIR}/src/stochastic_map.cpp

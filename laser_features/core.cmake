@@ -11,6 +11,8 @@ find_package(Eigen3 REQUIRED)  # header-only
 
 add_library(laser_features_core
   ${LASER_FEATURES_CORE_DIR}/src/geometry.cpp
+  ${LASER_FEATURES_CORE_DIR}/src/chi_square.cpp
+  ${LASER_FEATURES_CORE_DIR}/src/file_io.cpp
   ${LASER_FEATURES_CORE_DIR}/src/scan.cpp
   ${LASER_FEATURES_CORE_DIR}/src/line_extractor.cpp
   ${LASER_FEATURES_CORE_DIR}/src/corner_extractor.cpp

@@ -1,10 +1,9 @@
 #include "ekf_local_map/persistence.h"
 
+#include "laser_features/file_io.h"
+
 #include <Eigen/Eigenvalues>
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <array>
 #include <cctype>
@@ -230,46 +229,7 @@ IoResult failure(const std::string& name, const std::string& what) {
   return {false, "cannot load places from '" + name + "': " + what};
 }
 
-// ---- atomic write ----------------------------------------------------------------------------
-
-std::string errnoText() { return std::strerror(errno); }
-
-bool writeAll(int fd, const std::string& bytes) {
-  size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return false;
-    }
-    done += size_t(n);
-  }
-  return true;
-}
-
-std::string directoryOf(const std::string& path) {
-  const size_t slash = path.find_last_of('/');
-  if (slash == std::string::npos) return ".";
-  return slash == 0 ? "/" : path.substr(0, slash);
-}
-
 }  // namespace
-
-uint32_t crc32(const void* data, size_t size, uint32_t crc) {
-  static const auto table = [] {
-    std::array<uint32_t, 256> t{};
-    for (uint32_t i = 0; i < 256; ++i) {
-      uint32_t c = i;
-      for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-      t[i] = c;
-    }
-    return t;
-  }();
-  const auto* p = static_cast<const uint8_t*>(data);
-  crc = ~crc;
-  for (size_t i = 0; i < size; ++i) crc = table[(crc ^ p[i]) & 0xffu] ^ (crc >> 8);
-  return ~crc;
-}
 
 std::string encodePlaces(const PlaceMaps& maps) {
   std::string out = headerText(kPlacesFormatVersion);
@@ -277,7 +237,7 @@ std::string encodePlaces(const PlaceMaps& maps) {
   w.u32(uint32_t(maps.size()));
   w.u32(maps.nextId());
   for (const auto& entry : maps.places()) encodePlace(entry.second, &out);
-  w.u32(crc32(out.data(), out.size()));
+  w.u32(laser_features::crc32(out.data(), out.size()));
   return out;
 }
 
@@ -327,7 +287,7 @@ IoResult decodePlaces(const std::string& bytes, const std::string& name, PlaceMa
   }
   Reader trailer(bytes, checksum_at, bytes.size());
   const uint32_t stored = trailer.u32("the checksum");
-  const uint32_t computed = crc32(bytes.data(), checksum_at);
+  const uint32_t computed = laser_features::crc32(bytes.data(), checksum_at);
   if (stored != computed) {
     return failure(name, "checksum mismatch (stored " + std::to_string(stored) + ", computed " +
                              std::to_string(computed) + "): the file is corrupt or truncated" +
@@ -341,40 +301,17 @@ IoResult decodePlaces(const std::string& bytes, const std::string& name, PlaceMa
 }
 
 IoResult savePlaces(const PlaceMaps& maps, const std::string& path) {
-  const std::string bytes = encodePlaces(maps);
-  const std::string tmp = path + ".tmp";
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) return {false, "cannot save places to '" + path + "': cannot create '" + tmp + "': " + errnoText()};
   std::string error;
-  if (!writeAll(fd, bytes)) {
-    error = "write failed: " + errnoText();
-  } else if (::fsync(fd) != 0) {
-    error = "fsync failed: " + errnoText();
-  }
-  if (::close(fd) != 0 && error.empty()) error = "close failed: " + errnoText();
-  if (error.empty() && ::rename(tmp.c_str(), path.c_str()) != 0) {
-    error = "rename of '" + tmp + "' failed: " + errnoText();
-  }
-  if (!error.empty()) {
-    ::unlink(tmp.c_str());
+  if (!laser_features::writeFileAtomically(path, encodePlaces(maps), &error)) {
     return {false, "cannot save places to '" + path + "': " + error};
-  }
-  // Make the rename itself durable.
-  const int dir = ::open(directoryOf(path).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dir >= 0) {
-    ::fsync(dir);
-    ::close(dir);
   }
   return {};
 }
 
 IoResult loadPlaces(const std::string& path, PlaceMaps* maps) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return failure(path, std::string("cannot open: ") + errnoText());
-  std::ostringstream contents;
-  contents << file.rdbuf();
-  if (file.bad()) return failure(path, "read error");
-  return decodePlaces(contents.str(), path, maps);
+  std::string bytes, error;
+  if (!laser_features::readWholeFile(path, &bytes, &error)) return failure(path, error);
+  return decodePlaces(bytes, path, maps);
 }
 
 std::vector<PlaceStorage> storageStats(const PlaceMaps& maps) {

@@ -1,6 +1,6 @@
 #include "ekf_local_map/stochastic_map.h"
 
-#include "ekf_local_map/chi_square.h"
+#include "laser_features/chi_square.h"
 
 #include <Eigen/Cholesky>
 
@@ -267,7 +267,7 @@ RelocationResult StochasticMap::evaluateRelocation(const UpdateReport& report) c
     result.verdict = RelocationResult::Verdict::kTooFewMatches;
     return result;
   }
-  result.joint_nis_bound = chiSquareQuantile(params_.relocation_joint_probability, int(2 * result.matched));
+  result.joint_nis_bound = laser_features::chiSquareQuantile(params_.relocation_joint_probability, int(2 * result.matched));
   if (!(report.joint_nis <= result.joint_nis_bound)) {
     result.verdict = RelocationResult::Verdict::kJointlyIncompatible;
   } else if (result.angle_span < params_.relocation_min_angle) {
@@ -340,7 +340,7 @@ bool StochasticMap::extentsOverlap(size_t i, const ObservationData& observation)
 void StochasticMap::findCandidates(const std::vector<LineSegment>& observations, const UpdateReport& report) {
   // Pairs between the validation gate and the wider exclusion gate are candidates too: the joint
   // test may accept them (see selectJointlyCompatible).
-  const double exclusion = std::max(chiSquareQuantile(params_.gate_probability, 2), params_.new_line_exclusion_nis);
+  const double exclusion = std::max(laser_features::chiSquareQuantile(params_.gate_probability, 2), params_.new_line_exclusion_nis);
   candidates_.clear();
   for (size_t j = 0; j < observations.size(); ++j) {
     ObservationData& data = observation_data_[j];
@@ -384,13 +384,13 @@ bool StochasticMap::selectJointlyCompatible(const std::vector<LineSegment>& obse
   // otherwise only the individually gated pairs are kept.
   std::vector<LineMatch>& matches = report->matches;
   if (matches.size() <= first) return false;
-  const double gate = chiSquareQuantile(params_.gate_probability, 2);
+  const double gate = laser_features::chiSquareQuantile(params_.gate_probability, 2);
   const bool all_individually_gated = std::all_of(matches.begin() + std::ptrdiff_t(first), matches.end(),
                                                   [gate](const LineMatch& m) { return m.nis < gate; });
   const bool stacked = stackInnovations(observations, first, *report);
   if (all_individually_gated) return stacked;
   const size_t k = matches.size() - first;
-  if (stacked && batch_nis_ < chiSquareQuantile(params_.gate_probability, int(2 * k))) return true;
+  if (stacked && batch_nis_ < laser_features::chiSquareQuantile(params_.gate_probability, int(2 * k))) return true;
 
   size_t kept = first;
   for (size_t a = first; a < matches.size(); ++a) {

@@ -3,7 +3,7 @@
 // from their covariances, the mean NEES of the robot pose at the end must lie in the 95 % band of
 // chi^2_(3 x runs) / runs, the mean line NEES in that of chi^2_(2 x runs) / runs, and the EKF's
 // final pose error must be far below that of odometry alone.
-#include "ekf_local_map/chi_square.h"
+#include "laser_features/chi_square.h"
 #include "ekf_local_map/stochastic_map.h"
 
 #include "simulated_room.h"
@@ -101,7 +101,7 @@ MonteCarlo monteCarlo(int runs, const StochasticMapParams& params, double odomet
 
 /// The two-sided 95 % band of the mean of `runs` chi^2_dof variables.
 std::pair<double, double> neesBand(int dof, int runs) {
-  return {chiSquareQuantile(0.025, dof * runs) / runs, chiSquareQuantile(0.975, dof * runs) / runs};
+  return {laser_features::chiSquareQuantile(0.025, dof * runs) / runs, laser_features::chiSquareQuantile(0.975, dof * runs) / runs};
 }
 
 constexpr int kRuns = 50;

@@ -4,7 +4,7 @@
 // observation checks; the odometry noise model against Monte Carlo samples of the wheel model;
 // the chi-square quantiles against tables.
 #include "laser_features/testing/numeric_jacobian.h"
-#include "ekf_local_map/chi_square.h"
+#include "laser_features/chi_square.h"
 #include "ekf_local_map/measurement_model.h"
 #include "ekf_local_map/odometry_noise.h"
 
@@ -240,17 +240,17 @@ TEST(OdometryNoise, DefaultsAreTheSimulatorsWheelModelWithFloorsAndInflation) {
 // ---- chi-square ----------------------------------------------------------------------------
 
 TEST(ChiSquare, QuantilesMatchTables) {
-  EXPECT_NEAR(chiSquareQuantile(0.95, 2), 5.991, 1e-3);
-  EXPECT_NEAR(chiSquareQuantile(0.9999, 2), 18.421, 1e-3);
-  EXPECT_NEAR(chiSquareQuantile(0.95, 3), 7.815, 0.01 * 7.815);
-  EXPECT_NEAR(chiSquareQuantile(0.99, 6), 16.812, 0.01 * 16.812);
-  EXPECT_NEAR(chiSquareQuantile(0.99, 20), 37.566, 0.01 * 37.566);
-  EXPECT_NEAR(chiSquareQuantile(0.025, 150), 117.98, 0.005 * 117.98);
-  EXPECT_NEAR(chiSquareQuantile(0.975, 150), 185.80, 0.005 * 185.80);
-  EXPECT_NEAR(chiSquareQuantile(0.025, 100), 74.22, 0.005 * 74.22);
-  EXPECT_NEAR(chiSquareQuantile(0.975, 100), 129.56, 0.005 * 129.56);
-  EXPECT_NEAR(normalQuantile(0.975), 1.959964, 1e-6);
-  EXPECT_NEAR(normalQuantile(0.001), -3.090232, 1e-6);
+  EXPECT_NEAR(laser_features::chiSquareQuantile(0.95, 2), 5.991, 1e-3);
+  EXPECT_NEAR(laser_features::chiSquareQuantile(0.9999, 2), 18.421, 1e-3);
+  EXPECT_NEAR(laser_features::chiSquareQuantile(0.95, 3), 7.815, 0.01 * 7.815);
+  EXPECT_NEAR(laser_features::chiSquareQuantile(0.99, 6), 16.812, 0.01 * 16.812);
+  EXPECT_NEAR(laser_features::chiSquareQuantile(0.99, 20), 37.566, 0.01 * 37.566);
+  EXPECT_NEAR(laser_features::chiSquareQuantile(0.025, 150), 117.98, 0.005 * 117.98);
+  EXPECT_NEAR(laser_features::chiSquareQuantile(0.975, 150), 185.80, 0.005 * 185.80);
+  EXPECT_NEAR(laser_features::chiSquareQuantile(0.025, 100), 74.22, 0.005 * 74.22);
+  EXPECT_NEAR(laser_features::chiSquareQuantile(0.975, 100), 129.56, 0.005 * 129.56);
+  EXPECT_NEAR(laser_features::normalQuantile(0.975), 1.959964, 1e-6);
+  EXPECT_NEAR(laser_features::normalQuantile(0.001), -3.090232, 1e-6);
 }
 
 }  // namespace

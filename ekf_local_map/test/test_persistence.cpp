@@ -1,6 +1,7 @@
 // Saving and loading places: an exact round trip; refusal of truncated files, flipped bytes, a bad
 // magic line, a newer version, non-finite numbers and non-PSD covariances (with a valid checksum),
 // always leaving the maps in memory as they were; atomic writes; storage size per place and per m^2.
+#include "laser_features/file_io.h"
 #include "ekf_local_map/persistence.h"
 
 #include "simulated_room.h"
@@ -70,7 +71,7 @@ bool exists(const std::string& path) {
 
 /// Replaces the trailing CRC so that a deliberately altered body passes the checksum.
 std::string withValidChecksum(std::string bytes) {
-  const uint32_t crc = crc32(bytes.data(), bytes.size() - 4);
+  const uint32_t crc = laser_features::crc32(bytes.data(), bytes.size() - 4);
   for (int b = 0; b < 4; ++b) bytes[bytes.size() - 4 + size_t(b)] = char((crc >> (8 * b)) & 0xffu);
   return bytes;
 }

@@ -4,7 +4,7 @@
 // rejected observations, a teleport (gating failure), growth beyond the preallocated capacity.
 #include "ekf_local_map/stochastic_map.h"
 
-#include "ekf_local_map/chi_square.h"
+#include "laser_features/chi_square.h"
 #include "simulated_room.h"
 
 #include <gtest/gtest.h>
@@ -284,8 +284,8 @@ TEST(Update, SensorOnALineThroughThePlaceOriginStaysConsistent) {
     line_nees += map.lineNees(4, segments[4].line()) / runs;
   }
   std::printf("line through the sensor and the origin: mean NEES %.2f\n", line_nees);
-  EXPECT_GT(line_nees, chiSquareQuantile(0.025, 2 * runs) / runs);
-  EXPECT_LT(line_nees, chiSquareQuantile(0.975, 2 * runs) / runs);
+  EXPECT_GT(line_nees, laser_features::chiSquareQuantile(0.025, 2 * runs) / runs);
+  EXPECT_LT(line_nees, laser_features::chiSquareQuantile(0.975, 2 * runs) / runs);
 }
 
 // ---- eqs. 9–11 -------------------------------------------------------------------------------

@@ -70,7 +70,4 @@ struct PlaceStorage {
 };
 std::vector<PlaceStorage> storageStats(const PlaceMaps& maps);
 
-/// CRC-32 (IEEE 802.3), continuing from `crc` (0 to start).
-uint32_t crc32(const void* data, size_t size, uint32_t crc = 0);
-
 }  // namespace ekf_local_map

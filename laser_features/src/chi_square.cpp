@@ -1,9 +1,9 @@
-#include "ekf_local_map/chi_square.h"
+#include "laser_features/chi_square.h"
 
 #include <cmath>
 #include <limits>
 
-namespace ekf_local_map {
+namespace laser_features {
 
 double normalQuantile(double p) {
   if (!(p > 0.0 && p < 1.0)) return std::numeric_limits<double>::quiet_NaN();
@@ -39,4 +39,4 @@ double chiSquareQuantile(double p, int dof) {
   return k * t * t * t;
 }
 
-}  // namespace ekf_local_map
+}  // namespace laser_features

@@ -1,7 +1,7 @@
 // Quantiles of the chi-square distribution, for validation gates and consistency bands.
 #pragma once
 
-namespace ekf_local_map {
+namespace laser_features {
 
 /// The value below which a chi-square variable with `dof` degrees of freedom falls with
 /// probability `p` (0 < p < 1). Exact for dof = 2 (-2 ln(1 - p)); otherwise the Wilson–Hilferty
@@ -12,4 +12,4 @@ double chiSquareQuantile(double p, int dof);
 /// below 1.2e-9).
 double normalQuantile(double p);
 
-}  // namespace ekf_local_map
+}  // namespace laser_features
