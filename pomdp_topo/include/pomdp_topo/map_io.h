@@ -1,0 +1,72 @@
+// Saving and loading the topological map (DESIGN.md: written atomically, versioned; a corrupt or
+// newer file is refused with a clear error and the map in memory is kept).
+//
+// File format, version 1: two text lines, then little-endian binary (u32: 4-byte unsigned integer,
+// i32: 4-byte two's complement, f64: IEEE-754 binary64):
+//
+//   "hybrid_slam_topological_map\n"     magic line
+//   "version 1\n"                       format version, decimal
+//   u32 node_count
+//   node_count x {
+//     u32 id, u32 type                  type: NodeType (0 door, 1 junction, 2 hallway end, 3 place, 4 start)
+//     f64 x, y, theta                   display pose in the map frame
+//     i32 place_id                      -1: no place yet
+//     f64 x, y, theta                   door_in_place
+//     u32 flags                         bit 0: explored
+//     u32 opening_count o, u32 fingerprint_count f
+//     o x { f64 bearing, offset, width, u32 flags }   flags bit 0: explored
+//     f x { u32 kind, f64 bearing }              kind: FingerprintEntry::Kind (0 corner, 1 opening,
+//                                                     2 line direction), in the stored order
+//   }
+//   u32 edge_count
+//   edge_count x {
+//     u32 id, source, target
+//     f64 heading, length
+//     u32 landmark_count l
+//     l x { u32 type, f64 distance, lateral, orientation, p_lmap, u32 observations }
+//                                       type: LandmarkType (0 corner, 1 opening), in the stored order
+//   }
+//   u32 next_node_id, u32 next_edge_id
+//   u32 CRC-32 (IEEE 802.3 polynomial, as zlib's crc32) of every byte before it
+//
+// Angles are written normalized to (-pi, pi] (unchanged when they already are), so a round trip of
+// a normalized map is bit for bit. Loading refuses, naming the file and the problem: a wrong magic
+// line, a newer or unknown version, a checksum mismatch (a flipped byte anywhere), a file that ends
+// early or has bytes after the body, non-finite numbers, angles outside (-pi, pi], a negative edge
+// length or opening width, p_lmap outside [0, 1], a place_id below -1, unknown types, kinds or flag
+// bits, duplicate node or edge ids, an edge referring to a missing node, a self-loop, and next ids
+// not above every id in use. saveMap refuses (and writes nothing) a map that loading would refuse.
+#pragma once
+
+#include "pomdp_topo/topological_map.h"
+
+#include <cstdint>
+#include <string>
+
+namespace pomdp_topo {
+
+constexpr uint32_t kTopoMapFormatVersion = 1;
+constexpr const char* kTopoMapMagic = "hybrid_slam_topological_map";
+
+struct IoResult {
+  bool ok = true;
+  std::string error;  // names the file and what is wrong
+  explicit operator bool() const { return ok; }
+};
+
+/// The encoded file contents (what saveMap writes).
+std::string encodeMap(const TopologicalMap& map);
+
+/// Decodes file contents into `map`, all or nothing: on failure `map` is untouched. `name` is used
+/// in error messages. On success the map's revision is bumped (TopologicalMap::assign).
+IoResult decodeMap(const std::string& bytes, const std::string& name, TopologicalMap* map);
+
+/// Writes the map to `path` atomically (laser_features::writeFileAtomically: `path`.tmp, fsync,
+/// rename). On failure `path` is untouched and no .tmp is left; an invalid map (one loadMap would
+/// refuse) is not written.
+IoResult saveMap(const TopologicalMap& map, const std::string& path);
+
+/// Reads `path` and decodes it into `map`, all or nothing.
+IoResult loadMap(const std::string& path, TopologicalMap* map);
+
+}  // namespace pomdp_topo

@@ -1,0 +1,146 @@
+// The global topological map (Tomatis et al. 2001, section 3.3; Tapus & Siegwart for fingerprints).
+//
+// Nodes are openings (doors into rooms, hallway junctions and turns), hallway ends and the robot's
+// start; a door node links to a place (a local metric map of ekf_local_map) by its id and the
+// door's pose in the place frame. Edges are hallway stretches between two nodes, stored once with
+// the direction of travel from source to target (the reverse travel has heading + pi), an estimated
+// length, and the ordered landmarks (corners) between the two nodes.
+//
+// Headings are general angles in the map frame; the building's axes (rectilinear buildings: N, E,
+// S, W) only enter through TopoParams::heading_bins of the localizer, not here.
+#pragma once
+
+#include "laser_features/geometry.h"
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace pomdp_topo {
+
+using laser_features::Pose2D;
+
+enum class NodeType : uint8_t { Door = 0, Junction = 1, HallwayEnd = 2, Place = 3, Start = 4 };
+enum class LandmarkType : uint8_t { Corner = 0, Opening = 1 };
+
+const char* toString(NodeType type);
+const char* toString(LandmarkType type);
+
+/// A landmark along an edge, in the edge's frame: travel from source to target along +x, left +y.
+struct EdgeLandmark {
+  LandmarkType type = LandmarkType::Corner;
+  double distance = 0.0;     // m, along the edge from its source node
+  double lateral = 0.0;      // m, signed offset from the edge's mid-line, + on the left of travel
+  double orientation = 0.0;  // rad, relative to the direction of travel source -> target, (-pi, pi]
+  double p_lmap = 0.5;       // probability of seeing the landmark when passing it (eqs. 4-5)
+  uint32_t observations = 0; // how many passes contributed to p_lmap (running average, eq. 4)
+};
+
+/// An opening at a node: a door into a room, or a hallway branch at a junction.
+struct NodeOpening {
+  double bearing = 0.0;  // rad, map frame: direction from the node's centre through the opening
+  double offset = 0.0;   // m, from the node's centre to the opening's centre along `bearing`
+  double width = 0.0;    // m
+  bool explored = false; // the robot went through it (a room mapped or a hallway stretch followed)
+};
+
+/// One entry of a fingerprint: a feature seen around the robot at the node.
+struct FingerprintEntry {
+  enum Kind : uint8_t { Corner = 0, Opening = 1, LineDirection = 2 };
+  Kind kind = Corner;
+  double bearing = 0.0;  // rad, map frame, direction from the node's centre to the feature
+};
+
+/// The circular sequence of features around a node (Tapus & Siegwart), ordered by bearing.
+struct Fingerprint {
+  std::vector<FingerprintEntry> entries;
+  /// Sorts entries by bearing in (-pi, pi].
+  void normalize();
+};
+
+struct TopoNode {
+  uint32_t id = 0;
+  NodeType type = NodeType::Junction;
+  Pose2D pose;                 // display pose in the map frame (dead reckoning; not metric truth)
+  int32_t place_id = -1;       // local metric map behind the door, -1 if none yet
+  Pose2D door_in_place;        // the door's pose in the frame place_<place_id>
+  std::vector<NodeOpening> openings;
+  Fingerprint fingerprint;
+  bool explored = false;       // every opening has been visited
+};
+
+struct TopoEdge {
+  uint32_t id = 0;
+  uint32_t source = 0;
+  uint32_t target = 0;
+  double heading = 0.0;  // rad, map frame, direction of travel source -> target
+  double length = 0.0;   // m
+  std::vector<EdgeLandmark> landmarks;  // ordered by distance
+  /// Sorts landmarks by distance.
+  void sortLandmarks();
+};
+
+/// One way of leaving a node along an edge.
+struct EdgeExit {
+  uint32_t edge = 0;
+  bool forward = true;   // true: the node is the edge's source and the travel goes source -> target
+  double heading = 0.0;  // rad, heading of that travel
+  uint32_t other = 0;    // the node at the far end
+};
+
+class TopologicalMap {
+ public:
+  /// Adds a node; its id is assigned (the `id` of `node` is ignored) and returned.
+  uint32_t addNode(TopoNode node);
+  /// Adds an edge between two existing nodes; returns its id, or throws std::invalid_argument
+  /// for an unknown node, a self-loop, or a non-finite or negative length.
+  uint32_t addEdge(uint32_t source, uint32_t target, double heading, double length,
+                   std::vector<EdgeLandmark> landmarks = {});
+  /// Removes a node and every edge touching it. Returns false if there is no such node.
+  bool removeNode(uint32_t id);
+  bool removeEdge(uint32_t id);
+  /// Merges node `drop` into node `keep` (loop closing): edges of `drop` are re-attached to `keep`,
+  /// openings not already present at `keep` (same bearing within 0.35 rad) are added, `drop` is
+  /// removed. Edges that would become duplicates (same two nodes, same heading within 0.35 rad) are
+  /// merged: the longer-observed one is kept and the lengths averaged. Returns false for unknown ids.
+  bool mergeNodes(uint32_t keep, uint32_t drop);
+
+  const TopoNode* node(uint32_t id) const;
+  TopoNode* node(uint32_t id);
+  const TopoEdge* edge(uint32_t id) const;
+  TopoEdge* edge(uint32_t id);
+  const std::map<uint32_t, TopoNode>& nodes() const { return nodes_; }
+  const std::map<uint32_t, TopoEdge>& edges() const { return edges_; }
+  size_t nodeCount() const { return nodes_.size(); }
+  size_t edgeCount() const { return edges_.size(); }
+  bool empty() const { return nodes_.empty(); }
+
+  /// Every way to leave `node` along an edge (both directions of the edges touching it).
+  std::vector<EdgeExit> exits(uint32_t node) const;
+  /// The exit of `node` whose heading is within `tolerance` (rad) of `heading`; false if none.
+  bool exitWithHeading(uint32_t node, double heading, double tolerance, EdgeExit* exit) const;
+
+  /// Ids the next addNode / addEdge will assign.
+  uint32_t nextNodeId() const { return next_node_id_; }
+  uint32_t nextEdgeId() const { return next_edge_id_; }
+
+  /// Replaces everything (used by loading); ids must be consistent (checked by the caller).
+  void assign(std::map<uint32_t, TopoNode> nodes, std::map<uint32_t, TopoEdge> edges,
+              uint32_t next_node_id, uint32_t next_edge_id);
+  void clear();
+  /// Monotonic counter bumped by every structural change (node or edge added, removed, merged,
+  /// an edge's length changed through setEdgeLength): the localizer rebuilds its states when it moves.
+  uint64_t revision() const { return revision_; }
+  void setEdgeLength(uint32_t edge, double length);
+  void touch() { ++revision_; }
+
+ private:
+  std::map<uint32_t, TopoNode> nodes_;
+  std::map<uint32_t, TopoEdge> edges_;
+  uint32_t next_node_id_ = 0;
+  uint32_t next_edge_id_ = 0;
+  uint64_t revision_ = 0;
+};
+
+}  // namespace pomdp_topo

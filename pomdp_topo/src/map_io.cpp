@@ -1,0 +1,426 @@
+#include "pomdp_topo/map_io.h"
+
+#include "laser_features/file_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+
+namespace pomdp_topo {
+
+namespace {
+
+using laser_features::kPi;
+using laser_features::normalizeAngle;
+
+// Smallest records, to refuse impossible counts before allocating anything for them.
+constexpr size_t kMinNodeBytes = 4 + 4 + 24 + 4 + 24 + 4 + 4 + 4;
+constexpr size_t kOpeningBytes = 3 * 8 + 4;
+constexpr size_t kFingerprintEntryBytes = 4 + 8;
+constexpr size_t kMinEdgeBytes = 3 * 4 + 2 * 8 + 4;
+constexpr size_t kLandmarkBytes = 4 + 4 * 8 + 4;
+
+std::string headerText(uint32_t version) {
+  return std::string(kTopoMapMagic) + "\nversion " + std::to_string(version) + "\n";
+}
+
+// ---- encoding --------------------------------------------------------------------------------
+
+class Writer {
+ public:
+  explicit Writer(std::string* out) : out_(out) {}
+  void u32(uint32_t v) {
+    for (int b = 0; b < 4; ++b) out_->push_back(char((v >> (8 * b)) & 0xffu));
+  }
+  void i32(int32_t v) {
+    uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    u32(bits);
+  }
+  void f64(double v) {
+    uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    for (int b = 0; b < 8; ++b) out_->push_back(char((bits >> (8 * b)) & 0xffu));
+  }
+  /// An angle, normalized to (-pi, pi] (identity for a normalized angle, NaN stays NaN).
+  void angle(double a) { f64(normalizeAngle(a)); }
+  void pose(const Pose2D& p) {
+    f64(p.x);
+    f64(p.y);
+    angle(p.theta);
+  }
+
+ private:
+  std::string* out_;
+};
+
+void encodeNode(const TopoNode& node, Writer* w) {
+  w->u32(node.id);
+  w->u32(uint32_t(node.type));
+  w->pose(node.pose);
+  w->i32(node.place_id);
+  w->pose(node.door_in_place);
+  w->u32(node.explored ? 1u : 0u);
+  w->u32(uint32_t(node.openings.size()));
+  w->u32(uint32_t(node.fingerprint.entries.size()));
+  for (const NodeOpening& o : node.openings) {
+    w->angle(o.bearing);
+    w->f64(o.offset);
+    w->f64(o.width);
+    w->u32(o.explored ? 1u : 0u);
+  }
+  for (const FingerprintEntry& e : node.fingerprint.entries) {
+    w->u32(uint32_t(e.kind));
+    w->angle(e.bearing);
+  }
+}
+
+void encodeEdge(const TopoEdge& edge, Writer* w) {
+  w->u32(edge.id);
+  w->u32(edge.source);
+  w->u32(edge.target);
+  w->angle(edge.heading);
+  w->f64(edge.length);
+  w->u32(uint32_t(edge.landmarks.size()));
+  for (const EdgeLandmark& l : edge.landmarks) {
+    w->u32(uint32_t(l.type));
+    w->f64(l.distance);
+    w->f64(l.lateral);
+    w->angle(l.orientation);
+    w->f64(l.p_lmap);
+    w->u32(l.observations);
+  }
+}
+
+// ---- decoding --------------------------------------------------------------------------------
+
+/// Bounds-checked little-endian reader; the first failure is kept in `error`.
+class Reader {
+ public:
+  Reader(const std::string& bytes, size_t begin, size_t end) : bytes_(bytes), pos_(begin), end_(end) {}
+  bool ok() const { return error_.empty(); }
+  const std::string& error() const { return error_; }
+  size_t remaining() const { return end_ - pos_; }
+  void fail(const std::string& what) {
+    if (error_.empty()) error_ = what;
+  }
+
+  uint32_t u32(const char* what) {
+    if (!need(4, what)) return 0;
+    uint32_t v = 0;
+    for (int b = 0; b < 4; ++b) v |= uint32_t(uint8_t(bytes_[pos_ + size_t(b)])) << (8 * b);
+    pos_ += 4;
+    return v;
+  }
+  int32_t i32(const char* what) {
+    const uint32_t bits = u32(what);
+    int32_t v;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+  }
+  double f64(const char* what) {
+    if (!need(8, what)) return 0.0;
+    uint64_t bits = 0;
+    for (int b = 0; b < 8; ++b) bits |= uint64_t(uint8_t(bytes_[pos_ + size_t(b)])) << (8 * b);
+    pos_ += 8;
+    double v;
+    std::memcpy(&v, &bits, sizeof v);
+    if (!std::isfinite(v)) fail(std::string("non-finite number in ") + what + " at byte " + std::to_string(pos_ - 8));
+    return v;
+  }
+  /// An angle, which must lie in (-pi, pi].
+  double angle(const char* what) {
+    const double a = f64(what);
+    if (ok() && !(a > -kPi && a <= kPi)) {
+      fail(std::string("angle ") + std::to_string(a) + " in " + what + " at byte " + std::to_string(pos_ - 8) +
+           " is not in (-pi, pi]");
+    }
+    return a;
+  }
+  Pose2D pose(const char* what) {
+    Pose2D p;
+    p.x = f64(what);
+    p.y = f64(what);
+    p.theta = angle(what);
+    return p;
+  }
+  bool need(size_t n, const char* what) {
+    if (!ok()) return false;
+    if (remaining() < n) {
+      fail(std::string("the file ends early (truncated?) while reading ") + what + " at byte " +
+           std::to_string(pos_));
+      return false;
+    }
+    return true;
+  }
+
+ private:
+  const std::string& bytes_;
+  size_t pos_;
+  size_t end_;
+  std::string error_;
+};
+
+std::string nodeContext(size_t index, uint32_t id) {
+  return "node #" + std::to_string(index) + " (id " + std::to_string(id) + ")";
+}
+std::string edgeContext(size_t index, uint32_t id) {
+  return "edge #" + std::to_string(index) + " (id " + std::to_string(id) + ")";
+}
+
+/// Reads one node record; false with the reader's error or `error` set.
+bool decodeNode(Reader* in, size_t index, TopoNode* node, std::string* error) {
+  node->id = in->u32("a node id");
+  const uint32_t type = in->u32("a node type");
+  node->pose = in->pose("a node pose");
+  node->place_id = in->i32("a node's place id");
+  node->door_in_place = in->pose("a node's door pose in its place");
+  const uint32_t flags = in->u32("a node's flags");
+  const uint32_t num_openings = in->u32("a node's opening count");
+  const uint32_t num_entries = in->u32("a node's fingerprint size");
+  if (!in->ok()) return false;
+  const std::string where = nodeContext(index, node->id);
+  if (type > uint32_t(NodeType::Start)) {
+    *error = where + ": unknown node type " + std::to_string(type);
+    return false;
+  }
+  node->type = NodeType(type);
+  if (node->place_id < -1) {
+    *error = where + ": place id " + std::to_string(node->place_id) + " (expected -1 or a place id >= 0)";
+    return false;
+  }
+  if (flags > 1u) {
+    *error = where + ": unknown flags " + std::to_string(flags);
+    return false;
+  }
+  node->explored = flags & 1u;
+  const uint64_t needed = uint64_t(num_openings) * kOpeningBytes + uint64_t(num_entries) * kFingerprintEntryBytes;
+  if (needed > in->remaining()) {
+    *error = where + ": " + std::to_string(num_openings) + " openings and " + std::to_string(num_entries) +
+             " fingerprint entries need " + std::to_string(needed) + " more bytes, the file has " +
+             std::to_string(in->remaining()) + " (truncated?)";
+    return false;
+  }
+  node->openings.resize(num_openings);
+  for (size_t i = 0; i < node->openings.size(); ++i) {
+    NodeOpening& o = node->openings[i];
+    o.bearing = in->angle("an opening bearing");
+    o.offset = in->f64("an opening offset");
+    o.width = in->f64("an opening width");
+    const uint32_t explored = in->u32("an opening's flags");
+    if (!in->ok()) return false;
+    if (o.width < 0.0) {
+      *error = where + ", opening " + std::to_string(i) + ": negative width " + std::to_string(o.width);
+      return false;
+    }
+    if (explored > 1u) {
+      *error = where + ", opening " + std::to_string(i) + ": unknown flags " + std::to_string(explored);
+      return false;
+    }
+    o.explored = explored & 1u;
+  }
+  node->fingerprint.entries.resize(num_entries);
+  for (size_t i = 0; i < node->fingerprint.entries.size(); ++i) {
+    FingerprintEntry& e = node->fingerprint.entries[i];
+    const uint32_t kind = in->u32("a fingerprint entry kind");
+    e.bearing = in->angle("a fingerprint entry bearing");
+    if (!in->ok()) return false;
+    if (kind > uint32_t(FingerprintEntry::LineDirection)) {
+      *error = where + ", fingerprint entry " + std::to_string(i) + ": unknown kind " + std::to_string(kind);
+      return false;
+    }
+    e.kind = FingerprintEntry::Kind(kind);
+  }
+  return true;
+}
+
+/// Reads one edge record (its nodes are checked by the caller).
+bool decodeEdge(Reader* in, size_t index, TopoEdge* edge, std::string* error) {
+  edge->id = in->u32("an edge id");
+  edge->source = in->u32("an edge source");
+  edge->target = in->u32("an edge target");
+  edge->heading = in->angle("an edge heading");
+  edge->length = in->f64("an edge length");
+  const uint32_t num_landmarks = in->u32("an edge's landmark count");
+  if (!in->ok()) return false;
+  const std::string where = edgeContext(index, edge->id);
+  if (edge->length < 0.0) {
+    *error = where + ": negative length " + std::to_string(edge->length);
+    return false;
+  }
+  const uint64_t needed = uint64_t(num_landmarks) * kLandmarkBytes;
+  if (needed > in->remaining()) {
+    *error = where + ": " + std::to_string(num_landmarks) + " landmarks need " + std::to_string(needed) +
+             " more bytes, the file has " + std::to_string(in->remaining()) + " (truncated?)";
+    return false;
+  }
+  edge->landmarks.resize(num_landmarks);
+  for (size_t i = 0; i < edge->landmarks.size(); ++i) {
+    EdgeLandmark& l = edge->landmarks[i];
+    const uint32_t type = in->u32("a landmark type");
+    l.distance = in->f64("a landmark distance");
+    l.lateral = in->f64("a landmark lateral offset");
+    l.orientation = in->angle("a landmark orientation");
+    l.p_lmap = in->f64("a landmark p_lmap");
+    l.observations = in->u32("a landmark observation count");
+    if (!in->ok()) return false;
+    if (type > uint32_t(LandmarkType::Opening)) {
+      *error = where + ", landmark " + std::to_string(i) + ": unknown landmark type " + std::to_string(type);
+      return false;
+    }
+    l.type = LandmarkType(type);
+    if (!(l.p_lmap >= 0.0 && l.p_lmap <= 1.0)) {
+      *error = where + ", landmark " + std::to_string(i) + ": p_lmap " + std::to_string(l.p_lmap) +
+               " is not in [0, 1]";
+      return false;
+    }
+  }
+  return true;
+}
+
+struct Decoded {
+  std::map<uint32_t, TopoNode> nodes;
+  std::map<uint32_t, TopoEdge> edges;
+  uint32_t next_node_id = 0;
+  uint32_t next_edge_id = 0;
+};
+
+/// Decodes the whole file; returns the problem (without the file's name), empty when valid.
+std::string decode(const std::string& bytes, Decoded* out) {
+  // Magic line, then the version line (checked before the checksum: a newer format may differ).
+  const std::string magic = std::string(kTopoMapMagic) + "\n";
+  if (bytes.compare(0, magic.size(), magic) != 0) {
+    return std::string("not a topological map file (the first line is not '") + kTopoMapMagic + "')";
+  }
+  const size_t version_end = bytes.find('\n', magic.size());
+  const std::string version_line =
+      bytes.substr(magic.size(), version_end == std::string::npos ? 32 : version_end - magic.size());
+  const bool version_prefix = version_line.compare(0, 8, "version ") == 0 && version_end != std::string::npos;
+  const char* digits = version_prefix ? version_line.c_str() + 8 : "";
+  char* digits_end = nullptr;
+  const unsigned long version =
+      std::isdigit(static_cast<unsigned char>(*digits)) ? std::strtoul(digits, &digits_end, 10) : 0;
+  if (!version_prefix || digits_end == nullptr || *digits_end != '\0') {
+    return "malformed version line '" + version_line + "' (expected 'version <n>')";
+  }
+  if (version > kTopoMapFormatVersion) {
+    return "format version " + std::to_string(version) + " is newer than this build reads (" +
+           std::to_string(kTopoMapFormatVersion) + "); update the software";
+  }
+  if (version != kTopoMapFormatVersion) return "unknown format version " + std::to_string(version);
+  const size_t body = version_end + 1;
+  if (bytes.size() < body + 4) return "the file ends early (truncated?) before the checksum";
+  const size_t checksum_at = bytes.size() - 4;
+
+  Reader in(bytes, body, checksum_at);
+  std::string error;
+  const uint32_t num_nodes = in.u32("the node count");
+  if (in.ok() && uint64_t(num_nodes) * kMinNodeBytes > in.remaining()) {
+    error = std::to_string(num_nodes) + " nodes need at least " + std::to_string(uint64_t(num_nodes) * kMinNodeBytes) +
+            " more bytes, the file has " + std::to_string(in.remaining()) + " (truncated?)";
+  }
+  for (uint32_t k = 0; k < num_nodes && in.ok() && error.empty(); ++k) {
+    TopoNode node;
+    if (!decodeNode(&in, k, &node, &error)) break;
+    const uint32_t id = node.id;
+    if (!out->nodes.emplace(id, std::move(node)).second) error = "node id " + std::to_string(id) + " appears twice";
+  }
+  const uint32_t num_edges = error.empty() ? in.u32("the edge count") : 0;
+  if (in.ok() && error.empty() && uint64_t(num_edges) * kMinEdgeBytes > in.remaining()) {
+    error = std::to_string(num_edges) + " edges need at least " + std::to_string(uint64_t(num_edges) * kMinEdgeBytes) +
+            " more bytes, the file has " + std::to_string(in.remaining()) + " (truncated?)";
+  }
+  for (uint32_t k = 0; k < num_edges && in.ok() && error.empty(); ++k) {
+    TopoEdge edge;
+    if (!decodeEdge(&in, k, &edge, &error)) break;
+    const std::string where = edgeContext(k, edge.id);
+    if (edge.source == edge.target) {
+      error = where + ": a self-loop on node " + std::to_string(edge.source);
+    } else if (!out->nodes.count(edge.source) || !out->nodes.count(edge.target)) {
+      error = where + ": refers to missing node " +
+              std::to_string(out->nodes.count(edge.source) ? edge.target : edge.source);
+    } else {
+      const uint32_t id = edge.id;
+      if (!out->edges.emplace(id, std::move(edge)).second) error = "edge id " + std::to_string(id) + " appears twice";
+    }
+  }
+  if (error.empty()) {
+    out->next_node_id = in.u32("the next node id");
+    out->next_edge_id = in.u32("the next edge id");
+  }
+  if (in.ok() && error.empty()) {
+    // addNode / addEdge hand out the next ids: they must not collide with stored ones.
+    if (!out->nodes.empty() && out->next_node_id <= out->nodes.rbegin()->first) {
+      error = "next node id " + std::to_string(out->next_node_id) + " is not above node id " +
+              std::to_string(out->nodes.rbegin()->first);
+    } else if (!out->edges.empty() && out->next_edge_id <= out->edges.rbegin()->first) {
+      error = "next edge id " + std::to_string(out->next_edge_id) + " is not above edge id " +
+              std::to_string(out->edges.rbegin()->first);
+    } else if (in.remaining() != 0) {
+      error = std::to_string(in.remaining()) + " unexpected bytes before the checksum";
+    }
+  }
+  if (!in.ok()) error = in.error();
+
+  // The checksum first (a truncated or damaged file fails both; report the structure as a hint).
+  Reader trailer(bytes, checksum_at, bytes.size());
+  const uint32_t stored = trailer.u32("the checksum");
+  const uint32_t computed = laser_features::crc32(bytes.data(), checksum_at);
+  if (stored != computed) {
+    return "checksum mismatch (stored " + std::to_string(stored) + ", computed " + std::to_string(computed) +
+           "): the file is corrupt or truncated" + (error.empty() ? std::string() : "; " + error);
+  }
+  return error;
+}
+
+IoResult loadFailure(const std::string& name, const std::string& what) {
+  return {false, "cannot load topological map from '" + name + "': " + what};
+}
+
+}  // namespace
+
+std::string encodeMap(const TopologicalMap& map) {
+  std::string out = headerText(kTopoMapFormatVersion);
+  Writer w(&out);
+  w.u32(uint32_t(map.nodeCount()));
+  for (const auto& entry : map.nodes()) encodeNode(entry.second, &w);
+  w.u32(uint32_t(map.edgeCount()));
+  for (const auto& entry : map.edges()) encodeEdge(entry.second, &w);
+  w.u32(map.nextNodeId());
+  w.u32(map.nextEdgeId());
+  w.u32(laser_features::crc32(out.data(), out.size()));
+  return out;
+}
+
+IoResult decodeMap(const std::string& bytes, const std::string& name, TopologicalMap* map) {
+  Decoded decoded;
+  const std::string problem = decode(bytes, &decoded);
+  if (!problem.empty()) return loadFailure(name, problem);
+  // All or nothing: only a fully valid file reaches the map.
+  map->assign(std::move(decoded.nodes), std::move(decoded.edges), decoded.next_node_id, decoded.next_edge_id);
+  return {};
+}
+
+IoResult saveMap(const TopologicalMap& map, const std::string& path) {
+  const std::string bytes = encodeMap(map);
+  // Never write a file that loading would refuse (e.g. a NaN or a negative width in memory).
+  Decoded check;
+  const std::string problem = decode(bytes, &check);
+  if (!problem.empty()) return {false, "cannot save topological map to '" + path + "': the map is invalid: " + problem};
+  std::string error;
+  if (!laser_features::writeFileAtomically(path, bytes, &error)) {
+    return {false, "cannot save topological map to '" + path + "': " + error};
+  }
+  return {};
+}
+
+IoResult loadMap(const std::string& path, TopologicalMap* map) {
+  std::string bytes, error;
+  if (!laser_features::readWholeFile(path, &bytes, &error)) return loadFailure(path, error);
+  return decodeMap(bytes, path, map);
+}
+
+}  // namespace pomdp_topo

@@ -1,0 +1,203 @@
+#include "pomdp_topo/topological_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace pomdp_topo {
+
+using laser_features::normalizeAngle;
+
+namespace {
+constexpr double kSameDirection = 0.35;  // rad (20 deg): two bearings or headings this close are one
+}
+
+const char* toString(NodeType type) {
+  switch (type) {
+    case NodeType::Door: return "door";
+    case NodeType::Junction: return "junction";
+    case NodeType::HallwayEnd: return "hallway_end";
+    case NodeType::Place: return "place";
+    case NodeType::Start: return "start";
+  }
+  return "unknown";
+}
+
+const char* toString(LandmarkType type) { return type == LandmarkType::Corner ? "corner" : "opening"; }
+
+void Fingerprint::normalize() {
+  for (auto& e : entries) e.bearing = normalizeAngle(e.bearing);
+  std::sort(entries.begin(), entries.end(),
+            [](const FingerprintEntry& a, const FingerprintEntry& b) { return a.bearing < b.bearing; });
+}
+
+void TopoEdge::sortLandmarks() {
+  std::stable_sort(landmarks.begin(), landmarks.end(),
+                   [](const EdgeLandmark& a, const EdgeLandmark& b) { return a.distance < b.distance; });
+}
+
+uint32_t TopologicalMap::addNode(TopoNode node) {
+  node.id = next_node_id_++;
+  const uint32_t id = node.id;
+  nodes_.emplace(id, std::move(node));
+  ++revision_;
+  return id;
+}
+
+uint32_t TopologicalMap::addEdge(uint32_t source, uint32_t target, double heading, double length,
+                                 std::vector<EdgeLandmark> landmarks) {
+  if (!nodes_.count(source) || !nodes_.count(target)) {
+    throw std::invalid_argument("addEdge: unknown node " + std::to_string(nodes_.count(source) ? target : source));
+  }
+  if (source == target) throw std::invalid_argument("addEdge: an edge from node " + std::to_string(source) + " to itself");
+  if (!std::isfinite(length) || length < 0.0 || !std::isfinite(heading)) {
+    throw std::invalid_argument("addEdge: non-finite or negative length or heading");
+  }
+  TopoEdge edge;
+  edge.id = next_edge_id_++;
+  edge.source = source;
+  edge.target = target;
+  edge.heading = normalizeAngle(heading);
+  edge.length = length;
+  edge.landmarks = std::move(landmarks);
+  edge.sortLandmarks();
+  const uint32_t id = edge.id;
+  edges_.emplace(id, std::move(edge));
+  ++revision_;
+  return id;
+}
+
+bool TopologicalMap::removeEdge(uint32_t id) {
+  if (!edges_.erase(id)) return false;
+  ++revision_;
+  return true;
+}
+
+bool TopologicalMap::removeNode(uint32_t id) {
+  if (!nodes_.erase(id)) return false;
+  for (auto it = edges_.begin(); it != edges_.end();) {
+    if (it->second.source == id || it->second.target == id) {
+      it = edges_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  ++revision_;
+  return true;
+}
+
+bool TopologicalMap::mergeNodes(uint32_t keep, uint32_t drop) {
+  if (keep == drop || !nodes_.count(keep) || !nodes_.count(drop)) return false;
+  TopoNode& kept = nodes_.at(keep);
+  const TopoNode& dropped = nodes_.at(drop);
+  for (const NodeOpening& o : dropped.openings) {
+    const bool present = std::any_of(kept.openings.begin(), kept.openings.end(), [&](const NodeOpening& k) {
+      return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameDirection;
+    });
+    if (!present) kept.openings.push_back(o);
+  }
+  if (kept.place_id < 0 && dropped.place_id >= 0) {
+    kept.place_id = dropped.place_id;
+    kept.door_in_place = dropped.door_in_place;
+  }
+  for (auto& entry : edges_) {
+    TopoEdge& e = entry.second;
+    if (e.source == drop) e.source = keep;
+    if (e.target == drop) e.target = keep;
+  }
+  nodes_.erase(drop);
+  // Self-loops left by the merge (an edge between the two merged nodes) carry no information.
+  for (auto it = edges_.begin(); it != edges_.end();) {
+    if (it->second.source == it->second.target) {
+      it = edges_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  // Duplicate stretches: the same two nodes joined with the same heading (either direction).
+  for (auto a = edges_.begin(); a != edges_.end(); ++a) {
+    for (auto b = std::next(a); b != edges_.end();) {
+      const TopoEdge& ea = a->second;
+      const TopoEdge& eb = b->second;
+      const bool same = ea.source == eb.source && ea.target == eb.target &&
+                        std::abs(normalizeAngle(ea.heading - eb.heading)) < kSameDirection;
+      const bool reversed = ea.source == eb.target && ea.target == eb.source &&
+                            std::abs(normalizeAngle(ea.heading - eb.heading - laser_features::kPi)) < kSameDirection;
+      if (same || reversed) {
+        a->second.length = 0.5 * (ea.length + eb.length);
+        b = edges_.erase(b);
+      } else {
+        ++b;
+      }
+    }
+  }
+  ++revision_;
+  return true;
+}
+
+const TopoNode* TopologicalMap::node(uint32_t id) const {
+  auto it = nodes_.find(id);
+  return it == nodes_.end() ? nullptr : &it->second;
+}
+TopoNode* TopologicalMap::node(uint32_t id) {
+  auto it = nodes_.find(id);
+  return it == nodes_.end() ? nullptr : &it->second;
+}
+const TopoEdge* TopologicalMap::edge(uint32_t id) const {
+  auto it = edges_.find(id);
+  return it == edges_.end() ? nullptr : &it->second;
+}
+TopoEdge* TopologicalMap::edge(uint32_t id) {
+  auto it = edges_.find(id);
+  return it == edges_.end() ? nullptr : &it->second;
+}
+
+std::vector<EdgeExit> TopologicalMap::exits(uint32_t node) const {
+  std::vector<EdgeExit> out;
+  for (const auto& entry : edges_) {
+    const TopoEdge& e = entry.second;
+    if (e.source == node) out.push_back({e.id, true, e.heading, e.target});
+    if (e.target == node) out.push_back({e.id, false, normalizeAngle(e.heading + laser_features::kPi), e.source});
+  }
+  return out;
+}
+
+bool TopologicalMap::exitWithHeading(uint32_t node, double heading, double tolerance, EdgeExit* exit) const {
+  double best = tolerance;
+  bool found = false;
+  for (const EdgeExit& x : exits(node)) {
+    const double d = std::abs(normalizeAngle(x.heading - heading));
+    if (d <= best) {
+      best = d;
+      *exit = x;
+      found = true;
+    }
+  }
+  return found;
+}
+
+void TopologicalMap::assign(std::map<uint32_t, TopoNode> nodes, std::map<uint32_t, TopoEdge> edges,
+                            uint32_t next_node_id, uint32_t next_edge_id) {
+  nodes_ = std::move(nodes);
+  edges_ = std::move(edges);
+  next_node_id_ = next_node_id;
+  next_edge_id_ = next_edge_id;
+  ++revision_;
+}
+
+void TopologicalMap::clear() {
+  nodes_.clear();
+  edges_.clear();
+  next_node_id_ = 0;
+  next_edge_id_ = 0;
+  ++revision_;
+}
+
+void TopologicalMap::setEdgeLength(uint32_t id, double length) {
+  TopoEdge* e = edge(id);
+  if (e == nullptr || !std::isfinite(length) || length < 0.0) return;
+  e->length = length;
+  ++revision_;
+}
+
+}  // namespace pomdp_topo
