@@ -1,0 +1,121 @@
+// From scans to the POMDP's abstraction (Tomatis et al. 2001, section 3.3): the heading estimator
+// corrects the odometry's heading; the corrected dead reckoning gives Travel actions along the
+// current heading bin and Turn actions when the heading moves to another bin; corners and openings
+// are tracked over scans in the corrected frame (the "observation graph" of the features around
+// the robot), passed landmarks are reported once, and the tracks near the robot make the
+// observation, in the travel frame.
+#pragma once
+
+#include "laser_features/corner_extractor.h"
+#include "laser_features/geometry.h"
+#include "laser_features/opening_extractor.h"
+#include "pomdp_topo/heading_estimator.h"
+#include "pomdp_topo/observation.h"
+
+#include <string>
+#include <vector>
+
+namespace pomdp_topo {
+
+struct FrontEndParams {
+  double resolution = 0.5;           // m, a Travel action is emitted per this much travel (the POMDP's cell)
+  int heading_bins = 4;              // -, discrete headings (4: the building's N, E, S, W)
+  double axis_angle = 0.0;           // rad, heading of bin 0 in the map frame (the building's axis)
+  double turn_hysteresis = 0.26;     // rad (15 deg), past the half-bin boundary before a turn starts
+  double turn_settle_angle = 0.3;    // rad, a turn is emitted once the heading is this close to a bin's
+                                     // heading and the rotation has slowed below track_max_rotation
+  double max_feature_range = 5.0;    // m, features farther from the robot are not tracked
+  double track_gate = 0.5;           // m, a feature this close to a track of its type updates the track
+  double track_keep_distance = 8.0;  // m, tracks farther than this from the robot are dropped
+  int min_sightings = 3;             // -, scans a track needs before it is observed or passed
+  double min_confidence = 0.3;       // -, mean extraction confidence a track needs
+  double observation_range = 3.5;    // m, tracks within this along and lateral distance are observed
+  double pass_lag = 0.2;             // m, a side landmark is passed once this far behind the robot
+  double side_angle = 0.44;          // rad (25 deg), openings whose normal is within this of +-90 deg
+                                     // of the travel heading are side openings (doors, branches)
+  double side_max_lateral = 2.0;     // m, side openings farther from the travel line are not passed
+  double track_max_rotation = 0.05;  // rad, scans during which the robot turned more are not tracked
+                                     // (the heading estimate lags in fast turns)
+  double max_odometry_step = 1.0;    // m, a larger odometry jump between scans is refused
+};
+
+/// A landmark the robot has just passed (abeam and `pass_lag` behind), in the travel frame at
+/// that moment.
+struct PassedLandmark {
+  ObservedLandmark landmark;
+  double travel = 0.0;      // m, total signed travel (along headings) when it was passed
+  int heading_bin = 0;      // travel heading bin then
+  uint32_t track_id = 0;
+};
+
+class FrontEnd {
+ public:
+  explicit FrontEnd(const FrontEndParams& params = FrontEndParams(),
+                    const HeadingEstimatorParams& heading_params = HeadingEstimatorParams());
+  const FrontEndParams& params() const { return params_; }
+
+  /// Starts over at `odom` with the heading estimate `theta` (map frame) and its variance.
+  void reset(const Pose2D& odom, double theta, double variance);
+
+  /// One scan: `odom` is the robot's odometry pose at the scan's stamp; lines, corners and
+  /// openings are in the robot frame. Appends the actions it caused to `actions`. Returns false
+  /// with `error` set (and changes nothing) for a non-finite pose or an odometry jump.
+  bool process(const Pose2D& odom, const std::vector<laser_features::LineSegment>& lines,
+               const std::vector<laser_features::Corner>& corners,
+               const std::vector<laser_features::Opening>& openings, std::vector<Action>* actions,
+               std::string* error = nullptr);
+
+  /// The confirmed tracks within observation_range, in the travel frame, with the heading.
+  Observation observation() const;
+  /// Landmarks passed since the last call.
+  std::vector<PassedLandmark> takePassed();
+
+  /// Corrected dead-reckoning pose (map-aligned: heading from the estimator).
+  Pose2D pose() const { return pose_; }
+  int headingBin() const { return bin_; }
+  double binHeading(int bin) const;
+  double travelHeading() const { return binHeading(bin_); }
+  /// Total signed travel along the travel headings, m.
+  double travel() const { return travel_; }
+  /// Travel not yet emitted as an action (below one resolution step), m.
+  double pendingTravel() const { return pending_; }
+  const HeadingEstimator& heading() const { return heading_; }
+  /// Re-aligns the heading by whole bins (after a kidnapping, when the topological belief says so).
+  void shiftHeading(int bins);
+  bool initialized() const { return initialized_; }
+
+  struct Track {
+    uint32_t id = 0;
+    LandmarkType type = LandmarkType::Corner;
+    Eigen::Vector2d position = Eigen::Vector2d::Zero();  // corrected frame
+    double orientation = 0.0;                            // rad, corrected (map) frame
+    double width = 0.0;
+    double confidence_sum = 0.0;
+    int sightings = 0;
+    bool armed = false;  // seen ahead of the robot since it was last passed
+    double confidence() const { return sightings > 0 ? confidence_sum / sightings : 0.0; }
+  };
+  const std::vector<Track>& tracks() const { return tracks_; }
+
+ private:
+  void track(LandmarkType type, const Eigen::Vector2d& p_robot, double theta_robot, double width,
+             double confidence);
+  bool confirmed(const Track& t) const;
+  ObservedLandmark toTravelFrame(const Track& t) const;
+  void checkPassed();
+
+  FrontEndParams params_;
+  HeadingEstimator heading_;
+  bool initialized_ = false;
+  Pose2D last_odom_;
+  Pose2D pose_;
+  int bin_ = 0;
+  double travel_ = 0.0;
+  double pending_ = 0.0;
+  bool turning_ = false;
+  uint32_t next_track_id_ = 0;
+  std::vector<Track> tracks_;
+  std::vector<PassedLandmark> passed_;
+};
+
+}  // namespace pomdp_topo

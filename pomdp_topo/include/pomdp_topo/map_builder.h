@@ -1,0 +1,158 @@
+// Topological map building and loop closing (Tomatis et al. 2001, section 3.3; Tapus & Siegwart
+// for loop closing by tracking two belief peaks).
+//
+// Three modes:
+//  - Frontier: the robot follows a hallway stretch no edge covers yet. Side openings it passes
+//    become nodes (doors, or junctions when wider than door_max_width), turns away from a node
+//    become junction nodes, a U-turn a hallway end; corners passed become the stretch's landmarks.
+//  - Localized: the robot is on the known graph; the POMDP localizes it; while the belief is
+//    confident, passed landmarks update p_lmap (eqs. 4-5), confident unknown corners are added,
+//    landmarks that fall below p_lmap_min are deleted, and an unknown door splits its edge. Never
+//    while unconfident. Travel past a node where no edge continues starts a new Frontier.
+//  - LoopCheck: a node just created looks like an old one (type, openings, fingerprint, display
+//    position): map building stops, the two hypotheses "new place" and "old place" are tracked with
+//    the landmarks and turns that follow until one dominates; the nodes are then merged (loop
+//    closed) or the new stretch is kept.
+#pragma once
+
+#include "pomdp_topo/front_end.h"
+#include "pomdp_topo/pomdp_localizer.h"
+#include "pomdp_topo/topological_map.h"
+
+#include <string>
+#include <vector>
+
+namespace pomdp_topo {
+
+struct MapBuilderParams {
+  bool mapping = true;                 // -, false: localization only, the map is never changed
+  double door_max_width = 1.3;         // m, side openings up to this width are doors, wider ones junctions
+  double min_node_separation = 0.8;    // m, a side opening this close to the last node joins that node
+  double node_radius = 1.0;            // m, a turn this close to a node happens at that node
+  double corner_min_confidence = 0.5;  // -, corners passed on a new stretch become landmarks above this
+  double landmark_add_confidence = 0.7;  // -, an unknown corner passed on a known edge is added above this
+  double p_lmap_min = 0.2;             // -, landmarks whose p_lmap falls below this are deleted ...
+  int p_lmap_min_observations = 4;     // -, ... once observed (or missed) this many times
+  double match_distance = 0.75;        // m, a passed landmark matches an expected one this close along the edge
+  double fingerprint_radius = 4.0;     // m, tracked features this close to a new node make its fingerprint
+  double fingerprint_tolerance = 0.3;  // rad, fingerprint entries this close in bearing match
+  double leave_graph_distance = 1.0;   // m, travel past a node with no edge in that heading before a new stretch starts
+  double loop_gate_base = 2.0;         // m, a loop candidate lies within base + per_m x distance ...
+  double loop_gate_per_m = 0.05;       // m/m, ... travelled since the last localization on the known graph
+  double loop_fingerprint_min = 0.3;   // -, fingerprint similarity a loop candidate needs, [0, 1]
+  double loop_new_place_prior = 0.1;   // -, prior of "a new look-alike place" against a candidate at its expected spot
+  double loop_new_landmark_probability = 0.3;  // -, likelihood of a landmark on an unexplored stretch
+  double loop_false_landmark_probability = 0.05;  // -, likelihood of a landmark the old place does not explain
+  double loop_decision_log_odds = 3.0; // -, a hypothesis wins when ahead by this (log odds, about 20:1)
+  double loop_verify_distance = 6.0;   // m, past this the better hypothesis wins
+};
+
+class MapBuilder {
+ public:
+  enum class Mode { Frontier, Localized, LoopCheck };
+
+  MapBuilder(TopologicalMap* map, PomdpLocalizer* localizer, const MapBuilderParams& params = MapBuilderParams());
+  const MapBuilderParams& params() const { return params_; }
+
+  /// Starts: an empty map gets a Start node at the robot and a Frontier along its heading; a
+  /// loaded map starts Localized with a uniform belief (global localization).
+  void start(const FrontEnd& front_end);
+
+  /// One scan's actions, observation and passed landmarks (from FrontEnd).
+  void process(const std::vector<Action>& actions, const Observation& observation,
+               const std::vector<PassedLandmark>& passed, const FrontEnd& front_end);
+
+  Mode mode() const { return mode_; }
+  static const char* toString(Mode mode);
+  /// The node the robot is at or came from (Frontier), or the most likely state's node; -1 if none.
+  int currentNode() const;
+  /// Distance travelled on the current frontier beyond `currentNode()`, m.
+  double frontierDistance() const { return s_; }
+  int frontierHeadingBin() const { return frontier_bin_; }
+  /// Whether the robot's place is known: always in Frontier mode, the belief's flag otherwise.
+  bool confident() const;
+  /// Log of what happened ("node 4 (door) created", "loop closed: node 9 merged into node 2", ...).
+  std::vector<std::string> takeEvents();
+  /// Loop closures done so far (pairs kept, dropped).
+  const std::vector<std::pair<uint32_t, uint32_t>>& loopsClosed() const { return loops_; }
+  size_t loopsRejected() const { return loops_rejected_; }
+  /// LoopCheck: the log odds of the best old-place hypothesis against the new place.
+  double loopLogOdds() const;
+
+ private:
+  struct Candidate {
+    uint32_t node = 0;
+    double score = 0.0;  // log likelihood so far, with the position prior
+    std::vector<EdgeLandmark> expected;  // along the path beyond the node, distance from it
+    std::vector<double> expected_nodes;  // distances of the nodes on that path
+    std::vector<bool> used;
+    double path_end = 0.0;               // m, where the known path beyond the node ends
+  };
+  /// What the builder needs of one scan (kept to replay the scans of a rejected loop hypothesis).
+  struct Scan {
+    std::vector<Action> actions;
+    Observation observation;
+    std::vector<PassedLandmark> passed;
+    double travel = 0.0;  // FrontEnd::travel() after the scan
+    Pose2D pose;          // FrontEnd::pose() after the scan
+  };
+
+  void dispatch(const Scan& scan, const FrontEnd& fe);
+  void processFrontier(const Scan& scan, const FrontEnd& fe);
+  void processLocalized(const Scan& scan);
+  void processLoopCheck(const Scan& scan, const FrontEnd& fe);
+  void frontierTurn(int k, const Scan& scan, const FrontEnd& fe);
+  /// Creates a node `pos` metres along the frontier (or adds the openings to the node it started
+  /// from when that is closer than min_node_separation); returns the node's id.
+  uint32_t createNode(NodeType type, double pos, const Scan& scan, const FrontEnd& fe,
+                      const std::vector<NodeOpening>& openings);
+  void startFrontier(uint32_t node, int bin, double s, double travel);
+  void becomeLocalizedAt(uint32_t node, int bin);
+  bool startLoopCheck(uint32_t new_node, uint32_t previous_node, const Scan& scan);
+  void decideLoop(bool old_wins, const FrontEnd& fe);
+  void updateKnownEdge(const Scan& scan);
+  void splitEdgeWithDoor(uint32_t edge, double distance, const ObservedLandmark& opening, double heading);
+  Fingerprint fingerprintAt(const Eigen::Vector2d& position, const FrontEnd& fe) const;
+  double fingerprintSimilarity(const Fingerprint& a, const Fingerprint& b) const;
+  double binHeading(int bin) const;
+  int binOf(double heading) const;
+  void refreshLocalizer();
+  void event(const std::string& text) { events_.push_back(text); }
+
+  TopologicalMap* map_;
+  PomdpLocalizer* localizer_;
+  MapBuilderParams params_;
+  FrontEndParams fe_params_;
+  Mode mode_ = Mode::Frontier;
+
+  // Frontier.
+  uint32_t from_node_ = 0;
+  int frontier_bin_ = 0;
+  double s_ = 0.0;        // m, travel along the frontier beyond from_node_
+  double s_base_ = 0.0;   // s_ = s_base_ + FrontEnd::travel() - travel_base_
+  double travel_base_ = 0.0;
+  std::vector<EdgeLandmark> pending_;  // corners on the frontier, distance from from_node_
+  double travel_since_localized_ = 0.0;
+
+  // Localized.
+  double beyond_ = 0.0;     // travel while the most likely state is a node with no exit that way
+  int last_edge_ = -1;      // most likely edge and offset at the previous step (eq. 5 misses)
+  bool last_forward_ = true;
+  double last_offset_ = 0.0;
+  std::vector<uint32_t> matched_recently_;  // indices of landmarks of last_edge_ matched lately
+
+  // LoopCheck.
+  uint32_t loop_new_node_ = 0;
+  uint32_t loop_prev_node_ = 0;
+  int loop_bin_ = 0;
+  double loop_travel0_ = 0.0; // FrontEnd::travel() at the new node
+  double loop_new_score_ = 0.0;
+  std::vector<Candidate> candidates_;
+  std::vector<Scan> buffer_;
+
+  std::vector<std::string> events_;
+  std::vector<std::pair<uint32_t, uint32_t>> loops_;
+  size_t loops_rejected_ = 0;
+};
+
+}  // namespace pomdp_topo

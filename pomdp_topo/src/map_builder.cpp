@@ -1,0 +1,702 @@
+#include "pomdp_topo/map_builder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pomdp_topo {
+
+using laser_features::kPi;
+using laser_features::normalizeAngle;
+
+namespace {
+constexpr double kSameBearing = 0.4;  // rad: two openings of a node this close in bearing are one
+double sideOf(double lateral) { return lateral >= 0.0 ? 1.0 : -1.0; }
+}  // namespace
+
+MapBuilder::MapBuilder(TopologicalMap* map, PomdpLocalizer* localizer, const MapBuilderParams& params)
+    : map_(map), localizer_(localizer), params_(params) {}
+
+const char* MapBuilder::toString(Mode mode) {
+  switch (mode) {
+    case Mode::Frontier: return "frontier";
+    case Mode::Localized: return "localized";
+    case Mode::LoopCheck: return "loop_check";
+  }
+  return "unknown";
+}
+
+double MapBuilder::binHeading(int bin) const {
+  return normalizeAngle(fe_params_.axis_angle + bin * 2.0 * kPi / fe_params_.heading_bins);
+}
+
+int MapBuilder::binOf(double heading) const {
+  const int bins = fe_params_.heading_bins;
+  const int b = int(std::lround(normalizeAngle(heading - fe_params_.axis_angle) / (2.0 * kPi / bins)));
+  return ((b % bins) + bins) % bins;
+}
+
+void MapBuilder::refreshLocalizer() { localizer_->setMap(*map_); }
+
+std::vector<std::string> MapBuilder::takeEvents() {
+  std::vector<std::string> out;
+  out.swap(events_);
+  return out;
+}
+
+bool MapBuilder::confident() const {
+  if (mode_ != Mode::Localized) return mode_ == Mode::Frontier;
+  return localizer_->confident();
+}
+
+int MapBuilder::currentNode() const {
+  if (mode_ != Mode::Localized) return int(from_node_);
+  const int ml = localizer_->mostLikely();
+  if (ml < 0) return -1;
+  const auto& st = localizer_->state(size_t(ml));
+  if (st.kind == PomdpLocalizer::State::Node) return int(st.id);
+  const TopoEdge* e = map_->edge(st.id);
+  if (e == nullptr) return -1;
+  const bool near_target = st.forward ? st.offset > 0.5 * e->length : st.offset < 0.5 * e->length;
+  return int(near_target == st.forward ? e->target : e->source);
+}
+
+double MapBuilder::loopLogOdds() const {
+  double best = -std::numeric_limits<double>::infinity();
+  for (const auto& c : candidates_) best = std::max(best, c.score);
+  return best - loop_new_score_;
+}
+
+void MapBuilder::start(const FrontEnd& fe) {
+  fe_params_ = fe.params();
+  candidates_.clear();
+  buffer_.clear();
+  if (map_->empty()) {
+    if (!params_.mapping) {
+      mode_ = Mode::Localized;
+      refreshLocalizer();
+      return;
+    }
+    TopoNode start;
+    start.type = NodeType::Start;
+    start.pose = fe.pose();
+    const uint32_t id = map_->addNode(start);
+    event("node " + std::to_string(id) + " (start) created");
+    refreshLocalizer();
+    startFrontier(id, fe.headingBin(), 0.0, fe.travel());
+    return;
+  }
+  mode_ = Mode::Localized;
+  refreshLocalizer();
+  localizer_->setUniform();
+}
+
+void MapBuilder::startFrontier(uint32_t node, int bin, double s, double travel) {
+  mode_ = Mode::Frontier;
+  from_node_ = node;
+  frontier_bin_ = bin;
+  s_ = s;
+  s_base_ = s;
+  travel_base_ = travel;
+  pending_.clear();
+  localizer_->resetToNode(node, binHeading(bin));
+}
+
+void MapBuilder::becomeLocalizedAt(uint32_t node, int bin) {
+  mode_ = Mode::Localized;
+  refreshLocalizer();
+  localizer_->resetToNode(node, binHeading(bin));
+  beyond_ = 0.0;
+  last_edge_ = -1;
+  travel_since_localized_ = 0.0;
+}
+
+void MapBuilder::process(const std::vector<Action>& actions, const Observation& observation,
+                         const std::vector<PassedLandmark>& passed, const FrontEnd& fe) {
+  Scan scan{actions, observation, passed, fe.travel(), fe.pose()};
+  dispatch(scan, fe);
+}
+
+void MapBuilder::dispatch(const Scan& scan, const FrontEnd& fe) {
+  switch (mode_) {
+    case Mode::Frontier: processFrontier(scan, fe); break;
+    case Mode::Localized: processLocalized(scan); break;
+    case Mode::LoopCheck: processLoopCheck(scan, fe); break;
+  }
+}
+
+// ---- Frontier ------------------------------------------------------------------------------
+
+void MapBuilder::processFrontier(const Scan& scan, const FrontEnd& fe) {
+  if (!params_.mapping) {  // localization only: nothing to build, look for the graph again
+    mode_ = Mode::Localized;
+    localizer_->setUniform();
+    processLocalized(scan);
+    return;
+  }
+  s_ = s_base_ + scan.travel - travel_base_;
+  travel_since_localized_ += 0.0;
+  // Landmarks passed on this stretch (all happened before the scan's turn, if any).
+  for (const PassedLandmark& p : scan.passed) {
+    if (mode_ != Mode::Frontier) break;  // a node created a loop hypothesis: the rest is verified
+    if (p.heading_bin != frontier_bin_) continue;
+    const double pos = s_base_ + (p.travel - travel_base_) + p.landmark.along;
+    if (pos < -params_.match_distance) continue;  // behind the node the stretch starts at
+    if (p.landmark.type == LandmarkType::Corner) {
+      if (p.landmark.confidence < params_.corner_min_confidence) continue;
+      EdgeLandmark l;
+      l.type = LandmarkType::Corner;
+      l.distance = std::max(0.0, pos);
+      l.lateral = p.landmark.lateral;
+      l.orientation = p.landmark.orientation;
+      l.p_lmap = p.landmark.confidence;
+      l.observations = 1;
+      pending_.push_back(l);
+      continue;
+    }
+    NodeOpening o;
+    o.bearing = normalizeAngle(binHeading(frontier_bin_) + (p.landmark.lateral >= 0.0 ? 0.5 : -0.5) * kPi);
+    o.offset = std::abs(p.landmark.lateral);
+    o.width = p.landmark.width;
+    const NodeType type = p.landmark.width <= params_.door_max_width ? NodeType::Door : NodeType::Junction;
+    event("side opening passed: lateral " + std::to_string(p.landmark.lateral) + " orientation " +
+          std::to_string(p.landmark.orientation) + " track " + std::to_string(p.track_id) + " at robot " +
+          std::to_string(scan.pose.x) + " " + std::to_string(scan.pose.y));
+    createNode(type, std::max(0.0, pos), scan, fe, {o});
+  }
+  if (mode_ == Mode::LoopCheck) {
+    // The scan's remaining content belongs to the verification (its passed landmarks were
+    // scored against the hypotheses from the node on).
+    Scan rest = scan;
+    rest.passed.clear();
+    for (const PassedLandmark& p : scan.passed) {
+      if (p.travel > loop_travel0_ - 1e-9) rest.passed.push_back(p);
+    }
+    processLoopCheck(rest, fe);
+    return;
+  }
+  for (const Action& a : scan.actions) {
+    if (a.kind != Action::Turn) continue;
+    frontierTurn(a.turn_bins, scan, fe);
+    if (mode_ != Mode::Frontier) break;
+  }
+}
+
+void MapBuilder::frontierTurn(int k, const Scan& scan, const FrontEnd& fe) {
+  const int bins = fe_params_.heading_bins;
+  const int new_bin = ((frontier_bin_ + k) % bins + bins) % bins;
+  if (2 * std::abs(k) == bins) {  // U-turn: a hallway end (or back at the node)
+    uint32_t n = from_node_;
+    if (s_ > params_.node_radius) n = createNode(NodeType::HallwayEnd, s_, scan, fe, {});
+    if (mode_ == Mode::LoopCheck) return;
+    becomeLocalizedAt(n, new_bin);
+    return;
+  }
+  NodeOpening branch;
+  branch.bearing = binHeading(new_bin);
+  branch.offset = 0.0;
+  branch.width = 0.0;  // not measured unless a tracked opening shows it (below)
+  branch.explored = true;
+  {
+    // The branch as the laser saw it: a tracked opening near the turn whose normal points the new way.
+    const Eigen::Vector2d here(scan.pose.x, scan.pose.y);
+    double best = 2.5;
+    for (const auto& t : fe.tracks()) {
+      if (t.type != LandmarkType::Opening || t.sightings < fe_params_.min_sightings) continue;
+      const Eigen::Vector2d d = t.position - here;
+      const double along = d.dot(laser_features::unitVector(branch.bearing));
+      if (d.norm() > best || along < 0.3) continue;
+      const double dth = std::abs(normalizeAngle(t.orientation - branch.bearing));
+      if (dth > 0.5 && std::abs(dth - kPi) > 0.5) continue;
+      best = d.norm();
+      branch.offset = along;
+      branch.width = t.width;
+    }
+  }
+  uint32_t n = from_node_;
+  if (s_ > params_.node_radius) {
+    n = createNode(NodeType::Junction, s_, scan, fe, {branch});
+    if (mode_ == Mode::LoopCheck) return;
+  } else {
+    TopoNode* node = map_->node(n);
+    const bool present = std::any_of(node->openings.begin(), node->openings.end(), [&](const NodeOpening& o) {
+      return std::abs(normalizeAngle(o.bearing - branch.bearing)) < kSameBearing;
+    });
+    if (!present) node->openings.push_back(branch);
+    if (node->type == NodeType::Start || node->type == NodeType::Door) node->type = NodeType::Junction;
+  }
+  EdgeExit exit;
+  if (map_->exitWithHeading(n, binHeading(new_bin), 0.25 * kPi, &exit)) {
+    becomeLocalizedAt(n, new_bin);
+  } else {
+    startFrontier(n, new_bin, 0.0, scan.travel);
+  }
+}
+
+uint32_t MapBuilder::createNode(NodeType type, double pos, const Scan& scan, const FrontEnd& fe,
+                                const std::vector<NodeOpening>& openings) {
+  const double h = binHeading(frontier_bin_);
+  if (pos < params_.min_node_separation) {
+    TopoNode* node = map_->node(from_node_);
+    for (const NodeOpening& o : openings) {
+      const bool present = std::any_of(node->openings.begin(), node->openings.end(), [&](const NodeOpening& k) {
+        return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameBearing;
+      });
+      if (!present) node->openings.push_back(o);
+    }
+    if (node->type == NodeType::Start) node->type = type;
+    if (node->type == NodeType::Door && type == NodeType::Junction) node->type = NodeType::Junction;
+    map_->touch();
+    return from_node_;
+  }
+  TopoNode node;
+  node.type = type;
+  const double back = s_ - pos;  // the node lies this far behind the robot along the heading
+  node.pose = Pose2D{scan.pose.x - back * std::cos(h), scan.pose.y - back * std::sin(h), h};
+  node.openings = openings;
+  node.fingerprint = fingerprintAt(Eigen::Vector2d(node.pose.x, node.pose.y), fe);
+  const uint32_t id = map_->addNode(node);
+  std::vector<EdgeLandmark> on_edge, rest;
+  for (EdgeLandmark l : pending_) {
+    if (l.distance <= pos) {
+      on_edge.push_back(l);
+    } else {
+      l.distance -= pos;
+      rest.push_back(l);
+    }
+  }
+  pending_ = rest;
+  map_->addEdge(from_node_, id, h, pos, on_edge);
+  const uint32_t previous = from_node_;
+  std::string why = openings.empty() ? "a hallway end" : "";
+  for (const NodeOpening& o : openings) {
+    why += (o.width > 0.0 ? "an opening " + std::to_string(o.width).substr(0, 4) + " m wide" : "a turn") +
+           std::string(normalizeAngle(o.bearing - h) > 0.0 ? " on the left" : " on the right");
+  }
+  event("node " + std::to_string(id) + " (" + pomdp_topo::toString(type) + ") created " + std::to_string(pos).substr(0, 5) +
+        " m from node " + std::to_string(previous) + ": " + why);
+  from_node_ = id;
+  s_base_ -= pos;
+  s_ -= pos;
+  refreshLocalizer();
+  localizer_->resetToNode(id, h);
+  if (type == NodeType::Door || type == NodeType::Junction) startLoopCheck(id, previous, scan);
+  return id;
+}
+
+Fingerprint MapBuilder::fingerprintAt(const Eigen::Vector2d& position, const FrontEnd& fe) const {
+  Fingerprint f;
+  for (const auto& t : fe.tracks()) {
+    if (t.sightings < fe_params_.min_sightings) continue;
+    const Eigen::Vector2d d = t.position - position;
+    if (d.norm() > params_.fingerprint_radius || d.norm() < 1e-6) continue;
+    FingerprintEntry e;
+    e.kind = t.type == LandmarkType::Corner ? FingerprintEntry::Corner : FingerprintEntry::Opening;
+    e.bearing = std::atan2(d.y(), d.x());
+    f.entries.push_back(e);
+  }
+  f.normalize();
+  return f;
+}
+
+double MapBuilder::fingerprintSimilarity(const Fingerprint& a, const Fingerprint& b) const {
+  if (a.entries.empty() && b.entries.empty()) return 1.0;
+  if (a.entries.empty() || b.entries.empty()) return 0.0;
+  std::vector<bool> used(b.entries.size(), false);
+  size_t matched = 0;
+  for (const auto& ea : a.entries) {
+    for (size_t j = 0; j < b.entries.size(); ++j) {
+      if (used[j] || b.entries[j].kind != ea.kind) continue;
+      if (std::abs(normalizeAngle(b.entries[j].bearing - ea.bearing)) <= params_.fingerprint_tolerance) {
+        used[j] = true;
+        ++matched;
+        break;
+      }
+    }
+  }
+  return 2.0 * double(matched) / double(a.entries.size() + b.entries.size());
+}
+
+// ---- Loop closing (Tapus & Siegwart: two belief peaks tracked until one remains) -------------
+
+bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const Scan& scan) {
+  const TopoNode* fresh = map_->node(new_node);
+  const double h = binHeading(frontier_bin_);
+  const double gate = params_.loop_gate_base + params_.loop_gate_per_m * travel_since_localized_;
+  const double sigma = 0.5 * gate;
+  candidates_.clear();
+  // The nodes of the straight stretch just built are never candidates: coming back to a place
+  // takes a turn.
+  std::vector<uint32_t> stretch = {previous_node};
+  for (uint32_t at = previous_node; stretch.size() < 256;) {
+    EdgeExit back;
+    if (!map_->exitWithHeading(at, normalizeAngle(h + kPi), 0.25 * kPi, &back)) break;
+    at = back.other;
+    if (std::find(stretch.begin(), stretch.end(), at) != stretch.end()) break;
+    stretch.push_back(at);
+  }
+  for (const auto& entry : map_->nodes()) {
+    const TopoNode& m = entry.second;
+    if (m.id == new_node || m.type != fresh->type) continue;
+    if (std::find(stretch.begin(), stretch.end(), m.id) != stretch.end()) continue;
+    const double d = std::hypot(m.pose.x - fresh->pose.x, m.pose.y - fresh->pose.y);
+    if (d > gate) continue;
+    // Every opening of the new node must exist at the old one.
+    const bool openings_match = std::all_of(fresh->openings.begin(), fresh->openings.end(), [&](const NodeOpening& o) {
+      return std::any_of(m.openings.begin(), m.openings.end(), [&](const NodeOpening& k) {
+        return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameBearing;
+      });
+    });
+    if (!openings_match) continue;
+    if (!fresh->fingerprint.entries.empty() && !m.fingerprint.entries.empty() &&
+        fingerprintSimilarity(fresh->fingerprint, m.fingerprint) < params_.loop_fingerprint_min) {
+      continue;
+    }
+    EdgeExit exit;
+    if (!map_->exitWithHeading(m.id, h, 0.25 * kPi, &exit)) continue;  // nothing to verify against
+    Candidate c;
+    c.node = m.id;
+    c.score = std::log(1.0 - params_.loop_new_place_prior) - d * d / (2.0 * sigma * sigma);
+    // The known path beyond the old node, straight on.
+    double base = 0.0;
+    uint32_t at = m.id;
+    for (int hops = 0; hops < 64 && base < params_.loop_verify_distance + 2.0; ++hops) {
+      EdgeExit x;
+      if (!map_->exitWithHeading(at, h, 0.25 * kPi, &x)) break;
+      const TopoEdge* e = map_->edge(x.edge);
+      for (const EdgeLandmark& l : e->landmarks) {
+        EdgeLandmark r = l;
+        r.distance = base + (x.forward ? l.distance : e->length - l.distance);
+        if (!x.forward) {
+          r.lateral = -l.lateral;
+          r.orientation = normalizeAngle(l.orientation + kPi);
+        }
+        c.expected.push_back(r);
+      }
+      base += e->length;
+      at = x.other;
+      c.expected_nodes.push_back(base);
+      for (const NodeOpening& o : map_->node(at)->openings) {
+        const double s = std::sin(normalizeAngle(o.bearing - h));
+        if (std::abs(s) < 0.7) continue;  // along the hallway: not a side opening
+        EdgeLandmark r;
+        r.type = LandmarkType::Opening;
+        r.distance = base;
+        r.lateral = s > 0 ? 1.0 : -1.0;
+        r.p_lmap = 0.9;
+        c.expected.push_back(r);
+      }
+    }
+    c.path_end = base;
+    c.used.assign(c.expected.size(), false);
+    candidates_.push_back(std::move(c));
+  }
+  if (candidates_.empty()) return false;
+  mode_ = Mode::LoopCheck;
+  loop_new_node_ = new_node;
+  loop_prev_node_ = previous_node;
+  loop_bin_ = frontier_bin_;
+  loop_new_score_ = std::log(params_.loop_new_place_prior);
+  loop_travel0_ = scan.travel - s_;  // the travel when the robot was at the new node
+  buffer_.clear();
+  std::string names;
+  for (const auto& c : candidates_) names += " " + std::to_string(c.node);
+  event("loop hypothesis: node " + std::to_string(new_node) + " may be node(s)" + names + "; map building paused");
+  return true;
+}
+
+void MapBuilder::processLoopCheck(const Scan& scan, const FrontEnd& fe) {
+  buffer_.push_back(scan);
+  const double u = scan.travel - loop_travel0_;
+  const double p_new = params_.loop_new_landmark_probability;
+  const double p_false = params_.loop_false_landmark_probability;
+  bool turned = false;
+  for (const PassedLandmark& p : scan.passed) {
+    if (p.heading_bin != loop_bin_) continue;
+    if (p.landmark.type == LandmarkType::Corner && p.landmark.confidence < params_.corner_min_confidence) continue;
+    const double pos = (p.travel - loop_travel0_) + p.landmark.along;
+    loop_new_score_ += std::log(p_new);
+    for (auto& c : candidates_) {
+      bool matched = false;
+      for (size_t i = 0; i < c.expected.size(); ++i) {
+        const EdgeLandmark& l = c.expected[i];
+        if (c.used[i] || l.type != p.landmark.type || sideOf(l.lateral) != sideOf(p.landmark.lateral)) continue;
+        if (std::abs(l.distance - pos) > params_.match_distance) continue;
+        c.score += std::log(std::max(1e-3, l.p_lmap));
+        c.used[i] = true;
+        matched = true;
+        break;
+      }
+      // An unexpected opening speaks against the old place; an unexpected corner does not (corners
+      // seen at low confidence on the first pass were never added to the map).
+      if (!matched) c.score += std::log(p.landmark.type == LandmarkType::Opening ? p_false : p_new);
+    }
+  }
+  for (const Action& a : scan.actions) {
+    if (a.kind != Action::Turn) continue;
+    turned = true;
+    loop_new_score_ += std::log(0.5);
+    const int bins = fe_params_.heading_bins;
+    const double new_heading = binHeading(((loop_bin_ + a.turn_bins) % bins + bins) % bins);
+    for (auto& c : candidates_) {
+      // A turn is expected only at a node of the old path with an edge (or opening) that way.
+      bool possible = 2 * std::abs(a.turn_bins) == bins;  // U-turns happen anywhere
+      double base = 0.0;
+      uint32_t at = c.node;
+      for (int hops = 0; hops < 64 && !possible; ++hops) {
+        if (std::abs(u - base) <= params_.node_radius) {
+          EdgeExit x;
+          const TopoNode* n = map_->node(at);
+          possible = map_->exitWithHeading(at, new_heading, 0.25 * kPi, &x) ||
+                     std::any_of(n->openings.begin(), n->openings.end(), [&](const NodeOpening& o) {
+                       return std::abs(normalizeAngle(o.bearing - new_heading)) < kSameBearing;
+                     });
+        }
+        EdgeExit x;
+        if (!map_->exitWithHeading(at, binHeading(loop_bin_), 0.25 * kPi, &x)) break;
+        base += map_->edge(x.edge)->length;
+        at = x.other;
+        if (base > u + params_.node_radius) break;
+      }
+      c.score += std::log(possible ? 0.9 : 0.02);
+    }
+  }
+  // Expected landmarks left behind unseen (eq. 5's 1 - p_lmap), and travel past the known path.
+  for (auto& c : candidates_) {
+    for (size_t i = 0; i < c.expected.size(); ++i) {
+      if (c.used[i] || c.expected[i].distance > u - params_.match_distance - fe_params_.pass_lag) continue;
+      c.score += std::log(std::max(1e-3, 1.0 - c.expected[i].p_lmap));
+      c.used[i] = true;
+    }
+    if (u > c.path_end + params_.node_radius) c.score = -std::numeric_limits<double>::infinity();
+  }
+  const double odds = loopLogOdds();
+  if (odds >= params_.loop_decision_log_odds) {
+    decideLoop(true, fe);
+  } else if (-odds >= params_.loop_decision_log_odds) {
+    decideLoop(false, fe);
+  } else if (turned || u >= params_.loop_verify_distance) {
+    decideLoop(odds > 0.0, fe);
+  }
+}
+
+void MapBuilder::decideLoop(bool old_wins, const FrontEnd& fe) {
+  std::vector<Scan> scans;
+  scans.swap(buffer_);
+  if (old_wins) {
+    const Candidate* best = &candidates_.front();
+    for (const auto& c : candidates_) {
+      if (c.score > best->score) best = &c;
+    }
+    const uint32_t keep = best->node;
+    const double odds = loopLogOdds();
+    candidates_.clear();
+    map_->mergeNodes(keep, loop_new_node_);
+    loops_.emplace_back(keep, loop_new_node_);
+    event("loop closed: node " + std::to_string(loop_new_node_) + " merged into node " + std::to_string(keep) +
+          " (log odds " + std::to_string(odds) + ")");
+    // Continue on the known graph from the old node, replaying the motion since.
+    becomeLocalizedAt(keep, loop_bin_);
+    for (const Scan& s : scans) {
+      for (const Action& a : s.actions) localizer_->predict(a);
+    }
+    if (!scans.empty()) localizer_->update(scans.back().observation);
+    pending_.clear();
+    return;
+  }
+  ++loops_rejected_;
+  event("loop hypothesis rejected: node " + std::to_string(loop_new_node_) + " is a new place (log odds " +
+        std::to_string(loopLogOdds()) + ")");
+  candidates_.clear();
+  mode_ = Mode::Frontier;
+  for (const Scan& s : scans) dispatch(s, fe);
+}
+
+// ---- Localized ---------------------------------------------------------------------------------
+
+void MapBuilder::processLocalized(const Scan& scan) {
+  double travelled = 0.0;
+  for (const Action& a : scan.actions) {
+    const bool was_sure = localizer_->confident();
+    localizer_->predict(a);
+    if (a.kind == Action::Travel) travelled += a.distance;
+    // Predicted to be at a node heading where no edge leads (an unexplored branch, or past a
+    // hallway's known end): the map cannot predict what the robot sees, so the observation is not
+    // used; past leave_graph_distance a new stretch starts there.
+    const int ml = localizer_->mostLikely();
+    if (ml >= 0 && params_.mapping && was_sure) {
+      const PomdpLocalizer::State st = localizer_->state(size_t(ml));
+      EdgeExit x;
+      if (st.kind == PomdpLocalizer::State::Node && !map_->exitWithHeading(st.id, st.heading, 0.25 * kPi, &x) &&
+          localizer_->belief()[size_t(ml)] > 0.5) {
+        if (a.kind == Action::Travel) {
+          beyond_ = std::max(0.0, beyond_ + a.distance);
+          if (beyond_ >= params_.leave_graph_distance) {
+            event("leaving the known graph at node " + std::to_string(st.id) + ": new stretch");
+            startFrontier(st.id, binOf(st.heading), beyond_, scan.travel);
+            beyond_ = 0.0;
+            return;
+          }
+        }
+        continue;
+      }
+    }
+    beyond_ = 0.0;
+    localizer_->update(scan.observation);
+  }
+  const int ml = localizer_->mostLikely();
+  if (ml < 0) return;
+  const bool sure = localizer_->confident();
+  travel_since_localized_ = sure ? 0.0 : travel_since_localized_ + std::abs(travelled);
+  if (sure && params_.mapping && beyond_ == 0.0) updateKnownEdge(scan);
+}
+
+void MapBuilder::updateKnownEdge(const Scan& scan) {
+  const int ml = localizer_->mostLikely();
+  const PomdpLocalizer::State st = localizer_->state(size_t(ml));
+  if (st.kind != PomdpLocalizer::State::Edge) {
+    last_edge_ = -1;
+    return;
+  }
+  TopoEdge* e = map_->edge(st.id);
+  if (e == nullptr) return;
+  const double dir = st.forward ? 1.0 : -1.0;
+  if (last_edge_ != int(st.id) || last_forward_ != st.forward) {
+    matched_recently_.clear();
+    last_offset_ = st.offset;
+  }
+  bool changed = false;
+  for (const PassedLandmark& p : scan.passed) {
+    if (binHeading(p.heading_bin) != binHeading(binOf(st.heading))) continue;
+    if (p.landmark.type == LandmarkType::Corner && p.landmark.confidence < params_.corner_min_confidence) continue;
+    // Where on the edge it was passed.
+    const double along = p.landmark.along - (scan.travel - p.travel);
+    const double d = st.offset + dir * along;
+    const double lateral = dir * p.landmark.lateral;
+    if (d < -params_.match_distance || d > e->length + params_.match_distance) continue;
+    EdgeLandmark* best = nullptr;
+    double best_gap = params_.match_distance;
+    for (EdgeLandmark& l : e->landmarks) {
+      if (l.type != p.landmark.type || sideOf(l.lateral) != sideOf(lateral)) continue;
+      const double gap = std::abs(l.distance - d);
+      if (gap <= best_gap) {
+        best_gap = gap;
+        best = &l;
+      }
+    }
+    if (best != nullptr) {
+      // Eq. 4: p_lmap is the running average of the confidences it was observed with.
+      best->p_lmap = (best->p_lmap * best->observations + std::min(1.0, p.landmark.confidence)) / (best->observations + 1);
+      best->observations += 1;
+      matched_recently_.push_back(uint32_t(std::lround(best->distance * 1000.0)));
+      continue;
+    }
+    const bool near_end = d < params_.min_node_separation || d > e->length - params_.min_node_separation;
+    if (p.landmark.type == LandmarkType::Corner) {
+      if (p.landmark.confidence < params_.landmark_add_confidence) continue;
+      EdgeLandmark l;
+      l.type = LandmarkType::Corner;
+      l.distance = std::min(std::max(d, 0.0), e->length);
+      l.lateral = lateral;
+      l.orientation = normalizeAngle(p.landmark.orientation + (st.forward ? 0.0 : kPi));
+      l.p_lmap = std::min(1.0, p.landmark.confidence);
+      l.observations = 1;
+      e->landmarks.push_back(l);
+      e->sortLandmarks();
+      matched_recently_.push_back(uint32_t(std::lround(l.distance * 1000.0)));
+      changed = true;
+      event("corner landmark added to edge " + std::to_string(e->id));
+    } else if (!near_end) {
+      // A new opening creates a new node (an unknown door on a known stretch).
+      const double heading = st.heading;
+      splitEdgeWithDoor(e->id, d, p.landmark, heading);
+      return;
+    } else {
+      // An opening at an end node that the node does not know yet.
+      const uint32_t nid = d < 0.5 * e->length ? e->source : e->target;
+      TopoNode* n = map_->node(nid);
+      NodeOpening o;
+      o.bearing = normalizeAngle(st.heading + (p.landmark.lateral >= 0.0 ? 0.5 : -0.5) * kPi);
+      o.offset = std::abs(p.landmark.lateral);
+      o.width = p.landmark.width;
+      const bool present = std::any_of(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {
+        return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameBearing;
+      });
+      if (!present) {
+        n->openings.push_back(o);
+        changed = true;
+        event("opening added to node " + std::to_string(nid));
+      }
+    }
+  }
+  // Eq. 5: expected landmarks passed without being seen: observed confidence 0.
+  const double lag = fe_params_.pass_lag + params_.match_distance;
+  const double from = last_offset_ - dir * lag;
+  const double to = st.offset - dir * lag;
+  const double lo = std::min(from, to), hi = std::max(from, to);
+  if (last_edge_ == int(st.id) && last_forward_ == st.forward && hi > lo) {
+    for (auto it = e->landmarks.begin(); it != e->landmarks.end();) {
+      const uint32_t key = uint32_t(std::lround(it->distance * 1000.0));
+      const bool seen = std::find(matched_recently_.begin(), matched_recently_.end(), key) != matched_recently_.end();
+      if (it->distance > lo && it->distance <= hi && !seen) {
+        it->p_lmap = it->p_lmap * it->observations / (it->observations + 1);
+        it->observations += 1;
+        if (it->p_lmap < params_.p_lmap_min && int(it->observations) >= params_.p_lmap_min_observations) {
+          event("landmark at " + std::to_string(it->distance) + " m on edge " + std::to_string(e->id) + " deleted (p_lmap " +
+                std::to_string(it->p_lmap) + ")");
+          it = e->landmarks.erase(it);
+          changed = true;
+          continue;
+        }
+      }
+      ++it;
+    }
+  }
+  last_edge_ = int(st.id);
+  last_forward_ = st.forward;
+  last_offset_ = st.offset;
+  if (changed) {
+    map_->touch();
+    refreshLocalizer();
+  }
+}
+
+void MapBuilder::splitEdgeWithDoor(uint32_t edge_id, double distance, const ObservedLandmark& opening, double heading) {
+  const TopoEdge old = *map_->edge(edge_id);
+  const TopoNode& a = *map_->node(old.source);
+  TopoNode door;
+  door.type = opening.width <= params_.door_max_width ? NodeType::Door : NodeType::Junction;
+  door.pose = Pose2D{a.pose.x + distance * std::cos(old.heading), a.pose.y + distance * std::sin(old.heading), old.heading};
+  NodeOpening o;
+  o.bearing = normalizeAngle(heading + (opening.lateral >= 0.0 ? 0.5 : -0.5) * kPi);
+  o.offset = std::abs(opening.lateral);
+  o.width = opening.width;
+  door.openings.push_back(o);
+  const uint32_t id = map_->addNode(door);
+  std::vector<EdgeLandmark> first, second;
+  for (EdgeLandmark l : old.landmarks) {
+    if (l.distance <= distance) {
+      first.push_back(l);
+    } else {
+      l.distance -= distance;
+      second.push_back(l);
+    }
+  }
+  map_->removeEdge(edge_id);
+  const uint32_t e1 = map_->addEdge(old.source, id, old.heading, distance, first);
+  map_->addEdge(id, old.target, old.heading, std::max(0.0, old.length - distance), second);
+  event("node " + std::to_string(id) + " (" + pomdp_topo::toString(door.type) + ") created on known edge " +
+        std::to_string(edge_id) + ", which is split");
+  // The robot is on one of the halves, where the belief was.
+  const int ml = localizer_->mostLikely();
+  const PomdpLocalizer::State st = localizer_->state(size_t(ml));
+  refreshLocalizer();
+  if (st.offset <= distance) {
+    localizer_->resetToEdge(e1, st.offset, st.forward);
+  } else {
+    localizer_->resetToEdge(map_->nextEdgeId() - 1, st.offset - distance, st.forward);
+  }
+  last_edge_ = -1;
+}
+
+}  // namespace pomdp_topo

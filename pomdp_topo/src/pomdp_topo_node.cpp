@@ -1,0 +1,313 @@
+// pomdp_topo_node: the topological half of the hybrid map (Tomatis et al. 2001, section 3.3). Feeds
+// the core the features of each scan and the odometry (tf odom -> base_link at the scan's stamp);
+// builds the graph, localizes on it with the POMDP, closes loops; publishes the map, the belief and
+// markers; saves and loads the map.
+#include <hybrid_slam_msgs/ExplorationStatus.h>
+#include <hybrid_slam_msgs/LoadMap.h>
+#include <hybrid_slam_msgs/ResetBelief.h>
+#include <hybrid_slam_msgs/SaveMap.h>
+#include <ros/ros.h>
+#include <std_msgs/Bool.h>
+#include <std_msgs/Float64.h>
+#include <std_msgs/String.h>
+#include <std_srvs/Trigger.h>
+#include <tf2/utils.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <sys/stat.h>
+
+#include "pomdp_topo/map_io.h"
+#include "pomdp_topo/params_visit.h"
+#include "ros_conversions.h"
+
+namespace pomdp_topo {
+namespace {
+
+struct RosParamReader {
+  const ros::NodeHandle& nh;
+  void operator()(const char* name, double* value) const { nh.param(name, *value, *value); }
+  void operator()(const char* name, bool* value) const { nh.param(name, *value, *value); }
+  void operator()(const char* name, int* value) const { nh.param(name, *value, *value); }
+};
+
+TopoParams readParams(const ros::NodeHandle& pnh) {
+  TopoParams p;
+  visitParams(&p, RosParamReader{pnh});
+  p.sync();
+  return p;
+}
+
+bool fileExists(const std::string& path) {
+  struct stat st;
+  return !path.empty() && ::stat(path.c_str(), &st) == 0;
+}
+
+class TopoNodeRos {
+ public:
+  TopoNodeRos(ros::NodeHandle nh, ros::NodeHandle pnh)
+      : nh_(nh),
+        params_(readParams(pnh)),
+        localizer_(params_.pomdp),
+        front_end_(params_.front_end, params_.heading),
+        builder_(&map_, &localizer_, params_.builder),
+        tf_listener_(tf_buffer_) {
+    pnh.param<std::string>("map_frame", map_frame_, "map");
+    pnh.param<std::string>("odom_frame", odom_frame_, "odom");
+    pnh.param<std::string>("base_frame", base_frame_, "base_link");
+    pnh.param<std::string>("map_file", map_file_, "");
+    pnh.param("load_on_start", load_on_start_, true);
+    pnh.param("autosave", autosave_, true);
+    pnh.param("transform_timeout", transform_timeout_, 0.1);
+    pnh.param("markers_period", markers_period_, 0.5);
+
+    map_pub_ = nh_.advertise<hybrid_slam_msgs::TopologicalMap>("topological_map", 1, true);
+    belief_pub_ = nh_.advertise<hybrid_slam_msgs::TopologicalBelief>("topological_belief", 10);
+    confident_pub_ = nh_.advertise<std_msgs::Bool>("topo_confident", 10, true);
+    heading_pub_ = nh_.advertise<std_msgs::Float64>("topo_heading", 10);
+    events_pub_ = nh_.advertise<std_msgs::String>("topo_events", 100);
+    mode_pub_ = nh_.advertise<std_msgs::String>("topo_mode", 1, true);
+    markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("topo_markers", 2);
+    features_sub_ = nh_.subscribe("features", 20, &TopoNodeRos::onFeatures, this);
+    status_sub_ = nh_.subscribe("exploration_status", 10, &TopoNodeRos::onStatus, this);
+    services_ = {
+        pnh.advertiseService("save_map", &TopoNodeRos::onSave, this),
+        pnh.advertiseService("load_map", &TopoNodeRos::onLoad, this),
+        pnh.advertiseService("clear_map", &TopoNodeRos::onClear, this),
+        pnh.advertiseService("reset_belief", &TopoNodeRos::onReset, this),
+    };
+    if (load_on_start_ && fileExists(map_file_)) {
+      const IoResult r = loadMap(map_file_, &map_);
+      if (r) {
+        ROS_INFO("pomdp_topo: loaded %zu nodes and %zu edges from %s", map_.nodeCount(), map_.edgeCount(), map_file_.c_str());
+      } else {
+        ROS_ERROR("pomdp_topo: %s; starting with an empty map", r.error.c_str());
+      }
+    }
+    publishMap();
+  }
+
+ private:
+  bool lookup(const std::string& target, const std::string& source, const ros::Time& stamp, Pose2D* out,
+              std::string* why) {
+    try {
+      const auto t = tf_buffer_.lookupTransform(target, source, stamp, ros::Duration(transform_timeout_));
+      out->x = t.transform.translation.x;
+      out->y = t.transform.translation.y;
+      out->theta = tf2::getYaw(t.transform.rotation);
+      return true;
+    } catch (const tf2::TransformException& e) {
+      *why = e.what();
+      return false;
+    }
+  }
+
+  void onStatus(const hybrid_slam_msgs::ExplorationStatus& msg) {
+    paused_ = msg.mode == hybrid_slam_msgs::ExplorationStatus::METRIC;
+  }
+
+  void onFeatures(const hybrid_slam_msgs::LaserFeatures::ConstPtr& msg) {
+    if (!last_stamp_.isZero() && msg->header.stamp <= last_stamp_) {
+      ROS_WARN_THROTTLE(5.0, "pomdp_topo: features at %.3f are not newer than the last ones (%.3f) on %s; dropped",
+                        msg->header.stamp.toSec(), last_stamp_.toSec(), features_sub_.getTopic().c_str());
+      return;
+    }
+    Pose2D sensor, odom;
+    std::string why;
+    if (!lookup(base_frame_, msg->header.frame_id, msg->header.stamp, &sensor, &why) ||
+        !lookup(odom_frame_, base_frame_, msg->header.stamp, &odom, &why)) {
+      ROS_WARN_THROTTLE(5.0, "pomdp_topo: no transform for the features of frame '%s': %s", msg->header.frame_id.c_str(),
+                        why.c_str());
+      return;
+    }
+    last_stamp_ = msg->header.stamp;
+    size_t dropped = 0;
+    fromMsg(*msg, sensor, &lines_, &corners_, &openings_, &dropped);
+    if (dropped > 0) {
+      ROS_WARN_THROTTLE(10.0, "pomdp_topo: %zu feature(s) with non-finite numbers dropped from %s", dropped,
+                        features_sub_.getTopic().c_str());
+    }
+    const bool first = !front_end_.initialized();
+    if (first) front_end_.reset(odom, 0.0, params_.heading.initial_variance);
+    actions_.clear();
+    if (!front_end_.process(odom, lines_, corners_, openings_, &actions_, &why)) {
+      ROS_WARN_THROTTLE(5.0, "pomdp_topo: %s; the scan is skipped", why.c_str());
+      return;
+    }
+    if (first) builder_.start(front_end_);
+    if (paused_) {
+      front_end_.takePassed();  // in a room: the topological map does not move
+      return;
+    }
+    const Observation observation = front_end_.observation();
+    builder_.process(actions_, observation, front_end_.takePassed(), front_end_);
+    const bool lost = builder_.mode() == MapBuilder::Mode::Localized && localizer_.lost();
+    if (lost && !was_lost_) {
+      ROS_WARN("pomdp_topo: the belief is lost (no state explains the observations); reset to uniform");
+    }
+    was_lost_ = lost;
+    realignHeading();
+    for (const std::string& e : builder_.takeEvents()) {
+      ROS_INFO("pomdp_topo: %s", e.c_str());
+      std_msgs::String s;
+      s.data = e;
+      events_pub_.publish(s);
+    }
+    if (map_.revision() != published_revision_) {
+      publishMap();
+      if (autosave_ && !map_file_.empty() && builder_.mode() != MapBuilder::Mode::LoopCheck) save(map_file_, nullptr);
+    }
+    std_msgs::Header header;
+    header.stamp = msg->header.stamp;
+    header.frame_id = map_frame_;
+    if (!actions_.empty() || first) {
+      hybrid_slam_msgs::TopologicalBelief belief;
+      toMsg(localizer_, header, &belief);
+      belief_pub_.publish(belief);
+    }
+    const std::string mode = MapBuilder::toString(builder_.mode());
+    if (mode != last_mode_) {
+      std_msgs::String m;
+      m.data = mode;
+      mode_pub_.publish(m);
+      last_mode_ = mode;
+    }
+    std_msgs::Bool confident;
+    confident.data = builder_.confident();
+    if (first || confident.data != last_confident_) confident_pub_.publish(confident);
+    last_confident_ = confident.data;
+    std_msgs::Float64 heading;
+    heading.data = front_end_.heading().theta();
+    heading_pub_.publish(heading);
+    if ((msg->header.stamp - last_markers_).toSec() >= markers_period_) {
+      last_markers_ = msg->header.stamp;
+      visualization_msgs::MarkerArray markers;
+      toMarkers(map_, localizer_, header, &markers);
+      markers_pub_.publish(markers);
+    }
+  }
+
+  // After a kidnapping the heading estimate may be off by whole bins: once the belief is confident
+  // again, its most likely heading wins.
+  void realignHeading() {
+    if (builder_.mode() != MapBuilder::Mode::Localized || !localizer_.confident()) return;
+    const int ml = localizer_.mostLikely();
+    if (ml < 0) return;
+    const int bins = params_.pomdp.heading_bins;
+    const int state_bin = localizer_.headingBin(localizer_.state(size_t(ml)).heading);
+    const int k = ((state_bin - front_end_.headingBin()) % bins + bins) % bins;
+    if (k == 0) return;
+    ROS_WARN("pomdp_topo: heading estimate re-aligned by %d bin(s) to the localized state", k);
+    front_end_.shiftHeading(k);
+  }
+
+  void publishMap() {
+    hybrid_slam_msgs::TopologicalMap msg;
+    std_msgs::Header header;
+    header.stamp = last_stamp_.isZero() ? ros::Time::now() : last_stamp_;
+    header.frame_id = map_frame_;
+    toMsg(map_, header, &msg);
+    map_pub_.publish(msg);
+    published_revision_ = map_.revision();
+  }
+
+  bool save(const std::string& path, std::string* message) {
+    const IoResult r = saveMap(map_, path);
+    if (!r) ROS_ERROR_THROTTLE(10.0, "pomdp_topo: %s", r.error.c_str());
+    if (message) *message = r ? "saved " + std::to_string(map_.nodeCount()) + " nodes to " + path : r.error;
+    return bool(r);
+  }
+
+  bool onSave(hybrid_slam_msgs::SaveMap::Request& req, hybrid_slam_msgs::SaveMap::Response& res) {
+    const std::string path = req.path.empty() ? map_file_ : req.path;
+    if (path.empty()) {
+      res.success = false;
+      res.message = "no path given and the map_file parameter is empty";
+      return true;
+    }
+    res.success = save(path, &res.message);
+    return true;
+  }
+
+  bool onLoad(hybrid_slam_msgs::LoadMap::Request& req, hybrid_slam_msgs::LoadMap::Response& res) {
+    const std::string path = req.path.empty() ? map_file_ : req.path;
+    const IoResult r = loadMap(path, &map_);
+    res.success = bool(r);
+    if (!r) {
+      res.message = r.error + "; the map in memory is kept";
+      ROS_ERROR("pomdp_topo: %s", res.message.c_str());
+      return true;
+    }
+    res.message = "loaded " + std::to_string(map_.nodeCount()) + " nodes and " + std::to_string(map_.edgeCount()) + " edges";
+    if (front_end_.initialized()) builder_.start(front_end_);  // localized, uniform belief
+    else localizer_.setMap(map_);
+    publishMap();
+    return true;
+  }
+
+  bool onClear(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+    map_.clear();
+    if (front_end_.initialized()) builder_.start(front_end_);
+    else localizer_.setMap(map_);
+    publishMap();
+    res.success = true;
+    res.message = "map cleared";
+    return true;
+  }
+
+  bool onReset(hybrid_slam_msgs::ResetBelief::Request& req, hybrid_slam_msgs::ResetBelief::Response& res) {
+    if (localizer_.mapRevision() != map_.revision()) localizer_.setMap(map_);
+    if (req.uniform) {
+      localizer_.setUniform();
+      res.success = true;
+      res.message = "belief uniform over " + std::to_string(localizer_.size()) + " states";
+      return true;
+    }
+    if (!std::isfinite(req.heading) || !localizer_.resetToNode(req.node, req.heading)) {
+      res.success = false;
+      res.message = "no node " + std::to_string(req.node) + " in the map (or a non-finite heading); belief unchanged";
+      return true;
+    }
+    res.success = true;
+    res.message = "belief on node " + std::to_string(req.node);
+    return true;
+  }
+
+  ros::NodeHandle nh_;
+  TopoParams params_;
+  TopologicalMap map_;
+  PomdpLocalizer localizer_;
+  FrontEnd front_end_;
+  MapBuilder builder_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_;
+  std::string map_frame_, odom_frame_, base_frame_, map_file_;
+  bool load_on_start_ = true, autosave_ = true;
+  double transform_timeout_ = 0.1, markers_period_ = 0.5;
+  ros::Publisher map_pub_, belief_pub_, confident_pub_, heading_pub_, events_pub_, mode_pub_, markers_pub_;
+  std::string last_mode_;
+  ros::Subscriber features_sub_, status_sub_;
+  std::vector<ros::ServiceServer> services_;
+  ros::Time last_stamp_, last_markers_;
+  uint64_t published_revision_ = ~0ull;
+  bool paused_ = false, last_confident_ = false, was_lost_ = false;
+  std::vector<laser_features::LineSegment> lines_;
+  std::vector<laser_features::Corner> corners_;
+  std::vector<laser_features::Opening> openings_;
+  std::vector<Action> actions_;
+};
+
+}  // namespace
+}  // namespace pomdp_topo
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "pomdp_topo");
+  ros::NodeHandle nh, pnh("~");
+  try {
+    pomdp_topo::TopoNodeRos node(nh, pnh);
+    ros::spin();
+  } catch (const std::exception& e) {
+    ROS_FATAL("pomdp_topo: %s", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,41 @@
+// config/pomdp_topo.yaml documents every parameter with the code's default: check they agree, and
+// that the YAML has no key the node does not read.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <set>
+
+#include "pomdp_topo/params_visit.h"
+
+TEST(Config, YamlDefaultsEqualTheCodeDefaults) {
+  const YAML::Node root = YAML::LoadFile(CONFIG_FILE);
+  pomdp_topo::TopoParams params;
+  std::set<std::string> visited;
+  pomdp_topo::visitParams(&params, [&](const char* name, auto* value) {
+    visited.insert(name);
+    const YAML::Node node = root[name];
+    ASSERT_TRUE(node.IsDefined() && node.IsScalar()) << name << " is not documented in " << CONFIG_FILE;
+    using T = std::remove_pointer_t<decltype(value)>;
+    EXPECT_NEAR(static_cast<double>(node.as<T>()), static_cast<double>(*value), 1e-12) << name;
+  });
+  const std::set<std::string> node_keys = {"map_frame", "odom_frame", "base_frame", "map_file", "load_on_start",
+                                           "autosave", "transform_timeout", "markers_period"};
+  for (const auto& kv : root) {
+    const std::string key = kv.first.as<std::string>();
+    EXPECT_TRUE(visited.count(key) || node_keys.count(key)) << "unknown key " << key;
+  }
+}
+
+TEST(Config, SharedValuesReachEveryPiece) {
+  pomdp_topo::TopoParams p;
+  p.pomdp.resolution = 0.25;
+  p.pomdp.heading_bins = 8;
+  p.pomdp.axis_angle = 0.3;
+  p.pomdp.node_radius = 1.5;
+  p.sync();
+  EXPECT_EQ(p.front_end.resolution, 0.25);
+  EXPECT_EQ(p.front_end.heading_bins, 8);
+  EXPECT_EQ(p.front_end.axis_angle, 0.3);
+  EXPECT_EQ(p.heading.axis_angle, 0.3);
+  EXPECT_EQ(p.builder.node_radius, 1.5);
+}

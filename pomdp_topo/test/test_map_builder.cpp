@@ -1,0 +1,235 @@
+// FrontEnd + MapBuilder + PomdpLocalizer together on synthetic hallways: a robot drives along
+// hallway centre lines; each scan gives the two hallway walls as lines and the doors and branches
+// within range as openings (as laser_features would), with the odometry as the pose.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "pomdp_topo/front_end.h"
+#include "pomdp_topo/map_builder.h"
+#include "pomdp_topo/pomdp_localizer.h"
+
+namespace pomdp_topo {
+namespace {
+
+using laser_features::kPi;
+using laser_features::normalizeAngle;
+
+struct Door {
+  Eigen::Vector2d center;  // on the wall line
+  double normal;           // direction from the hallway into the room (world)
+  double width;
+};
+
+// A closed or open polyline of hallway centre lines (axis-aligned), half width 1.1 m, with doors.
+struct SyntheticFloor {
+  std::vector<Door> doors;
+  std::vector<Eigen::Vector2d> corners;  // turn points of the drive: the branch opening is seen there
+  double range = 5.0;
+  std::mt19937 rng{7};
+
+  void scan(const Pose2D& pose, int next_corner, const std::vector<Eigen::Vector2d>& path,
+            std::vector<laser_features::LineSegment>* lines, std::vector<laser_features::Opening>* openings) {
+    lines->clear();
+    openings->clear();
+    std::normal_distribution<double> noise(0.0, 0.02);
+    // Walls parallel to the travel axis (the robot drives on axis-aligned centre lines).
+    const double axis = std::round(pose.theta / (0.5 * kPi)) * 0.5 * kPi;
+    for (double side : {1.0, -1.0}) {
+      laser_features::LineSegment s;
+      s.line.alpha = normalizeAngle(axis + side * 0.5 * kPi - pose.theta + 0.002 * noise(rng));
+      s.line.r = 1.1;
+      s.line.cov << 1e-4, 0, 0, 1e-4;
+      const Eigen::Vector2d n = laser_features::unitVector(s.line.alpha), t(-n.y(), n.x());
+      s.start = 1.1 * n - 3.0 * t;
+      s.end = 1.1 * n + 3.0 * t;
+      s.num_points = 100;
+      lines->push_back(s);
+    }
+    auto add = [&](const Eigen::Vector2d& c, double normal, double width) {
+      const Eigen::Vector2d rel = c - Eigen::Vector2d(pose.x, pose.y);
+      if (rel.norm() > range) return;
+      laser_features::Opening o;
+      const double cs = std::cos(-pose.theta), sn = std::sin(-pose.theta);
+      o.center = Eigen::Vector2d(cs * rel.x() - sn * rel.y() + noise(rng), sn * rel.x() + cs * rel.y() + noise(rng));
+      o.theta = normalizeAngle(normal - pose.theta);
+      o.width = width;
+      o.confidence = 0.8;
+      openings->push_back(o);
+    };
+    for (const Door& d : doors) add(d.center, d.normal, d.width);
+    // The branch the robot is about to turn into: an opening beside the turn point.
+    if (next_corner >= 1 && next_corner + 1 < int(path.size())) {
+      const Eigen::Vector2d c = path[next_corner];
+      const Eigen::Vector2d dir = (path[next_corner + 1] - c).normalized();
+      add(c + 1.1 * dir, std::atan2(dir.y(), dir.x()), 2.0);
+    }
+  }
+};
+
+struct Drive {
+  TopologicalMap map;
+  PomdpLocalizer localizer;
+  FrontEnd front_end;
+  MapBuilder builder;
+  size_t steps = 0, localized = 0, right = 0;
+
+  Drive() : builder(&map, &localizer) {}
+
+  // Drives the path (straight segments, turns on the spot) and checks the belief against the
+  // true position after every localized scan.
+  void run(SyntheticFloor* floor, const std::vector<Eigen::Vector2d>& path, double start_theta) {
+    Pose2D pose{path[0].x(), path[0].y(), start_theta};
+    std::vector<laser_features::LineSegment> lines;
+    std::vector<laser_features::Opening> openings;
+    std::vector<laser_features::Corner> corners;
+    std::vector<Action> actions;
+    auto tick = [&](int next) {
+      floor->scan(pose, next, path, &lines, &openings);
+      actions.clear();
+      ASSERT_TRUE(front_end.process(pose, lines, corners, openings, &actions));
+      if (steps++ == 0) builder.start(front_end);
+      builder.process(actions, front_end.observation(), front_end.takePassed(), front_end);
+      if (builder.mode() == MapBuilder::Mode::Localized && localizer.mostLikely() >= 0) {
+        ++localized;
+        const auto& st = localizer.state(size_t(localizer.mostLikely()));
+        const Eigen::Vector2d p = position(st);
+        // Map positions are relative to the start (the map frame is the start pose).
+        const Eigen::Vector2d truth = Eigen::Vector2d(pose.x, pose.y) - path[0];
+        if ((p - truth).norm() <= 1.0 && std::abs(normalizeAngle(st.heading - pose.theta)) < 0.5) ++right;
+      }
+    };
+    for (size_t k = 1; k < path.size(); ++k) {
+      const Eigen::Vector2d d = path[k] - Eigen::Vector2d(pose.x, pose.y);
+      const double heading = std::atan2(d.y(), d.x());
+      while (std::abs(normalizeAngle(heading - pose.theta)) > 1e-6) {
+        const double turn = normalizeAngle(heading - pose.theta);
+        pose.theta = normalizeAngle(pose.theta + std::copysign(std::min(0.12, std::abs(turn)), turn));
+        tick(int(k) - 1);
+      }
+      for (int i = 0; i < 3; ++i) tick(int(k) - 1);  // settle
+      const double length = d.norm();
+      const int n = int(std::ceil(length / 0.05));
+      const Eigen::Vector2d from(pose.x, pose.y);
+      for (int i = 1; i <= n; ++i) {
+        const Eigen::Vector2d p = from + d * (double(i) / n);
+        pose.x = p.x();
+        pose.y = p.y();
+        tick(int(k));
+      }
+    }
+  }
+
+  Eigen::Vector2d nodePos(uint32_t id) const {
+    const TopoNode* n = map.node(id);
+    return {n->pose.x, n->pose.y};
+  }
+  Eigen::Vector2d position(const PomdpLocalizer::State& st) const {
+    if (st.kind == PomdpLocalizer::State::Node) return nodePos(st.id);
+    const TopoEdge* e = map.edge(st.id);
+    const Eigen::Vector2d a = nodePos(e->source), b = nodePos(e->target);
+    return a + (b - a) * (e->length > 0 ? st.offset / e->length : 0.0);
+  }
+  size_t count(NodeType type) const {
+    size_t n = 0;
+    for (const auto& kv : map.nodes()) n += kv.second.type == type;
+    return n;
+  }
+};
+
+// A straight hallway with five doors: driven east, U-turn, west past the start (off the known
+// graph), U-turn, east again.
+TEST(MapBuilder, StraightHallwayDoorsHallwayEndsAndLocalizationOnTheWayBack) {
+  SyntheticFloor floor;
+  const double xs[] = {4.0, 7.5, 9.0, 14.0, 17.0};
+  for (int i = 0; i < 5; ++i) floor.doors.push_back({{xs[i], i % 2 ? -1.1 : 1.1}, i % 2 ? -0.5 * kPi : 0.5 * kPi, 0.9});
+  Drive drive;
+  drive.run(&floor, {{1.5, 0}, {20.0, 0}, {-1.5, 0}, {20.0, 0}}, 0.0);
+  EXPECT_EQ(drive.count(NodeType::Door), 5u);
+  EXPECT_EQ(drive.count(NodeType::HallwayEnd), 2u);  // both U-turns
+  EXPECT_EQ(drive.count(NodeType::Junction), 0u);
+  // The doors are where they are, along the hallway from the start.
+  std::vector<double> found;
+  for (const auto& kv : drive.map.nodes()) {
+    if (kv.second.type == NodeType::Door) found.push_back(kv.second.pose.x + 1.5);
+  }
+  std::sort(found.begin(), found.end());
+  ASSERT_EQ(found.size(), 5u);
+  for (int i = 0; i < 5; ++i) EXPECT_NEAR(found[i], xs[i], 0.3) << "door " << i;
+  // Back along the known hallway: localized, and right.
+  EXPECT_GT(drive.localized, 300u);
+  EXPECT_GE(double(drive.right) / drive.localized, 0.95) << drive.right << " of " << drive.localized;
+  EXPECT_EQ(drive.builder.loopsClosed().size(), 0u);
+}
+
+// A rectangular ring with two doors: two laps counter-clockwise. The first return to the start
+// stretch is a loop: closed by merging, without a duplicate of any door.
+TEST(MapBuilder, RingLoopIsClosedOnceAndTheSecondLapIsLocalized) {
+  SyntheticFloor floor;
+  floor.doors.push_back({{12.0, 2.1}, 0.5 * kPi, 1.0});    // on the left of the south stretch
+  floor.doors.push_back({{4.0, 9.9}, -0.5 * kPi, 1.0});    // on the left of the north stretch
+  Drive drive;
+  const std::vector<Eigen::Vector2d> lap = {{15, 1}, {15, 11}, {1, 11}, {1, 1}};
+  std::vector<Eigen::Vector2d> path = {{2, 1}};
+  for (int k = 0; k < 2; ++k) path.insert(path.end(), lap.begin(), lap.end());
+  path.push_back({6, 1});
+  drive.run(&floor, path, 0.0);
+  EXPECT_EQ(drive.builder.loopsClosed().size(), 1u);
+  EXPECT_EQ(drive.count(NodeType::Door), 2u);
+  EXPECT_EQ(drive.count(NodeType::Junction), 4u);  // the four turns
+  EXPECT_EQ(drive.map.nodeCount(), 7u);            // and the start
+  EXPECT_GE(double(drive.right) / std::max<size_t>(1, drive.localized), 0.95)
+      << drive.right << " of " << drive.localized;
+}
+
+// Localization only: nothing is ever added to an empty map, and nothing crashes.
+TEST(MapBuilder, LocalizationOnlyNeverChangesTheMap) {
+  SyntheticFloor floor;
+  floor.doors.push_back({{4.0, 1.1}, 0.5 * kPi, 0.9});
+  Drive drive;
+  MapBuilderParams params;
+  params.mapping = false;
+  MapBuilder builder(&drive.map, &drive.localizer, params);
+  std::swap(drive.builder, builder);
+  drive.run(&floor, {{1.5, 0}, {10.0, 0}}, 0.0);
+  EXPECT_EQ(drive.map.nodeCount(), 0u);
+  EXPECT_EQ(drive.localizer.mostLikely(), -1);
+}
+
+TEST(FrontEnd, OneTurnActionPerUTurnAndTravelInResolutionSteps) {
+  FrontEnd fe;
+  std::vector<Action> actions;
+  std::vector<laser_features::LineSegment> lines;
+  std::vector<laser_features::Corner> corners;
+  std::vector<laser_features::Opening> openings;
+  Pose2D pose{0, 0, 0};
+  for (int i = 0; i <= 100; ++i) {  // 5 m east
+    pose.x = 0.05 * i;
+    ASSERT_TRUE(fe.process(pose, lines, corners, openings, &actions));
+  }
+  double travel = 0.0;
+  for (const Action& a : actions) {
+    ASSERT_EQ(a.kind, Action::Travel);
+    travel += a.distance;
+  }
+  EXPECT_NEAR(travel, 5.0, 1e-9);
+  actions.clear();
+  for (int i = 1; i <= 30; ++i) {  // turn on the spot by pi, then stand still
+    pose.theta = normalizeAngle(std::min(kPi, 0.12 * i));
+    ASSERT_TRUE(fe.process(pose, lines, corners, openings, &actions));
+  }
+  ASSERT_EQ(actions.size(), 1u);
+  EXPECT_EQ(actions[0].kind, Action::Turn);
+  EXPECT_EQ(std::abs(actions[0].turn_bins), 2);
+  // An odometry jump is refused with a reason.
+  std::string error;
+  pose.x += 5.0;
+  EXPECT_FALSE(fe.process(pose, lines, corners, openings, &actions, &error));
+  EXPECT_NE(error.find("jump"), std::string::npos);
+  pose.x = std::nan("");
+  EXPECT_FALSE(fe.process(pose, lines, corners, openings, &actions, &error));
+}
+
+}  // namespace
+}  // namespace pomdp_topo
