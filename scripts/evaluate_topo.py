@@ -51,6 +51,7 @@ class TopoEvaluator:
         self.kidnaps = rospy.get_param('~kidnaps', 0)
         self.kidnap_interval = rospy.get_param('~kidnap_interval', 40.0)
         self.kidnap_jump = rospy.get_param('~kidnap_jump', 6.0)
+        self.max_sim_time = rospy.get_param('~max_sim_time', 0.0)
         tour_file = rospy.get_param('~tour_file', '')
         self.waypoints = []
         if tour_file:
@@ -79,7 +80,8 @@ class TopoEvaluator:
         self.mode = ''
         self.events = []
         self.steps = {'total': 0, 'localized': 0, 'correct': 0, 'unconfident': 0,
-                      'look_alike': 0, 'look_alike_correct': 0, 'look_alike_unconfident': 0}
+                      'look_alike': 0, 'look_alike_correct': 0, 'look_alike_unconfident': 0,
+                      'tracked': 0, 'tracked_correct': 0, 'tracked_unconfident': 0}
         self.first_right = None
         self.kidnap_log = []
         self.pending_kidnap = None
@@ -117,6 +119,10 @@ class TopoEvaluator:
             belief, mode = self.pending.popleft()
             self.evaluate(belief, mode)
         self.maybe_kidnap(stamp)
+        if self.max_sim_time > 0 and stamp > self.max_sim_time and not self.done:
+            rospy.logerr('evaluate_topo: the tour did not end within %.0f s of sim time; giving up', self.max_sim_time)
+            self.write()
+            rospy.signal_shutdown('max_sim_time')
 
     def on_map(self, msg):
         self.map = msg
@@ -185,9 +191,13 @@ class TopoEvaluator:
             s['look_alike'] += 1
             s['look_alike_correct'] += int(right)
             s['look_alike_unconfident'] += int(not msg.confident)
+        if self.first_right is not None:  # tracking, after global localization
+            s['tracked'] += 1
+            s['tracked_correct'] += int(right)
+            s['tracked_unconfident'] += int(not msg.confident)
         if self.first_right is None and right and msg.confident:
             self.first_right = {'steps': s['localized'], 'metres': round(path, 2)}
-        if self.pending_kidnap is not None:
+        if self.pending_kidnap is not None and msg.header.stamp.to_sec() > self.pending_kidnap['stamp']:
             k = self.pending_kidnap
             k['steps'] += 1
             if right and msg.confident:
@@ -224,6 +234,9 @@ class TopoEvaluator:
             return
         _, k, t, L = best
         (ax, ay), (bx, by) = pts[k], pts[k + 1]
+        # Only while driving along the segment, away from its ends (not while turning at a corner).
+        if abs(wrap(self.truth[5] - math.atan2(by - ay, bx - ax))) > 0.2 or t * L < 1.0 or (1 - t) * L < 1.0:
+            return
         remaining = (1 - t) * L
         if remaining < self.kidnap_jump + 1.0 and t * L < self.kidnap_jump + 1.0:
             return  # segment too short to jump along
@@ -242,28 +255,32 @@ class TopoEvaluator:
             return
         self.last_kidnap = now
         self.pending_kidnap = {'at': [round(pose.x, 2), round(pose.y, 2)], 'jump_m': jump, 'steps': 0,
-                               'path0': self.truth_path}
+                               'path0': self.truth_path, 'stamp': now}
         rospy.loginfo('evaluate_topo: kidnapped the robot by %.1f m to (%.2f, %.2f)', jump, pose.x, pose.y)
 
     def node_match(self):
         if self.map is None:
             return {}
         nodes = [n for n in self.map.nodes if n.type in (0, 1)]  # doors and junctions
-        used = set()
+        # A node stands for as many world openings as it has openings (two doors face to face at
+        # one spot are one node with two openings).
+        capacity = {n.id: max(1, len(n.openings)) for n in nodes}
+        used = collections.Counter()
         found = 0
         missed = []
-        for t in self.true_nodes:
+        for t in sorted(self.true_nodes, key=lambda t: min([math.hypot(n.pose.x - t['x'], n.pose.y - t['y'])
+                                                             for n in nodes] or [1e9])):
             best = None
             for n in nodes:
                 d = math.hypot(n.pose.x - t['x'], n.pose.y - t['y'])
-                if n.id not in used and d <= 1.5 and (best is None or d < best[0]):
+                if used[n.id] < capacity[n.id] and d <= 1.5 and (best is None or d < best[0]):
                     best = (d, n.id)
             if best is None:
                 missed.append(t['between'])
             else:
-                used.add(best[1])
+                used[best[1]] += 1
                 found += 1
-        spurious = [n.id for n in nodes if n.id not in used]
+        spurious = [n.id for n in nodes if used[n.id] == 0]
         return {'true_nodes': len(self.true_nodes), 'found': found, 'missed': missed,
                 'spurious_nodes': spurious, 'map_nodes': len(self.map.nodes), 'map_edges': len(self.map.edges),
                 'node_types': {str(k): sum(1 for n in self.map.nodes if n.type == k) for k in range(5)}}
@@ -273,11 +290,13 @@ class TopoEvaluator:
         loc = max(1, s['localized'])
         out = {'world': self.world['name'], 'belief_updates': s['total'], 'localized_updates': s['localized'],
                'correct_rate': round(s['correct'] / loc, 4), 'unconfident_rate': round(s['unconfident'] / loc, 4),
+               'tracking_correct_rate': round(s['tracked_correct'] / max(1, s['tracked']), 4),
+               'tracking_unconfident_rate': round(s['tracked_unconfident'] / max(1, s['tracked']), 4),
                'look_alike_updates': s['look_alike'],
                'look_alike_correct_rate': round(s['look_alike_correct'] / max(1, s['look_alike']), 4),
                'look_alike_unconfident_rate': round(s['look_alike_unconfident'] / max(1, s['look_alike']), 4),
                'first_confident_and_right': self.first_right, 'travel_m': round(self.truth_path, 1),
-               'kidnaps': [{k: v for k, v in x.items() if k != 'path0'} for x in self.kidnap_log],
+               'kidnaps': [{k: v for k, v in x.items() if k not in ('path0', 'stamp')} for x in self.kidnap_log],
                'kidnap_unrecovered': self.pending_kidnap is not None,
                'loops_closed': [e for e in self.events if e.startswith('loop closed')],
                'loops_rejected': [e for e in self.events if e.startswith('loop hypothesis rejected')],

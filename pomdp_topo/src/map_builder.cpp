@@ -159,9 +159,6 @@ void MapBuilder::processFrontier(const Scan& scan, const FrontEnd& fe) {
     o.offset = std::abs(p.landmark.lateral);
     o.width = p.landmark.width;
     const NodeType type = p.landmark.width <= params_.door_max_width ? NodeType::Door : NodeType::Junction;
-    event("side opening passed: lateral " + std::to_string(p.landmark.lateral) + " orientation " +
-          std::to_string(p.landmark.orientation) + " track " + std::to_string(p.track_id) + " at robot " +
-          std::to_string(scan.pose.x) + " " + std::to_string(scan.pose.y));
     createNode(type, std::max(0.0, pos), scan, fe, {o});
   }
   if (mode_ == Mode::LoopCheck) {

@@ -45,6 +45,7 @@ bool PomdpLocalizer::validate(const PomdpParams& p, std::string* error) {
   if (!nonneg(p.travel_spread)) return fail(error, "travel_spread must be >= 0");
   if (!nonneg(p.node_radius)) return fail(error, "node_radius must be >= 0");
   if (!unit(p.turn_mid_edge_probability)) return fail(error, "turn_mid_edge_probability must be in [0, 1]");
+  if (!unit(p.turn_lost_mass)) return fail(error, "turn_lost_mass must be in [0, 1]");
   if (!unit(p.blocked_travel_probability)) return fail(error, "blocked_travel_probability must be in [0, 1]");
   if (!nonneg(p.window_ahead) || !nonneg(p.window_behind) || !nonneg(p.window_lateral))
     return fail(error, "windows must be >= 0");
@@ -585,12 +586,21 @@ bool PomdpLocalizer::predict(const Action& action, std::string* error) {
     const int k = ((action.turn_bins % bins_) + bins_) % bins_;
     if (k == 0) return true;
     std::fill(scratch_.begin(), scratch_.end(), 0.0);
+    double at_nodes = 0.0;
     for (size_t s = 0; s < belief_.size(); ++s) {
       bool mid_edge = false;
       const int32_t t = turnFrom(s, k, &mid_edge);
       scratch_[t] += mid_edge ? params_.turn_mid_edge_probability * belief_[s] : belief_[s];
+      if (!mid_edge || 2 * k == bins_) at_nodes += belief_[s];
     }
     finishPrediction();
+    // Hallways are left only at nodes: a turn the belief cannot place at one means the robot is not
+    // where the belief says (kidnapped, or a missed node).
+    if (at_nodes < params_.turn_lost_mass) {
+      setUniform();
+      lost_ = true;
+      ++lost_resets_;
+    }
     return true;
   }
   return fail(error, "unknown action kind");
@@ -801,6 +811,7 @@ bool PomdpLocalizer::update(const Observation& o, std::string* error) {
   if (!finite(max_ll)) {
     setUniform();
     lost_ = true;
+    ++lost_resets_;
     return true;
   }
 
@@ -827,6 +838,7 @@ bool PomdpLocalizer::update(const Observation& o, std::string* error) {
     if (++low_likelihood_steps_ >= params_.lost_steps) {
       // Reset to uniform; this observation is then applied to the uniform prior.
       lost_ = true;
+      ++lost_resets_;
       low_likelihood_steps_ = 0;
       total = 0.0;
       for (size_t s = 0; s < belief_.size(); ++s) {

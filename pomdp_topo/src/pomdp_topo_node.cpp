@@ -59,6 +59,7 @@ class TopoNodeRos {
     pnh.param("autosave", autosave_, true);
     pnh.param("transform_timeout", transform_timeout_, 0.1);
     pnh.param("markers_period", markers_period_, 0.5);
+    pnh.param("realign_updates", realign_updates_, 20);
 
     map_pub_ = nh_.advertise<hybrid_slam_msgs::TopologicalMap>("topological_map", 1, true);
     belief_pub_ = nh_.advertise<hybrid_slam_msgs::TopologicalBelief>("topological_belief", 10);
@@ -140,12 +141,14 @@ class TopoNodeRos {
     }
     const Observation observation = front_end_.observation();
     builder_.process(actions_, observation, front_end_.takePassed(), front_end_);
-    const bool lost = builder_.mode() == MapBuilder::Mode::Localized && localizer_.lost();
-    if (lost && !was_lost_) {
-      ROS_WARN("pomdp_topo: the belief is lost (no state explains the observations); reset to uniform");
+    if (localizer_.lostResets() != lost_resets_) {
+      lost_resets_ = localizer_.lostResets();
+      ROS_WARN("pomdp_topo: the belief is lost (the map does not explain the observations or a turn); reset to uniform");
+      std_msgs::String s;
+      s.data = "belief lost: reset to uniform";
+      events_pub_.publish(s);
     }
-    was_lost_ = lost;
-    realignHeading();
+    if (!actions_.empty()) realignHeading();
     for (const std::string& e : builder_.takeEvents()) {
       ROS_INFO("pomdp_topo: %s", e.c_str());
       std_msgs::String s;
@@ -195,7 +198,14 @@ class TopoNodeRos {
     const int bins = params_.pomdp.heading_bins;
     const int state_bin = localizer_.headingBin(localizer_.state(size_t(ml)).heading);
     const int k = ((state_bin - front_end_.headingBin()) % bins + bins) % bins;
-    if (k == 0) return;
+    // Only a disagreement the belief keeps for realign_updates confident updates in a row.
+    if (k == 0 || k != realign_bins_) {
+      realign_bins_ = k;
+      realign_votes_ = 0;
+      return;
+    }
+    if (++realign_votes_ < realign_updates_) return;
+    realign_votes_ = 0;
     ROS_WARN("pomdp_topo: heading estimate re-aligned by %d bin(s) to the localized state", k);
     front_end_.shiftHeading(k);
   }
@@ -283,13 +293,16 @@ class TopoNodeRos {
   std::string map_frame_, odom_frame_, base_frame_, map_file_;
   bool load_on_start_ = true, autosave_ = true;
   double transform_timeout_ = 0.1, markers_period_ = 0.5;
+  int realign_updates_ = 20;
   ros::Publisher map_pub_, belief_pub_, confident_pub_, heading_pub_, events_pub_, mode_pub_, markers_pub_;
   std::string last_mode_;
   ros::Subscriber features_sub_, status_sub_;
   std::vector<ros::ServiceServer> services_;
   ros::Time last_stamp_, last_markers_;
   uint64_t published_revision_ = ~0ull;
-  bool paused_ = false, last_confident_ = false, was_lost_ = false;
+  bool paused_ = false, last_confident_ = false;
+  uint64_t lost_resets_ = 0;
+  int realign_votes_ = 0, realign_bins_ = 0;
   std::vector<laser_features::LineSegment> lines_;
   std::vector<laser_features::Corner> corners_;
   std::vector<laser_features::Opening> openings_;

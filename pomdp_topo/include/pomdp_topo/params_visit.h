@@ -37,6 +37,7 @@ void visitParams(TopoParams* p, Visitor&& visit) {
   // POMDP (transition, observation, belief).
   visit("travel_spread", &p->pomdp.travel_spread);
   visit("turn_mid_edge_probability", &p->pomdp.turn_mid_edge_probability);
+  visit("turn_lost_mass", &p->pomdp.turn_lost_mass);
   visit("blocked_travel_probability", &p->pomdp.blocked_travel_probability);
   visit("window_ahead", &p->pomdp.window_ahead);
   visit("window_behind", &p->pomdp.window_behind);

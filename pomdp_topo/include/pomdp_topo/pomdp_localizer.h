@@ -30,6 +30,7 @@ struct PomdpParams {
   double travel_spread = 0.15;              // -, per metre travelled: probability of undershooting by one cell, and separately of overshooting (each capped at 0.45)
   double node_radius = 1.0;                 // m, an edge state this close to a node turns there
   double turn_mid_edge_probability = 0.05;  // -, a non-180-degree turn away from nodes: the mass stays, times this
+  double turn_lost_mass = 0.02;             // -, a 90-degree turn with less belief than this at (or near) nodes: lost, reset to uniform
   double blocked_travel_probability = 0.1;  // -, a travel ending >= one cell past a node without a way on (into a wall): the mass stays at the node, times this
   double window_ahead = 3.0;                // m, landmarks this far ahead along the travel heading are expected
   double window_behind = 3.0;               // m, landmarks this far behind are expected
@@ -111,6 +112,8 @@ class PomdpLocalizer {
   int mostLikely() const;   // index, or -1 without states
   /// True when the last update reset the belief (lost for lost_steps updates, or degenerate).
   bool lost() const { return lost_; }
+  /// How many times the belief was reset to uniform because it was lost (since construction).
+  uint64_t lostResets() const { return lost_resets_; }
   /// log (sum_s b(s) L(s)^w)^(1/w) of the last update (predicted belief b, w = observation_weight;
   /// log sum_s b(s) L(s) when w = 0), compared with lost_likelihood; 0 before any update.
   double lastLogLikelihood() const { return last_log_likelihood_; }
@@ -263,6 +266,7 @@ class PomdpLocalizer {
   std::vector<char> used_observed_;
 
   bool lost_ = false;
+  uint64_t lost_resets_ = 0;
   int low_likelihood_steps_ = 0;
   double last_log_likelihood_ = 0.0;
 };
