@@ -1,0 +1,23 @@
+# The ROS-free core library of exploration: plain CMake, include()d by the catkin CMakeLists.txt of the
+# package (and by standalone test builds). Defines the target `exploration_core`; the including
+# CMakeLists must provide `laser_features_core` first (include laser_features/core.cmake).
+
+include_guard(GLOBAL)
+set(EXPLORATION_CORE_DIR ${CMAKE_CURRENT_LIST_DIR})
+
+find_package(Eigen3 REQUIRED)  # header-only
+
+add_library(exploration_core
+  ${EXPLORATION_CORE_DIR}/src/motion_controller.cpp
+)
+target_include_directories(exploration_core PUBLIC
+  $<BUILD_INTERFACE:${EXPLORATION_CORE_DIR}/include>
+)
+target_link_libraries(exploration_core PUBLIC laser_features_core)
+if(TARGET Eigen3::Eigen)
+  target_link_libraries(exploration_core PUBLIC Eigen3::Eigen)
+else()
+  target_include_directories(exploration_core SYSTEM PUBLIC ${EIGEN3_INCLUDE_DIR})
+endif()
+target_compile_features(exploration_core PUBLIC cxx_std_17)
+set_target_properties(exploration_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
