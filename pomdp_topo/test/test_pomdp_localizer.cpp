@@ -600,7 +600,9 @@ TEST(PomdpObservation, ExpectedLandmarksInTheTravelFrame) {
   World w = hallway();
   const uint32_t e0 = edgeBetween(w.map, w.corners[0], w.doors[0]);
   const uint32_t e1 = edgeBetween(w.map, w.doors[0], w.doors[1]);
-  PomdpLocalizer loc;
+  PomdpParams params;
+  params.window_ahead = 3.0;  // the figures below assume 3 m windows both ways
+  PomdpLocalizer loc(params);
   loc.setMap(w.map);
   // East at 3.25 m: door D1 (5 m, left) 1.75 m ahead; the corner (7.5 m) is out of the window.
   auto v = loc.expectedLandmarks(size_t(loc.edgeStateIndex(e0, 3.25, true)));

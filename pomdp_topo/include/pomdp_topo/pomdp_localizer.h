@@ -32,7 +32,7 @@ struct PomdpParams {
   double turn_mid_edge_probability = 0.05;  // -, a non-180-degree turn away from nodes: the mass stays, times this
   double turn_lost_mass = 0.02;             // -, a 90-degree turn with less belief than this at (or near) nodes: lost, reset to uniform
   double blocked_travel_probability = 0.1;  // -, a travel ending >= one cell past a node without a way on (into a wall): the mass stays at the node, times this
-  double window_ahead = 3.0;                // m, landmarks this far ahead along the travel heading are expected
+  double window_ahead = 2.0;                // m, landmarks this far ahead along the travel heading are expected (side openings farther ahead are often not seen yet)
   double window_behind = 3.0;               // m, landmarks this far behind are expected
   double window_lateral = 3.0;              // m, and at most this far to the side
   double match_sigma_along = 0.5;           // m, association / likelihood width along the travel heading
