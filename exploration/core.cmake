@@ -9,6 +9,8 @@ find_package(Eigen3 REQUIRED)  # header-only
 
 add_library(exploration_core
   ${EXPLORATION_CORE_DIR}/src/motion_controller.cpp
+  ${EXPLORATION_CORE_DIR}/src/occupancy_grid.cpp
+  ${EXPLORATION_CORE_DIR}/src/frontier_explorer.cpp
 )
 target_include_directories(exploration_core PUBLIC
   $<BUILD_INTERFACE:${EXPLORATION_CORE_DIR}/include>

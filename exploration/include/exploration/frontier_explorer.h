@@ -1,0 +1,206 @@
+// The frontier-exploration baseline the topological explorer is compared against: greedy frontier
+// exploration on an occupancy grid (Yamauchi 1997, "A frontier-based approach for autonomous
+// exploration"; the frontier cost of explore_lite, Hörner 2016), with a grid planner.
+//
+// GridPlanner: A* / Dijkstra, 8-connected without corner cutting, on a snapshot of the grid where a
+// cell is traversable when it is Free (or Unknown, with allow_unknown) and no Occupied cell's centre
+// lies within robot_radius + safety_margin of its centre (the robot inflated into the obstacles;
+// by default the Unknown cells bordering Free ones too).
+// A start inside the inflation (the robot close to a wall, as the motion controller allows) leaves
+// it through free cells within start_escape_distance; no path ever enters the inflation after that.
+// Paths are simplified by line of sight (every cell a segment touches is traversable).
+//
+// FrontierExplorer: frontier cells are Free cells with an Unknown 4-neighbour inside the grid (a
+// fixed grid's border is no frontier: nothing can be learnt beyond it) that touches no Occupied
+// cell (an Unknown cell next to an obstacle is the unseen side of that obstacle: a wall's cells
+// between two returns, the cell row the returns of a wall lying on a cell boundary round into;
+// without this rule every wall face flickers into frontiers); 8-connected clusters of at least
+// min_frontier_size are frontiers. One Dijkstra from the robot gives the path length to every
+// cell; a frontier's goal is the reachable cell nearest its centroid among the cells near the
+// frontier; the cost is  potential_scale * path length - gain_scale * size  (m, m), the cheapest
+// frontier not blacklisted is the next goal, and none left means exploration is complete.
+//
+// ROS-free: Eigen, laser_features' geometry and the standard library only.
+#pragma once
+
+#include "exploration/occupancy_grid.h"
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace exploration {
+
+// ---------------------------------------------------------------------------------------------
+// Planner
+
+struct PlannerParams {
+  double robot_radius = 0.25;          // m, the robot is a circle (as in MotionParams)
+  double safety_margin = 0.10;         // m, clearance on top of robot_radius (as in MotionParams)
+  bool allow_unknown = false;          // -, Unknown cells are traversable (optimistic planning)
+  bool inflate_unknown = true;         // -, without allow_unknown: Unknown cells next to Free ones are
+                                       // inflated like obstacles (what is not seen may be a wall: a
+                                       // frontier's goal keeps the robot clear of it)
+  double start_escape_distance = 0.5;  // m, a start inside the inflation may cross this much of it
+  double max_segment_length = 2.0;     // m, simplified waypoints at most this far apart (0: no limit;
+                                       // the motion controller sees obstacles in the scan only, so
+                                       // shorter legs keep it near the planned corridor)
+};
+
+/// A planned path in the map frame.
+struct Path {
+  std::vector<Eigen::Vector2d> waypoints;  // m: the start, the line-of-sight corners, the goal
+  double length = 0.0;                     // m, along the waypoints
+  std::size_t cells = 0;                   // -, cells of the grid path before simplification
+};
+
+class GridPlanner {
+ public:
+  /// Throws std::invalid_argument when validate() refuses `params`.
+  explicit GridPlanner(const PlannerParams& params = PlannerParams());
+  static bool validate(const PlannerParams& params, std::string* error = nullptr);
+  const PlannerParams& params() const { return params_; }
+  double inflationRadius() const { return params_.robot_radius + params_.safety_margin; }
+
+  /// Takes a snapshot of `grid`'s traversability (the inflation); later changes of the grid are
+  /// not seen until the next call. O(cells + boundary cells * inflation disk).
+  void setMap(const OccupancyGrid& grid);
+  bool hasMap() const { return width_ > 0 && height_ > 0; }
+
+  /// A* from `start` to `goal` (map frame, m). None when a point is non-finite or outside the
+  /// map, or the goal cannot be reached (its cell not traversable, or enclosed).
+  std::optional<Path> plan(const Eigen::Vector2d& start, const Eigen::Vector2d& goal);
+
+  /// Dijkstra from `start` over the whole snapshot (one search for many goals). False when the
+  /// start is non-finite or outside the map.
+  bool computeDistances(const Eigen::Vector2d& start);
+  /// Path length (m) from the start of the last computeDistances() to the cell's centre; +inf when
+  /// unreachable, outside the map or after plan() (which reuses the buffers).
+  double distance(int ix, int iy) const;
+  /// The path to `goal` from the start of the last computeDistances(); none when unreachable.
+  std::optional<Path> pathTo(const Eigen::Vector2d& goal) const;
+
+  /// In the snapshot: not blocked by an obstacle, its inflation or (without allow_unknown) the
+  /// unknown.
+  bool traversable(int ix, int iy) const;
+  /// Cells settled by the last search.
+  std::size_t expandedCells() const { return expanded_; }
+  /// The snapshot's cell size, m, and extent (as the grid's).
+  double resolution() const { return resolution_; }
+  int minX() const { return min_x_; }
+  int minY() const { return min_y_; }
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+ private:
+  enum Pass : std::uint8_t { kBlocked = 0, kInflated = 1, kOpen = 2 };
+
+  bool cellOf(const Eigen::Vector2d& p, int* index) const;  // false: outside or non-finite
+  bool search(int start, int goal);                          // goal < 0: Dijkstra to all
+  std::optional<Path> extract(int goal, const Eigen::Vector2d& start_point,
+                              const Eigen::Vector2d& goal_point) const;
+  bool lineOfSight(int a, int b) const;
+  Eigen::Vector2d center(int index) const;
+
+  PlannerParams params_;
+  double resolution_ = 0.0;
+  int min_x_ = 0, min_y_ = 0, width_ = 0, height_ = 0;
+  std::vector<std::uint8_t> pass_;
+  std::vector<float> g_;           // m, path length from the start
+  std::vector<std::int32_t> parent_;
+  int start_ = -1;                 // cell of the last search's start
+  Eigen::Vector2d start_point_ = Eigen::Vector2d::Zero();
+  bool distances_valid_ = false;   // g_ holds a complete Dijkstra
+  std::size_t expanded_ = 0;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Frontiers
+
+struct FrontierParams {
+  double min_frontier_size = 0.5;   // m, clusters smaller than this (cells * resolution) are ignored
+  double potential_scale = 3.0;     // 1/m, cost per metre of path to the frontier (explore_lite's
+                                    // launch files: 3.0)
+  double gain_scale = 1.0;          // 1/m, cost per metre of frontier (explore_lite's: 1.0)
+  double goal_search_radius = 1.0;  // m, the goal is taken among the cells this close to the frontier
+                                    // (8-connected steps through Free cells)
+};
+
+/// A frontier: a cluster of frontier cells.
+struct Frontier {
+  std::vector<CellIndex> cells;
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();  // m, mean of the cells' centres
+  double size = 0.0;                                   // m, cells * resolution (as explore_lite)
+  Eigen::Vector2d goal = Eigen::Vector2d::Zero();      // m, goal cell's centre (when reachable)
+  double path_length = std::numeric_limits<double>::infinity();  // m, from the robot to the goal
+  double cost = std::numeric_limits<double>::infinity();
+  bool reachable = false;
+  bool blacklisted = false;
+};
+
+/// The frontiers of `grid` with at least `min_size` (m), unsorted, without goals.
+std::vector<Frontier> findFrontiers(const OccupancyGrid& grid, double min_size);
+
+enum class ExplorerStatus {
+  Goal,      // nextGoal() returned a goal
+  Complete,  // no reachable frontier remains (blacklisted ones count as gone)
+  Invalid,   // the robot position is non-finite or outside the map
+};
+
+const char* toString(ExplorerStatus status);
+
+class FrontierExplorer {
+ public:
+  /// Throws std::invalid_argument when validate() refuses `params` or GridPlanner refuses
+  /// `planner_params`.
+  explicit FrontierExplorer(const FrontierParams& params = FrontierParams(),
+                            const PlannerParams& planner_params = PlannerParams());
+  static bool validate(const FrontierParams& params, std::string* error = nullptr);
+  const FrontierParams& params() const { return params_; }
+
+  /// The goal (map frame, m) of the cheapest reachable frontier not blacklisted, seen from the
+  /// robot at `robot_xy`; none when exploration is complete or the input is invalid (status()).
+  std::optional<Eigen::Vector2d> nextGoal(const OccupancyGrid& grid, const Eigen::Vector2d& robot_xy);
+  ExplorerStatus status() const { return status_; }
+
+  /// The frontiers of the last nextGoal(), cheapest first (unreachable and blacklisted last).
+  const std::vector<Frontier>& frontiers() const { return frontiers_; }
+  /// The path from the robot to the last goal (empty without one).
+  const Path& goalPath() const { return path_; }
+
+  /// Frontiers whose centroid or goal lies within `radius` (m) of `point` are skipped from now on
+  /// (e.g. a goal not reached within a timeout: the caller's decision). Non-finite input ignored.
+  void blacklist(const Eigen::Vector2d& point, double radius);
+  void clearBlacklist() { blacklist_.clear(); }
+  std::size_t blacklistSize() const { return blacklist_.size(); }
+
+  /// The planner on the snapshot of the last nextGoal()'s grid (more plans on the same map).
+  GridPlanner& planner() { return planner_; }
+  const GridPlanner& planner() const { return planner_; }
+
+ private:
+  struct Disc {
+    Eigen::Vector2d center;
+    double radius;
+  };
+  bool isBlacklisted(const Eigen::Vector2d& p) const;
+  void chooseGoal(const OccupancyGrid& grid, Frontier* f);
+
+  FrontierParams params_;
+  GridPlanner planner_;
+  std::vector<Disc> blacklist_;
+  std::vector<Frontier> frontiers_;
+  Path path_;
+  ExplorerStatus status_ = ExplorerStatus::Complete;
+  std::vector<std::uint32_t> stamp_;  // per cell: the last goal search that visited it
+  std::uint32_t stamp_counter_ = 0;
+  std::vector<std::pair<int, int>> queue_;  // goal search scratch: cell index, steps
+};
+
+}  // namespace exploration
