@@ -29,25 +29,14 @@ std::string headerText(uint32_t version) {
 
 // ---- encoding --------------------------------------------------------------------------------
 
-class Writer {
+class Writer : public laser_features::BinaryWriter {
  public:
-  explicit Writer(std::string* out) : out_(out) {}
-  void u32(uint32_t v) {
-    for (int b = 0; b < 4; ++b) out_->push_back(char((v >> (8 * b)) & 0xffu));
-  }
-  void f64(double v) {
-    uint64_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    for (int b = 0; b < 8; ++b) out_->push_back(char((bits >> (8 * b)) & 0xffu));
-  }
+  using BinaryWriter::BinaryWriter;
   void pose(const Pose2D& p) {
     f64(p.x);
     f64(p.y);
     f64(p.theta);
   }
-
- private:
-  std::string* out_;
 };
 
 void encodePlace(const Place& place, std::string* out) {
@@ -82,35 +71,9 @@ void encodePlace(const Place& place, std::string* out) {
 
 // ---- decoding --------------------------------------------------------------------------------
 
-/// Bounds-checked little-endian reader; the first failure is kept in `error`.
-class Reader {
+class Reader : public laser_features::BinaryReader {
  public:
-  Reader(const std::string& bytes, size_t begin, size_t end) : bytes_(bytes), pos_(begin), end_(end) {}
-  bool ok() const { return error_.empty(); }
-  const std::string& error() const { return error_; }
-  size_t position() const { return pos_; }
-  size_t remaining() const { return end_ - pos_; }
-  void fail(const std::string& what) {
-    if (error_.empty()) error_ = what;
-  }
-
-  uint32_t u32(const char* what) {
-    if (!need(4, what)) return 0;
-    uint32_t v = 0;
-    for (int b = 0; b < 4; ++b) v |= uint32_t(uint8_t(bytes_[pos_ + size_t(b)])) << (8 * b);
-    pos_ += 4;
-    return v;
-  }
-  double f64(const char* what) {
-    if (!need(8, what)) return 0.0;
-    uint64_t bits = 0;
-    for (int b = 0; b < 8; ++b) bits |= uint64_t(uint8_t(bytes_[pos_ + size_t(b)])) << (8 * b);
-    pos_ += 8;
-    double v;
-    std::memcpy(&v, &bits, sizeof v);
-    if (!std::isfinite(v)) fail(std::string("non-finite number in ") + what + " at byte " + std::to_string(pos_ - 8));
-    return v;
-  }
+  using BinaryReader::BinaryReader;
   Pose2D pose(const char* what) {
     Pose2D p;
     p.x = f64(what);
@@ -118,20 +81,6 @@ class Reader {
     p.theta = f64(what);
     return p;
   }
-  bool need(size_t n, const char* what) {
-    if (!ok()) return false;
-    if (remaining() < n) {
-      fail(std::string("the file ends early (truncated?) while reading ") + what + " at byte " + std::to_string(pos_));
-      return false;
-    }
-    return true;
-  }
-
- private:
-  const std::string& bytes_;
-  size_t pos_;
-  size_t end_;
-  std::string error_;
 };
 
 bool normalizedAngle(double a) { return a > -laser_features::kPi - 1e-12 && a <= laser_features::kPi + 1e-12; }

@@ -29,22 +29,9 @@ std::string headerText(uint32_t version) {
 
 // ---- encoding --------------------------------------------------------------------------------
 
-class Writer {
+class Writer : public laser_features::BinaryWriter {
  public:
-  explicit Writer(std::string* out) : out_(out) {}
-  void u32(uint32_t v) {
-    for (int b = 0; b < 4; ++b) out_->push_back(char((v >> (8 * b)) & 0xffu));
-  }
-  void i32(int32_t v) {
-    uint32_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    u32(bits);
-  }
-  void f64(double v) {
-    uint64_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    for (int b = 0; b < 8; ++b) out_->push_back(char((bits >> (8 * b)) & 0xffu));
-  }
+  using BinaryWriter::BinaryWriter;
   /// An angle, normalized to (-pi, pi] (identity for a normalized angle, NaN stays NaN).
   void angle(double a) { f64(normalizeAngle(a)); }
   void pose(const Pose2D& p) {
@@ -52,9 +39,6 @@ class Writer {
     f64(p.y);
     angle(p.theta);
   }
-
- private:
-  std::string* out_;
 };
 
 void encodeNode(const TopoNode& node, Writer* w) {
@@ -97,45 +81,14 @@ void encodeEdge(const TopoEdge& edge, Writer* w) {
 
 // ---- decoding --------------------------------------------------------------------------------
 
-/// Bounds-checked little-endian reader; the first failure is kept in `error`.
-class Reader {
+class Reader : public laser_features::BinaryReader {
  public:
-  Reader(const std::string& bytes, size_t begin, size_t end) : bytes_(bytes), pos_(begin), end_(end) {}
-  bool ok() const { return error_.empty(); }
-  const std::string& error() const { return error_; }
-  size_t remaining() const { return end_ - pos_; }
-  void fail(const std::string& what) {
-    if (error_.empty()) error_ = what;
-  }
-
-  uint32_t u32(const char* what) {
-    if (!need(4, what)) return 0;
-    uint32_t v = 0;
-    for (int b = 0; b < 4; ++b) v |= uint32_t(uint8_t(bytes_[pos_ + size_t(b)])) << (8 * b);
-    pos_ += 4;
-    return v;
-  }
-  int32_t i32(const char* what) {
-    const uint32_t bits = u32(what);
-    int32_t v;
-    std::memcpy(&v, &bits, sizeof v);
-    return v;
-  }
-  double f64(const char* what) {
-    if (!need(8, what)) return 0.0;
-    uint64_t bits = 0;
-    for (int b = 0; b < 8; ++b) bits |= uint64_t(uint8_t(bytes_[pos_ + size_t(b)])) << (8 * b);
-    pos_ += 8;
-    double v;
-    std::memcpy(&v, &bits, sizeof v);
-    if (!std::isfinite(v)) fail(std::string("non-finite number in ") + what + " at byte " + std::to_string(pos_ - 8));
-    return v;
-  }
+  using BinaryReader::BinaryReader;
   /// An angle, which must lie in (-pi, pi].
   double angle(const char* what) {
     const double a = f64(what);
     if (ok() && !(a > -kPi && a <= kPi)) {
-      fail(std::string("angle ") + std::to_string(a) + " in " + what + " at byte " + std::to_string(pos_ - 8) +
+      fail(std::string("angle ") + std::to_string(a) + " in " + what + " at byte " + std::to_string(position() - 8) +
            " is not in (-pi, pi]");
     }
     return a;
@@ -147,21 +100,6 @@ class Reader {
     p.theta = angle(what);
     return p;
   }
-  bool need(size_t n, const char* what) {
-    if (!ok()) return false;
-    if (remaining() < n) {
-      fail(std::string("the file ends early (truncated?) while reading ") + what + " at byte " +
-           std::to_string(pos_));
-      return false;
-    }
-    return true;
-  }
-
- private:
-  const std::string& bytes_;
-  size_t pos_;
-  size_t end_;
-  std::string error_;
 };
 
 std::string nodeContext(size_t index, uint32_t id) {
