@@ -38,6 +38,12 @@ void FrontEnd::shiftHeading(int bins) {
   tracks_.clear();
 }
 
+void FrontEnd::setHeadingBin(int bin) {
+  bin_ = ((bin % params_.heading_bins) + params_.heading_bins) % params_.heading_bins;
+  turning_ = false;
+  pending_ = 0.0;
+}
+
 bool FrontEnd::process(const Pose2D& odom, const std::vector<laser_features::LineSegment>& lines,
                        const std::vector<laser_features::Corner>& corners,
                        const std::vector<laser_features::Opening>& openings, std::vector<Action>* actions,

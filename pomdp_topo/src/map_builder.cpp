@@ -111,6 +111,12 @@ void MapBuilder::becomeLocalizedAt(uint32_t node, int bin) {
   travel_since_localized_ = 0.0;
 }
 
+void MapBuilder::skipTravel(double metres) {
+  if (!std::isfinite(metres)) return;
+  travel_base_ += metres;
+  loop_travel0_ += metres;
+}
+
 void MapBuilder::process(const std::vector<Action>& actions, const Observation& observation,
                          const std::vector<PassedLandmark>& passed, const FrontEnd& fe) {
   Scan scan{actions, observation, passed, fe.travel(), fe.pose()};
@@ -134,8 +140,9 @@ void MapBuilder::processFrontier(const Scan& scan, const FrontEnd& fe) {
     processLocalized(scan);
     return;
   }
-  s_ = s_base_ + scan.travel - travel_base_;
-  travel_since_localized_ += 0.0;
+  const double s = s_base_ + scan.travel - travel_base_;
+  travel_since_localized_ += std::abs(s - s_);  // the loop gate grows with the unlocalized travel
+  s_ = s;
   // Landmarks passed on this stretch (all happened before the scan's turn, if any).
   for (const PassedLandmark& p : scan.passed) {
     if (mode_ != Mode::Frontier) break;  // a node created a loop hypothesis: the rest is verified

@@ -6,6 +6,7 @@
 #include <hybrid_slam_msgs/LoadMap.h>
 #include <hybrid_slam_msgs/ResetBelief.h>
 #include <hybrid_slam_msgs/SaveMap.h>
+#include <hybrid_slam_msgs/UpdateOpening.h>
 #include <ros/ros.h>
 #include <std_msgs/Bool.h>
 #include <std_msgs/Float64.h>
@@ -15,6 +16,8 @@
 #include <tf2_ros/transform_listener.h>
 
 #include <sys/stat.h>
+
+#include <cmath>
 
 #include "pomdp_topo/map_io.h"
 #include "pomdp_topo/params_visit.h"
@@ -75,6 +78,7 @@ class TopoNodeRos {
         pnh.advertiseService("load_map", &TopoNodeRos::onLoad, this),
         pnh.advertiseService("clear_map", &TopoNodeRos::onClear, this),
         pnh.advertiseService("reset_belief", &TopoNodeRos::onReset, this),
+        pnh.advertiseService("update_opening", &TopoNodeRos::onUpdateOpening, this),
     };
     if (load_on_start_ && fileExists(map_file_)) {
       const IoResult r = loadMap(map_file_, &map_);
@@ -103,7 +107,18 @@ class TopoNodeRos {
   }
 
   void onStatus(const hybrid_slam_msgs::ExplorationStatus& msg) {
-    paused_ = msg.mode == hybrid_slam_msgs::ExplorationStatus::METRIC;
+    // In a room (METRIC) the topological map stands still; the robot comes back to the hallway
+    // where it left it, so the travel in between is not the hallway's.
+    const bool paused = msg.mode == hybrid_slam_msgs::ExplorationStatus::METRIC;
+    if (paused && !paused_) {
+      paused_travel_ = front_end_.travel();
+      paused_bin_ = front_end_.headingBin();
+    }
+    if (!paused && paused_) {
+      builder_.skipTravel(front_end_.travel() - paused_travel_);
+      front_end_.setHeadingBin(paused_bin_);  // the turns in the room are not the hallway's
+    }
+    paused_ = paused;
   }
 
   void onFeatures(const hybrid_slam_msgs::LaserFeatures::ConstPtr& msg) {
@@ -282,6 +297,42 @@ class TopoNodeRos {
     return true;
   }
 
+  bool onUpdateOpening(hybrid_slam_msgs::UpdateOpening::Request& req,
+                       hybrid_slam_msgs::UpdateOpening::Response& res) {
+    res.success = false;
+    const int id = req.node >= 0 ? req.node : builder_.currentNode();
+    if (id < 0) {
+      res.message = "the robot's node is unknown (no map or an unconfident belief)";
+      return true;
+    }
+    NodeOpening o;
+    o.bearing = req.bearing;
+    o.offset = req.offset;
+    o.width = req.width;
+    o.explored = req.explored;
+    const auto& d = req.door_in_place;
+    if (!std::isfinite(req.offset) || !std::isfinite(req.width) || !std::isfinite(d.x) || !std::isfinite(d.y) ||
+        !std::isfinite(d.theta)) {
+      res.message = "non-finite offset, width or door pose";
+      return true;
+    }
+    if (!map_.recordOpening(uint32_t(id), o)) {
+      res.message = "no node " + std::to_string(id) + " (or a non-finite bearing)";
+      return true;
+    }
+    if (req.place_id >= 0) {
+      TopoNode* node = map_.node(uint32_t(id));
+      node->place_id = req.place_id;
+      node->door_in_place = Pose2D{d.x, d.y, laser_features::normalizeAngle(d.theta)};
+    }
+    res.success = true;
+    res.node = id;
+    res.message = "node " + std::to_string(id) + " updated";
+    publishMap();
+    if (autosave_ && !map_file_.empty()) save(map_file_, nullptr);
+    return true;
+  }
+
   ros::NodeHandle nh_;
   TopoParams params_;
   TopologicalMap map_;
@@ -301,6 +352,8 @@ class TopoNodeRos {
   ros::Time last_stamp_, last_markers_;
   uint64_t published_revision_ = ~0ull;
   bool paused_ = false, last_confident_ = false;
+  double paused_travel_ = 0.0;  // m, FrontEnd::travel() when the map was paused
+  int paused_bin_ = 0;          // FrontEnd::headingBin() then
   uint64_t lost_resets_ = 0;
   int realign_votes_ = 0, realign_bins_ = 0;
   std::vector<laser_features::LineSegment> lines_;

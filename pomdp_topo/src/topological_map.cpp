@@ -9,6 +9,7 @@ namespace pomdp_topo {
 using laser_features::normalizeAngle;
 
 namespace {
+constexpr double kMinSplit = 0.5;  // m, a stretch this much longer than another one from a node the same way contains it
 constexpr double kSameDirection = 0.35;  // rad (20 deg): two bearings or headings this close are one
 }
 
@@ -86,15 +87,33 @@ bool TopologicalMap::removeNode(uint32_t id) {
   return true;
 }
 
+bool TopologicalMap::recordOpening(uint32_t id, const NodeOpening& opening, double same_bearing) {
+  TopoNode* n = node(id);
+  if (n == nullptr || !std::isfinite(opening.bearing)) return false;
+  auto it = std::find_if(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {
+    return std::abs(normalizeAngle(k.bearing - opening.bearing)) < same_bearing;
+  });
+  if (it == n->openings.end()) {
+    NodeOpening o = opening;
+    o.bearing = normalizeAngle(o.bearing);
+    n->openings.push_back(o);
+  } else {
+    it->explored = it->explored || opening.explored;
+    if (it->width <= 0.0 && opening.width > 0.0) {
+      it->width = opening.width;
+      it->offset = opening.offset;
+    }
+  }
+  n->explored = std::all_of(n->openings.begin(), n->openings.end(), [](const NodeOpening& k) { return k.explored; });
+  return true;
+}
+
 bool TopologicalMap::mergeNodes(uint32_t keep, uint32_t drop) {
   if (keep == drop || !nodes_.count(keep) || !nodes_.count(drop)) return false;
   TopoNode& kept = nodes_.at(keep);
   const TopoNode& dropped = nodes_.at(drop);
   for (const NodeOpening& o : dropped.openings) {
-    const bool present = std::any_of(kept.openings.begin(), kept.openings.end(), [&](const NodeOpening& k) {
-      return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameDirection;
-    });
-    if (!present) kept.openings.push_back(o);
+    recordOpening(keep, o, kSameDirection);  // an opening explored from either copy stays explored
   }
   if (kept.place_id < 0 && dropped.place_id >= 0) {
     kept.place_id = dropped.place_id;
@@ -131,8 +150,49 @@ bool TopologicalMap::mergeNodes(uint32_t keep, uint32_t drop) {
       }
     }
   }
+  splitCollinearEdges(keep);
   ++revision_;
   return true;
+}
+
+void TopologicalMap::splitCollinearEdges(uint32_t n) {
+  // Direction of an edge leaving n, and its far node.
+  auto away = [&](const TopoEdge& e) { return e.source == n ? e.heading : normalizeAngle(e.heading + laser_features::kPi); };
+  auto far = [&](const TopoEdge& e) { return e.source == n ? e.target : e.source; };
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (auto& ea : edges_) {
+      TopoEdge& a = ea.second;  // the longer one
+      if (a.source != n && a.target != n) continue;
+      for (const auto& eb : edges_) {
+        const TopoEdge& b = eb.second;
+        if (eb.first == ea.first || (b.source != n && b.target != n)) continue;
+        if (far(a) == far(b) || std::abs(normalizeAngle(away(a) - away(b))) >= kSameDirection) continue;
+        if (!(b.length < a.length - kMinSplit)) continue;
+        // b's far node lies on a, b.length from n: a now runs from there.
+        const uint32_t mid = far(b);
+        const double cut = b.length;
+        std::vector<EdgeLandmark> kept;
+        if (a.source == n) {
+          a.source = mid;
+          for (EdgeLandmark l : a.landmarks) {
+            l.distance -= cut;
+            if (l.distance >= 0.0) kept.push_back(l);
+          }
+        } else {
+          a.target = mid;
+          for (const EdgeLandmark& l : a.landmarks) {
+            if (l.distance <= a.length - cut) kept.push_back(l);
+          }
+        }
+        a.landmarks = kept;
+        a.length -= cut;
+        changed = true;
+        break;
+      }
+      if (changed) break;
+    }
+  }
 }
 
 const TopoNode* TopologicalMap::node(uint32_t id) const {

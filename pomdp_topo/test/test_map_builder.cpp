@@ -179,7 +179,9 @@ TEST(MapBuilder, RingLoopIsClosedOnceAndTheSecondLapIsLocalized) {
   EXPECT_EQ(drive.count(NodeType::Door), 2u);
   EXPECT_EQ(drive.count(NodeType::Junction), 4u);  // the four turns
   EXPECT_EQ(drive.map.nodeCount(), 7u);            // and the start
-  EXPECT_GE(double(drive.right) / std::max<size_t>(1, drive.localized), 0.95)
+  // 96.8 % before merged loops cut the stretch that passes the start node (a duplicate hallway
+  // C -> D beside S -> D); with the true graph (C -> S -> D) 93.8 %: the belief crosses S.
+  EXPECT_GE(double(drive.right) / std::max<size_t>(1, drive.localized), 0.93)
       << drive.right << " of " << drive.localized;
 }
 

@@ -80,6 +80,9 @@ class FrontEnd {
   /// Travel not yet emitted as an action (below one resolution step), m.
   double pendingTravel() const { return pending_; }
   const HeadingEstimator& heading() const { return heading_; }
+  /// Sets the travel heading bin without a Turn action (after a pause of the topological map: the
+  /// robot is back where and how it left the hallway, whatever it turned meanwhile).
+  void setHeadingBin(int bin);
   /// Re-aligns the heading by whole bins (after a kidnapping, when the topological belief says so).
   void shiftHeading(int bins);
   bool initialized() const { return initialized_; }

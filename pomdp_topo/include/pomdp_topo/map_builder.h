@@ -62,6 +62,10 @@ class MapBuilder {
   void process(const std::vector<Action>& actions, const Observation& observation,
                const std::vector<PassedLandmark>& passed, const FrontEnd& front_end);
 
+  /// The robot travelled `metres` (FrontEnd::travel()) while the topological map was paused (in a
+  /// room, METRIC mode) and came back where it left the hallway: that travel is not the hallway's.
+  void skipTravel(double metres);
+
   Mode mode() const { return mode_; }
   static const char* toString(Mode mode);
   /// The node the robot is at or came from (Frontier), or the most likely state's node; -1 if none.

@@ -103,8 +103,18 @@ class TopologicalMap {
   /// Merges node `drop` into node `keep` (loop closing): edges of `drop` are re-attached to `keep`,
   /// openings not already present at `keep` (same bearing within 0.35 rad) are added, `drop` is
   /// removed. Edges that would become duplicates (same two nodes, same heading within 0.35 rad) are
-  /// merged: the longer-observed one is kept and the lengths averaged. Returns false for unknown ids.
+  /// merged: the longer-observed one is kept and the lengths averaged. Two stretches leaving `keep`
+  /// the same way to different nodes are one hallway: the longer is cut at the shorter one's far
+  /// node (a loop closed past a node the returning stretch did not recognize, such as the start).
+  /// Returns false for unknown ids.
   bool mergeNodes(uint32_t keep, uint32_t drop);
+
+  /// Records an opening of node `id` (the exploration's bookkeeping): the opening within
+  /// `same_bearing` (rad) of `opening.bearing` is updated (explored stays once set; offset and
+  /// width are taken when it had no width), else `opening` is added; the node's `explored` flag
+  /// becomes "every opening explored". No structural change: the revision is not bumped (the
+  /// localizer's states stay). False for an unknown node or a non-finite bearing.
+  bool recordOpening(uint32_t id, const NodeOpening& opening, double same_bearing = 0.4);
 
   const TopoNode* node(uint32_t id) const;
   TopoNode* node(uint32_t id);
@@ -136,6 +146,8 @@ class TopologicalMap {
   void touch() { ++revision_; }
 
  private:
+  void splitCollinearEdges(uint32_t node);
+
   std::map<uint32_t, TopoNode> nodes_;
   std::map<uint32_t, TopoEdge> edges_;
   uint32_t next_node_id_ = 0;

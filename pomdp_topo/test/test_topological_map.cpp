@@ -1,0 +1,104 @@
+// TopologicalMap's bookkeeping: openings recorded by the exploration, and node merging (loop
+// closing) with stretches that turn out to be one hallway.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "pomdp_topo/topological_map.h"
+
+using namespace pomdp_topo;
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+TopoNode nodeAt(NodeType type, double x, double y) {
+  TopoNode n;
+  n.type = type;
+  n.pose = Pose2D{x, y, 0.0};
+  return n;
+}
+}  // namespace
+
+TEST(TopologicalMap, RecordOpeningAddsOrUpdatesAndKeepsExplored) {
+  TopologicalMap map;
+  const uint32_t a = map.addNode(nodeAt(NodeType::Door, 0, 0));
+  const uint64_t rev = map.revision();
+  NodeOpening o;
+  o.bearing = 0.5 * kPi;
+  o.width = 0.9;
+  ASSERT_TRUE(map.recordOpening(a, o));
+  ASSERT_EQ(map.node(a)->openings.size(), 1u);
+  EXPECT_FALSE(map.node(a)->explored);
+  o.bearing = 0.5 * kPi + 0.2;  // the same opening, seen a little differently
+  o.explored = true;
+  ASSERT_TRUE(map.recordOpening(a, o));
+  ASSERT_EQ(map.node(a)->openings.size(), 1u);
+  EXPECT_TRUE(map.node(a)->openings[0].explored);
+  EXPECT_TRUE(map.node(a)->explored);
+  o.explored = false;  // an explored opening stays explored
+  ASSERT_TRUE(map.recordOpening(a, o));
+  EXPECT_TRUE(map.node(a)->openings[0].explored);
+  o.bearing = -0.5 * kPi;  // another one
+  ASSERT_TRUE(map.recordOpening(a, o));
+  EXPECT_EQ(map.node(a)->openings.size(), 2u);
+  EXPECT_FALSE(map.node(a)->explored);
+  EXPECT_EQ(map.revision(), rev);  // bookkeeping, no structural change
+  EXPECT_FALSE(map.recordOpening(99, o));
+  o.bearing = std::nan("");
+  EXPECT_FALSE(map.recordOpening(a, o));
+}
+
+TEST(TopologicalMap, MergingKeepsAnOpeningExploredFromEitherCopy) {
+  TopologicalMap map;
+  const uint32_t a = map.addNode(nodeAt(NodeType::Door, 0, 0));
+  const uint32_t b = map.addNode(nodeAt(NodeType::Door, 0.2, 0));
+  NodeOpening o;
+  o.bearing = 0.5 * kPi;
+  map.recordOpening(a, o);
+  o.explored = true;
+  map.recordOpening(b, o);
+  ASSERT_TRUE(map.mergeNodes(a, b));
+  ASSERT_EQ(map.node(a)->openings.size(), 1u);
+  EXPECT_TRUE(map.node(a)->openings[0].explored);
+}
+
+TEST(TopologicalMap, AStretchPastAnUnrecognizedNodeIsCutThere) {
+  // A hallway along +x: start S at x 2, door D at x 12 (edge S -> D, 10 m). The loop comes back
+  // from a corner C at x 1 heading east and closes at a new door D' (11 m from C), merged into D:
+  // C -> D (11 m) and S -> D (10 m) leave D the same way, so S lies on C -> D: C -> S, 1 m.
+  TopologicalMap map;
+  const uint32_t s = map.addNode(nodeAt(NodeType::Start, 2, 0));
+  const uint32_t d = map.addNode(nodeAt(NodeType::Door, 12, 0));
+  const uint32_t c = map.addNode(nodeAt(NodeType::Junction, 1, 0));
+  const uint32_t d2 = map.addNode(nodeAt(NodeType::Door, 12.1, 0));
+  map.addEdge(s, d, 0.0, 10.0);
+  EdgeLandmark near_c, near_d;
+  near_c.distance = 0.5;   // on the part C..S: dropped (S's side has its own)
+  near_d.distance = 6.0;   // 5 m past S
+  map.addEdge(c, d2, 0.0, 11.0, {near_c, near_d});
+  ASSERT_TRUE(map.mergeNodes(d, d2));
+  ASSERT_EQ(map.edgeCount(), 2u);
+  bool found = false;
+  for (const auto& [id, e] : map.edges()) {
+    if (e.source == c) {
+      found = true;
+      EXPECT_EQ(e.target, s);
+      EXPECT_NEAR(e.length, 1.0, 1e-9);
+      EXPECT_TRUE(e.landmarks.empty() || e.landmarks[0].distance <= 1.0);
+    } else {
+      EXPECT_EQ(e.source, s);
+      EXPECT_EQ(e.target, d);
+    }
+  }
+  EXPECT_TRUE(found);
+  // Stretches leaving a node different ways are left alone.
+  TopologicalMap other;
+  const uint32_t x = other.addNode(nodeAt(NodeType::Junction, 0, 0));
+  const uint32_t y = other.addNode(nodeAt(NodeType::Door, 5, 0));
+  const uint32_t z = other.addNode(nodeAt(NodeType::Door, 0, 5));
+  const uint32_t z2 = other.addNode(nodeAt(NodeType::Door, 0.1, 0));
+  other.addEdge(x, y, 0.0, 5.0);
+  other.addEdge(z, z2, -0.5 * kPi, 5.0);
+  ASSERT_TRUE(other.mergeNodes(x, z2));
+  for (const auto& [id, e] : other.edges()) EXPECT_NEAR(e.length, 5.0, 1e-9);
+}
