@@ -11,6 +11,10 @@ add_library(exploration_core
   ${EXPLORATION_CORE_DIR}/src/motion_controller.cpp
   ${EXPLORATION_CORE_DIR}/src/occupancy_grid.cpp
   ${EXPLORATION_CORE_DIR}/src/frontier_explorer.cpp
+  ${EXPLORATION_CORE_DIR}/src/room_explorer.cpp
+  ${EXPLORATION_CORE_DIR}/src/hallway_view.cpp
+  ${EXPLORATION_CORE_DIR}/src/topo_route.cpp
+  ${EXPLORATION_CORE_DIR}/src/coordinator.cpp
 )
 target_include_directories(exploration_core PUBLIC
   $<BUILD_INTERFACE:${EXPLORATION_CORE_DIR}/include>

@@ -1,0 +1,225 @@
+// The exploration coordinator (Tomatis, Nourbakhsh & Siegwart 2001, sections 3.1-3.2): a robot
+// put into an unknown building explores all of it and leaves a hybrid map.
+//
+//  - TOPOLOGICAL in hallways: follow the hallway's mid-line along one of the building's headings
+//    (the heading estimator's bins); every opening passed becomes a node (pomdp_topo builds them);
+//    at a hallway's end turn into an open way (left first), recording the ways not taken as
+//    unexplored openings of the node; a dead end is a U-turn. Hallways are explored depth-first:
+//    on the known graph the robot travels to the nearest node with an unexplored opening (Dijkstra
+//    on the graph, TopoGraph::route) and takes it.
+//  - METRIC in rooms: a door passed that is new (the map builder's frontier) or known but not
+//    explored, while the belief is confident, is entered: the robot stops, a new place (local map,
+//    ekf_local_map) is created with the robot at its origin, the door is stored in it, the room is
+//    covered (RoomExplorer: frontiers of a grid of the room in the place's frame, from the EKF's
+//    pose, behind a virtual wall across the door) and left by the same door, back onto the
+//    hallway's mid-line with the heading it had; the door's opening is marked explored and linked
+//    to the place, and the topological map resumes (it stood still meanwhile).
+//  - Never from topological to metric while the belief is unconfident (or a loop closure is being
+//    verified): the robot keeps following the hallway (which gathers landmarks) until confident.
+//  - Done when the map builder is on the known graph, confident, and no unexplored opening is left.
+//
+// The coordinator does not talk to the other nodes itself: it returns requests (create a place,
+// record an opening, ...) that its node carries out as service calls and answers.
+//
+// ROS-free: Eigen, laser_features and the standard library only.
+#pragma once
+
+#include "exploration/hallway_view.h"
+#include "exploration/room_explorer.h"
+#include "exploration/topo_route.h"
+#include "laser_features/geometry.h"
+#include "laser_features/line_extractor.h"
+#include "laser_features/opening_extractor.h"
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace exploration {
+
+struct CoordinatorParams {
+  HallwayViewParams hallway;
+  RoomExplorerParams room;
+  int heading_bins = 4;              // -, the building's headings (pomdp_topo's heading_bins)
+  double axis_angle = 0.0;           // rad, heading of bin 0 in the map frame (pomdp_topo's axis_angle)
+  double lookahead = 1.5;            // m, the hallway goal lies this far ahead on the mid-line
+  double end_distance = 1.3;         // m, the hallway ends when the free distance ahead is below this
+  double door_min_width = 0.6;       // m, narrower openings are no doors
+  double door_max_width = 1.3;       // m, wider side openings are junctions (pomdp_topo's door_max_width)
+  double door_min_confidence = 0.5;  // -, laser_features' opening confidence a door needs
+  double door_max_lateral = 2.0;     // m, doors farther from the robot's travel line are not this hallway's
+  double door_side_angle = 0.44;     // rad (25 deg), a door's normal within this of +-90 deg of the travel
+  double door_pass_distance = 0.3;   // m, a door is entered once this far behind the robot (passed: the
+                                     // map builder has made its node; pomdp_topo's pass_lag is 0.2)
+  double door_same_distance = 1.0;   // m, a door this close to one already decided on is the same door
+  double settle_time = 0.5;          // s, standing still before a switch (the nodes see the robot stopped)
+  double room_time_limit = 600.0;    // s, a room's exploration ends after this (then the robot leaves)
+  double room_replan_period = 0.5;   // s, the room's frontier goal is chosen again at most this often
+  double exit_time_limit = 120.0;    // s, leaving a room takes at most this, else the door is retried once
+  double branch_record_distance = 1.0;  // m travelled after a turn before the ways not taken are recorded
+  double u_turn_cost = 2.0;          // m, route cost of turning back on an edge
+  double goal_refresh_distance = 0.25;  // m, the hallway goal is re-sent when it moved this much
+  double max_time = 0.0;             // s, the exploration gives up after this (sim time); 0: no limit
+};
+
+enum class CoordinatorMode : uint8_t { Topological = 0, Metric = 1, Switching = 2, Done = 3 };
+const char* toString(CoordinatorMode mode);
+
+/// One tick's perception: the scan and its features, at one stamp.
+struct Perception {
+  double stamp = 0.0;                      // s
+  laser_features::Pose2D odom;             // robot in the odometry frame at the stamp
+  laser_features::Pose2D sensor_in_robot;  // the laser in the robot frame
+  std::vector<float> ranges;               // the raw scan (REP 117), for the room grid
+  double angle_min = 0.0, angle_increment = 0.0;
+  std::vector<Eigen::Vector2d> points;     // scan points, robot frame
+  std::vector<laser_features::LineSegment> lines;  // robot frame
+  std::vector<laser_features::Opening> openings;   // robot frame
+  bool room_pose_valid = false;            // the EKF's robot pose in the active place at the stamp
+  laser_features::Pose2D room_pose;
+};
+
+/// What pomdp_topo says (its latest messages).
+struct TopoView {
+  bool valid = false;         // something was received
+  std::string mode;           // "frontier", "localized" or "loop_check"
+  bool confident = false;
+  bool heading_valid = false;
+  double heading_offset = 0.0;  // rad, map heading - odometry heading (the heading estimator's correction)
+  GraphPosition position;       // the belief's most likely state
+};
+
+/// A request to another node.
+struct Request {
+  enum Kind { CreatePlace, AddDoor, RecordOpening, ClosePlace, SaveMaps, Finish };
+  Kind kind = SaveMaps;
+  int node = -1;             // RecordOpening: -1 = pomdp_topo's current node
+  double bearing = 0.0;      // RecordOpening: rad, map frame
+  double width = 0.0;        // RecordOpening: m
+  double offset = 0.0;       // RecordOpening: m
+  bool explored = false;     // RecordOpening
+  int place_id = -1;         // RecordOpening (link), AddDoor
+  int door_id = -1;          // AddDoor
+  laser_features::Pose2D pose;  // AddDoor: door in the robot frame; RecordOpening: door in the place
+  bool success = true;       // Finish: complete exploration
+  std::string text;          // Finish: summary
+};
+
+struct Decision {
+  bool has_goal = false;     // drive to (x, y[, theta]) in the odometry frame
+  double x = 0.0, y = 0.0;
+  std::optional<double> theta;
+  bool stop = false;         // stand still (no goal)
+  CoordinatorMode mode = CoordinatorMode::Topological;
+  std::vector<Request> requests;
+};
+
+struct CoordinatorStats {
+  int places = 0;
+  int rooms_left_early = 0;   // rooms whose exploration hit the time limit
+  int doors_entered = 0;
+  int doors_passed = 0;       // doors not entered (explored already, or the belief unconfident)
+  int turns = 0, u_turns = 0;
+  double travel = 0.0;        // m, odometric
+  double room_free_area = 0.0;  // m^2, sum over the rooms' grids
+  size_t peak_room_bytes = 0;
+};
+
+class Coordinator {
+ public:
+  explicit Coordinator(const CoordinatorParams& params = CoordinatorParams());
+  static bool validate(const CoordinatorParams& params, std::string* error = nullptr);
+  const CoordinatorParams& params() const { return params_; }
+
+  /// The topological map as last published.
+  void setGraph(const TopoGraph& graph) { graph_ = graph; }
+  const TopoGraph& graph() const { return graph_; }
+
+  /// One tick: what to do now. `motion_reached` / `motion_blocked`: the motion controller's status
+  /// for the last goal sent.
+  Decision update(const Perception& p, const TopoView& topo, bool motion_reached, bool motion_blocked);
+
+  /// Answers to the requests of the last update().
+  void placeCreated(bool ok, int place_id);
+  void openingRecorded(bool ok, int node);
+
+  CoordinatorMode mode() const { return mode_; }
+  const std::string& state() const { return state_text_; }
+  const CoordinatorStats& stats() const { return stats_; }
+  int currentPlace() const { return place_id_; }
+  const RoomExplorer& room() const { return room_; }
+  bool done() const { return state_ == State::Done; }
+
+ private:
+  enum class State { Init, Follow, Turn, StopForDoor, EnterRoom, ApproachDoor, Room, ExitPath, ExitDoor, Done };
+  /// A door seen beside the hallway, tracked over scans in the odometry frame (hallway-local: the
+  /// tracks are dropped once far behind).
+  struct DoorTrack {
+    Eigen::Vector2d centre_odom = Eigen::Vector2d::Zero();
+    double into_odom = 0.0;   // rad, odometry frame, direction into the room
+    double width = 0.0;       // m
+    int sightings = 0;
+    bool decided = false;     // entered or passed: never again on this pass
+  };
+
+  void setState(State s, const std::string& text);
+  double binHeading(int bin) const;   // map frame
+  int binOf(double map_heading) const;
+  double odomHeadingOfBin(int bin, const TopoView& topo) const;
+  void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
+  void decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d);
+  void trackDoors(const Perception& p, double dir_robot);
+  bool doorPassed(const Perception& p, double dir_robot, DoorTrack* door);
+  bool mayEnter(const TopoView& topo, const DoorTrack& door) const;
+  void startTurn(int bin, const Perception& p, const TopoView& topo, std::vector<int> not_taken);
+  void room(const Perception& p, Decision* d);
+  void goalInPlace(const Perception& p, const Eigen::Vector2d& g, std::optional<double> theta, Decision* d) const;
+  void finish(bool success, const std::string& why, Decision* d);
+
+  CoordinatorParams params_;
+  TopoGraph graph_;
+  RoomExplorer room_;
+  State state_ = State::Init;
+  CoordinatorMode mode_ = CoordinatorMode::Topological;
+  std::string state_text_ = "waiting for the first scan and the topological map";
+  CoordinatorStats stats_;
+  double state_since_ = 0.0;     // s, stamp when the state began
+  double now_ = 0.0;
+  double start_time_ = -1.0;
+  bool have_last_odom_ = false;
+  laser_features::Pose2D last_odom_;
+
+  // Hallway following.
+  int bin_ = 0;                  // travel heading bin (map frame)
+  bool have_goal_ = false;
+  Eigen::Vector2d last_goal_ = Eigen::Vector2d::Zero();
+  std::vector<DoorTrack> doors_;
+  int route_behind_ticks_ = 0;   // consecutive ticks the route pointed back (U-turn hysteresis)
+  double last_turn_time_ = -1e9;
+  double last_turn_travel_ = -1e9;  // m, travel_ at the last turn
+  // Turning.
+  int turn_bin_ = 0;
+  double turn_odom_heading_ = 0.0;
+  std::vector<int> pending_branches_;  // bins to record as unexplored after the turn
+  double pending_branch_travel_ = -1.0;
+  double travel_ = 0.0;
+  // Room.
+  DoorTrack door_;
+  double door_bearing_map_ = 0.0;  // rad, map frame, through the door into the room
+  double exit_theta_place_ = 0.0;  // rad, the hallway heading in the place frame
+  int door_node_ = -1;
+  int place_id_ = -1;
+  laser_features::Pose2D hallway_pose_odom_;  // where the robot left the hallway
+  laser_features::Pose2D door_in_place_;
+  int hallway_bin_ = 0;
+  bool place_ok_ = false;
+  std::vector<Eigen::Vector2d> exit_path_;  // place frame
+  size_t exit_index_ = 0;
+  double last_room_plan_ = -1e9;
+  std::optional<Eigen::Vector2d> room_goal_;
+  bool exit_retried_ = false;
+};
+
+}  // namespace exploration

@@ -1,0 +1,58 @@
+// What the current scan says about the hallway around the robot, along a travel direction: the free
+// distance ahead, whether the sides are open (a branch or a crossing hallway, not a door), the
+// hallway's walls parallel to the direction (their lateral offsets and their direction), and so the
+// mid-line to follow (Tomatis et al. 2001, section 3.1: "the robot follows the hallway's centre").
+//
+// ROS-free: Eigen and laser_features only.
+#pragma once
+
+#include "laser_features/line_extractor.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace exploration {
+
+struct HallwayViewParams {
+  double ahead_sector = 0.17;          // rad (10 deg), half-width of the sector of the free distance ahead
+  double side_sector = 0.44;           // rad (25 deg), half-width of the sectors left and right (a door
+                                       // beside the robot subtends more: it does not open a side)
+  double side_open_distance = 2.0;     // m, a side sector free this far is an open way
+  double wall_parallel_tolerance = 0.26;  // rad (15 deg), lines this close to the direction are walls
+  double wall_min_length = 0.8;        // m, shorter lines are no hallway walls
+  double wall_max_lateral = 2.0;       // m, walls farther to the side are not this hallway's
+  double min_wall_clearance = 0.8;     // m, with one wall only the mid-line keeps this far from it
+};
+
+struct HallwayView {
+  double free_ahead = 0.0;       // m, nearest scan point in the ahead sector (range cap if none)
+  double free_left = 0.0;        // m, nearest point in the left sector
+  double free_right = 0.0;       // m
+  double free_back = 0.0;        // m
+  bool open_left = false;        // from the robot
+  bool open_right = false;
+  // At a hallway's end: the sides seen from where the crossing's centre is expected (free_ahead
+  // less half this hallway's width ahead): an L or T corner opens there, not beside the robot.
+  bool end_open_left = false;
+  bool end_open_right = false;
+  bool left_wall = false, right_wall = false;
+  double left_lateral = 0.0;     // m, lateral offset of the nearest left wall (> 0), robot frame along the direction
+  double right_lateral = 0.0;    // m, (< 0)
+  double wall_direction = 0.0;   // rad, robot frame: the walls' direction (the travel direction refined)
+  bool wall_direction_valid = false;
+  double centre_offset = 0.0;    // m, lateral offset of the mid-line from the robot (+ left)
+  double width() const { return left_wall && right_wall ? left_lateral - right_lateral : 0.0; }
+};
+
+/// The hallway along `direction` (rad, robot frame) seen in the scan `points` (robot frame) and the
+/// extracted `lines` (robot frame). `range_cap` (m) is the free distance reported for an empty sector.
+HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
+                        const std::vector<laser_features::LineSegment>& lines, double direction,
+                        const HallwayViewParams& params, double range_cap = 15.0);
+
+/// The nearest scan point's distance within `half_width` (rad) of `bearing` (robot frame).
+double freeDistance(const std::vector<Eigen::Vector2d>& points, double bearing, double half_width,
+                    double range_cap, const Eigen::Vector2d& origin = Eigen::Vector2d::Zero());
+
+}  // namespace exploration

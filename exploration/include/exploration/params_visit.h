@@ -1,0 +1,81 @@
+// Every tunable parameter of the exploration node with its name in config/exploration.yaml, in one
+// list: the node reads them with it, the tests check the YAML's defaults against the code's with it.
+#pragma once
+
+#include "exploration/coordinator.h"
+#include "exploration/motion_controller.h"
+
+namespace exploration {
+
+struct ExplorationParams {
+  CoordinatorParams coordinator;
+  MotionParams motion;
+};
+
+template <typename Visitor>
+void visitParams(ExplorationParams* p, Visitor&& visit) {
+  CoordinatorParams& c = p->coordinator;
+  visit("heading_bins", &c.heading_bins);
+  visit("axis_angle", &c.axis_angle);
+  visit("lookahead", &c.lookahead);
+  visit("end_distance", &c.end_distance);
+  visit("door_min_width", &c.door_min_width);
+  visit("door_max_width", &c.door_max_width);
+  visit("door_min_confidence", &c.door_min_confidence);
+  visit("door_max_lateral", &c.door_max_lateral);
+  visit("door_side_angle", &c.door_side_angle);
+  visit("door_pass_distance", &c.door_pass_distance);
+  visit("door_same_distance", &c.door_same_distance);
+  visit("settle_time", &c.settle_time);
+  visit("room_time_limit", &c.room_time_limit);
+  visit("room_replan_period", &c.room_replan_period);
+  visit("exit_time_limit", &c.exit_time_limit);
+  visit("branch_record_distance", &c.branch_record_distance);
+  visit("u_turn_cost", &c.u_turn_cost);
+  visit("goal_refresh_distance", &c.goal_refresh_distance);
+  visit("max_time", &c.max_time);
+  HallwayViewParams& h = c.hallway;
+  visit("hallway/ahead_sector", &h.ahead_sector);
+  visit("hallway/side_sector", &h.side_sector);
+  visit("hallway/side_open_distance", &h.side_open_distance);
+  visit("hallway/wall_parallel_tolerance", &h.wall_parallel_tolerance);
+  visit("hallway/wall_min_length", &h.wall_min_length);
+  visit("hallway/wall_max_lateral", &h.wall_max_lateral);
+  visit("hallway/min_wall_clearance", &h.min_wall_clearance);
+  RoomExplorerParams& r = c.room;
+  visit("room/max_extent", &r.max_extent);
+  visit("room/entry_depth", &r.entry_depth);
+  visit("room/entry_goal_extra", &r.entry_goal_extra);
+  visit("room/exit_depth", &r.exit_depth);
+  visit("room/door_wall_extension", &r.door_wall_extension);
+  visit("room/opening_merge_distance", &r.opening_merge_distance);
+  visit("room/goal_reach_tolerance", &r.goal_reach_tolerance);
+  visit("room/max_goal_time", &r.max_goal_time);
+  visit("room/blacklist_radius", &r.blacklist_radius);
+  visit("room/max_goals", &r.max_goals);
+  visit("room/resolution", &r.grid.resolution);
+  visit("room/min_frontier_size", &r.frontier.min_frontier_size);
+  visit("room/robot_radius", &r.planner.robot_radius);
+  visit("room/safety_margin", &r.planner.safety_margin);
+  MotionParams& m = p->motion;
+  visit("motion/max_linear", &m.max_linear);
+  visit("motion/max_angular", &m.max_angular);
+  visit("motion/max_linear_accel", &m.max_linear_accel);
+  visit("motion/max_angular_accel", &m.max_angular_accel);
+  visit("motion/robot_radius", &m.robot_radius);
+  visit("motion/safety_margin", &m.safety_margin);
+  visit("motion/goal_tolerance", &m.goal_tolerance);
+  visit("motion/heading_tolerance", &m.heading_tolerance);
+  visit("motion/lookahead", &m.lookahead);
+  visit("motion/slow_down_distance", &m.slow_down_distance);
+  visit("motion/min_linear", &m.min_linear);
+  visit("motion/heading_gain", &m.heading_gain);
+  visit("motion/turn_in_place_angle", &m.turn_in_place_angle);
+  visit("motion/candidate_headings", &m.candidate_headings);
+  visit("motion/scan_timeout", &m.scan_timeout);
+  visit("motion/stuck_time", &m.stuck_time);
+  visit("motion/progress_distance", &m.progress_distance);
+  visit("motion/progress_angle", &m.progress_angle);
+}
+
+}  // namespace exploration

@@ -1,0 +1,91 @@
+// The exploration's view of the topological map (pomdp_topo's graph, as published) and the route
+// to the nearest unexplored opening: Dijkstra over the edges (as H-SLAM's "nearest node with
+// unexplored edges", Lisien et al.), from the robot's most likely state.
+//
+// An opening counts as unexplored when it is not marked explored and no edge leaves its node in its
+// bearing (a branch reached the other way round, e.g. after a loop closure, is explored).
+//
+// ROS-free: the standard library only.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <vector>
+
+namespace exploration {
+
+struct GraphOpening {
+  double bearing = 0.0;  // rad, map frame, from the node through the opening
+  double width = 0.0;    // m, 0 if not measured
+  bool explored = false;
+};
+
+struct GraphNode {
+  uint32_t id = 0;
+  uint8_t type = 0;  // pomdp_topo's TopoNode type: 0 door, 1 junction, 2 hallway end, 3 place, 4 start
+  double x = 0.0, y = 0.0;  // m, display pose (for messages only)
+  int place_id = -1;
+  std::vector<GraphOpening> openings;
+};
+
+struct GraphEdge {
+  uint32_t id = 0;
+  uint32_t source = 0;
+  uint32_t target = 0;
+  double heading = 0.0;  // rad, map frame, travel source -> target
+  double length = 0.0;   // m
+};
+
+/// Where the belief puts the robot: at a node, or on an edge at an offset from its source.
+struct GraphPosition {
+  bool valid = false;
+  bool at_node = false;
+  uint32_t id = 0;       // node id (at_node) or edge id
+  double offset = 0.0;   // m, from the edge's source
+  double heading = 0.0;  // rad, map frame, the robot's travel heading
+};
+
+/// The first step of a route: leave along `heading` (map frame, rad). At the goal node itself the
+/// step is the unexplored opening's bearing.
+struct RouteStep {
+  bool found = false;
+  uint32_t goal_node = 0;       // the node with the unexplored opening
+  double goal_bearing = 0.0;    // rad, the opening's bearing there
+  double distance = 0.0;        // m, along the edges to the goal node
+  uint32_t next_node = 0;       // the node the step leads to (the goal node when at it)
+  double heading = 0.0;         // rad, map frame, the heading to travel now
+};
+
+class TopoGraph {
+ public:
+  void clear();
+  void addNode(const GraphNode& node);
+  void addEdge(const GraphEdge& edge);
+  const std::map<uint32_t, GraphNode>& nodes() const { return nodes_; }
+  const std::map<uint32_t, GraphEdge>& edges() const { return edges_; }
+  const GraphNode* node(uint32_t id) const;
+  const GraphEdge* edge(uint32_t id) const;
+
+  /// Whether an edge leaves `node` with a travel heading within `tolerance` (rad) of `heading`.
+  bool hasExit(uint32_t node, double heading, double tolerance = 0.5) const;
+  /// The unexplored openings of a node (see the file comment).
+  std::vector<GraphOpening> unexplored(uint32_t node) const;
+  /// Unexplored openings over the whole graph.
+  size_t unexploredCount() const;
+  size_t exploredCount() const;
+
+  /// The node the robot is at, or the edge's end it is nearer (ahead of it when half-way); -1 if
+  /// `pos` is not valid or names nothing in the graph.
+  int nearestNode(const GraphPosition& pos) const;
+
+  /// The route from `pos` to the nearest unexplored opening (distance along the edges; a U-turn on
+  /// an edge costs `u_turn_cost` m). Nodes in `skip` are not goals (e.g. openings that failed).
+  RouteStep route(const GraphPosition& pos, double u_turn_cost = 2.0) const;
+
+ private:
+  std::map<uint32_t, GraphNode> nodes_;
+  std::map<uint32_t, GraphEdge> edges_;
+};
+
+}  // namespace exploration

@@ -1,0 +1,569 @@
+#include "exploration/coordinator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace exploration {
+
+using laser_features::compose;
+using laser_features::inverse;
+using laser_features::kPi;
+using laser_features::normalizeAngle;
+using laser_features::Pose2D;
+
+namespace {
+
+bool finite(const Pose2D& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta); }
+
+Eigen::Vector2d apply(const Pose2D& frame, const Eigen::Vector2d& p) {
+  const double c = std::cos(frame.theta), s = std::sin(frame.theta);
+  return Eigen::Vector2d(frame.x + c * p.x() - s * p.y(), frame.y + s * p.x() + c * p.y());
+}
+
+Eigen::Vector2d unit(double a) { return Eigen::Vector2d(std::cos(a), std::sin(a)); }
+
+}  // namespace
+
+const char* toString(CoordinatorMode mode) {
+  switch (mode) {
+    case CoordinatorMode::Topological: return "TOPOLOGICAL";
+    case CoordinatorMode::Metric: return "METRIC";
+    case CoordinatorMode::Switching: return "SWITCHING";
+    case CoordinatorMode::Done: return "DONE";
+  }
+  return "?";
+}
+
+bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
+  auto fail = [&](const char* why) {
+    if (error) *error = why;
+    return false;
+  };
+  if (p.heading_bins < 4 || p.heading_bins % 4 != 0) return fail("heading_bins must be a positive multiple of 4");
+  if (!std::isfinite(p.axis_angle)) return fail("axis_angle must be finite");
+  if (!(p.lookahead > 0.3)) return fail("lookahead must be > 0.3 m");
+  if (!(p.end_distance > 0.5)) return fail("end_distance must be > 0.5 m");
+  if (!(p.door_min_width > 0.0 && p.door_max_width > p.door_min_width)) return fail("need 0 < door_min_width < door_max_width");
+  if (!(p.door_min_confidence >= 0.0 && p.door_min_confidence <= 1.0)) return fail("door_min_confidence must be in [0, 1]");
+  if (!(p.door_max_lateral > 0.0 && p.door_side_angle > 0.0 && p.door_pass_distance >= 0.0 && p.door_same_distance > 0.0))
+    return fail("door_max_lateral, door_side_angle and door_same_distance must be > 0, door_pass_distance >= 0");
+  if (!(p.room_replan_period >= 0.0)) return fail("room_replan_period must be >= 0");
+  if (!(p.settle_time >= 0.0 && p.room_time_limit > 0.0 && p.exit_time_limit > 0.0 && p.max_time >= 0.0))
+    return fail("settle_time and max_time must be >= 0, room_time_limit and exit_time_limit > 0");
+  if (!(p.branch_record_distance >= 0.0 && p.u_turn_cost >= 0.0 && p.goal_refresh_distance > 0.0))
+    return fail("branch_record_distance and u_turn_cost must be >= 0, goal_refresh_distance > 0");
+  return RoomExplorer::validate(p.room, error);
+}
+
+Coordinator::Coordinator(const CoordinatorParams& params) : params_(params), room_(params.room) {
+  std::string why;
+  if (!validate(params, &why)) throw std::invalid_argument("exploration coordinator: " + why);
+}
+
+void Coordinator::setState(State s, const std::string& text) {
+  state_ = s;
+  state_since_ = now_;
+  state_text_ = text;
+}
+
+double Coordinator::binHeading(int bin) const {
+  const int n = params_.heading_bins;
+  return normalizeAngle(params_.axis_angle + 2.0 * kPi * double(((bin % n) + n) % n) / n);
+}
+
+int Coordinator::binOf(double map_heading) const {
+  const int n = params_.heading_bins;
+  const int b = int(std::lround(normalizeAngle(map_heading - params_.axis_angle) * n / (2.0 * kPi)));
+  return ((b % n) + n) % n;
+}
+
+double Coordinator::odomHeadingOfBin(int bin, const TopoView& topo) const {
+  return normalizeAngle(binHeading(bin) - (topo.heading_valid ? topo.heading_offset : 0.0));
+}
+
+Decision Coordinator::update(const Perception& p, const TopoView& topo, bool motion_reached, bool motion_blocked) {
+  Decision d;
+  if (!finite(p.odom) || !std::isfinite(p.stamp)) {
+    d.stop = true;
+    d.mode = mode_;
+    return d;
+  }
+  now_ = p.stamp;
+  if (start_time_ < 0.0) start_time_ = now_;
+  if (have_last_odom_) {
+    const double step = std::hypot(p.odom.x - last_odom_.x, p.odom.y - last_odom_.y);
+    if (step < 1.0) travel_ += step;  // a teleport is no travel
+  }
+  last_odom_ = p.odom;
+  have_last_odom_ = true;
+  stats_.travel = travel_;
+
+  if (state_ != State::Done && params_.max_time > 0.0 && now_ - start_time_ > params_.max_time) {
+    finish(false, "time limit reached before the exploration was complete", &d);
+  }
+  switch (state_) {
+    case State::Init:
+      d.stop = true;
+      if (topo.valid && topo.heading_valid && !topo.mode.empty()) {
+        bin_ = binOf(p.odom.theta + topo.heading_offset);
+        if (topo.mode == "frontier") {
+          // The robot starts mid-hallway: the way behind it is an unexplored opening of the start node.
+          Request r;
+          r.kind = Request::RecordOpening;
+          r.bearing = binHeading(bin_ + params_.heading_bins / 2);
+          d.requests.push_back(r);
+        }
+        setState(State::Follow, "following the hallway");
+      }
+      break;
+    case State::Follow:
+      follow(p, topo, motion_blocked, &d);
+      break;
+    case State::Turn: {
+      // Turn on the spot where the robot is now: a position fixed when the turn was decided lies
+      // behind the robot once it has braked, and the controller would turn round to reach it.
+      d.has_goal = true;
+      d.x = p.odom.x;
+      d.y = p.odom.y;
+      d.theta = turn_odom_heading_;
+      const double err = std::abs(normalizeAngle(turn_odom_heading_ - p.odom.theta));
+      if ((motion_reached && err < 0.15) || err < 0.05 || (motion_blocked && err < 0.3)) {
+        bin_ = turn_bin_;
+        pending_branch_travel_ = travel_;
+        last_turn_time_ = now_;
+        last_turn_travel_ = travel_;
+        have_goal_ = false;
+        setState(State::Follow, "following the hallway");
+      }
+      break;
+    }
+    case State::StopForDoor:
+      d.stop = true;
+      mode_ = CoordinatorMode::Switching;
+      if (now_ - state_since_ >= params_.settle_time) {
+        // The door's node exists now (passed); the topological map stands still from here on.
+        mode_ = CoordinatorMode::Metric;
+        hallway_pose_odom_ = p.odom;
+        hallway_bin_ = bin_;
+        door_bearing_map_ = normalizeAngle(door_.into_odom + topo.heading_offset);
+        Request rec;
+        rec.kind = Request::RecordOpening;
+        rec.bearing = door_bearing_map_;
+        rec.width = door_.width;
+        d.requests.push_back(rec);
+        Request create;
+        create.kind = Request::CreatePlace;
+        d.requests.push_back(create);
+        place_ok_ = false;
+        door_node_ = -1;
+        setState(State::EnterRoom, "creating a place for the room");
+      }
+      break;
+    case State::EnterRoom: {
+      d.stop = true;
+      if (!place_ok_) {
+        // No place: the room cannot be mapped. Mark the door so it is not tried forever.
+        Request rec;
+        rec.kind = Request::RecordOpening;
+        rec.node = door_node_;
+        rec.bearing = door_bearing_map_;
+        rec.explored = true;
+        d.requests.push_back(rec);
+        mode_ = CoordinatorMode::Topological;
+        setState(State::Follow, "could not create a place: door skipped");
+        break;
+      }
+      // The place's origin is the robot's pose now (it stood still): the door in the robot frame is
+      // the door in the place.
+      const Pose2D robot_inv = inverse(p.odom);
+      const Eigen::Vector2d c = apply(robot_inv, door_.centre_odom);
+      door_in_place_ = Pose2D{c.x(), c.y(), normalizeAngle(door_.into_odom - p.odom.theta)};
+      exit_theta_place_ = normalizeAngle(odomHeadingOfBin(hallway_bin_, topo) - p.odom.theta);
+      Request add;
+      add.kind = Request::AddDoor;
+      add.door_id = std::max(0, door_node_);
+      add.place_id = place_id_;
+      add.pose = door_in_place_;
+      d.requests.push_back(add);
+      room_.start(door_in_place_, door_.width);
+      room_goal_.reset();
+      ++stats_.places;
+      ++stats_.doors_entered;
+      setState(State::ApproachDoor, "entering the room of place " + std::to_string(place_id_));
+      break;
+    }
+    case State::ApproachDoor:
+    case State::Room:
+    case State::ExitPath:
+    case State::ExitDoor:
+      room(p, &d);
+      if (state_ == State::Follow) {
+        // Back on the hallway's mid-line: the room is done.
+        d.requests.insert(d.requests.begin(), Request{Request::ClosePlace});
+      }
+      (void)motion_reached;
+      break;
+    case State::Done:
+      d.stop = true;
+      break;
+  }
+  d.mode = mode_;
+  return d;
+}
+
+void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d) {
+  mode_ = CoordinatorMode::Topological;
+  double dir_robot = normalizeAngle(odomHeadingOfBin(bin_, topo) - p.odom.theta);
+  const HallwayView v = viewHallway(p.points, p.lines, dir_robot, params_.hallway);
+  if (v.wall_direction_valid) dir_robot = v.wall_direction;
+  const bool localized = topo.mode == "localized";
+  const bool sure = (topo.mode == "frontier") || (localized && topo.confident);
+  state_text_ = sure ? (localized ? "following the hallway on the known map" : "following a new hallway")
+                     : "following the hallway until the belief is confident";
+
+  // The ways not taken at the last turn, once the map builder has the turn's node.
+  if (pending_branch_travel_ >= 0.0 && travel_ - pending_branch_travel_ >= params_.branch_record_distance) {
+    if (sure) {
+      for (int b : pending_branches_) {
+        Request r;
+        r.kind = Request::RecordOpening;
+        r.bearing = binHeading(b);
+        d->requests.push_back(r);
+      }
+    }
+    pending_branches_.clear();
+    pending_branch_travel_ = -1.0;
+  }
+
+  RouteStep route;
+  if (localized && topo.confident) {
+    if (graph_.nodes().size() > 1 && graph_.unexploredCount() == 0 && pending_branches_.empty()) {
+      finish(true, "no unexplored opening is left", d);
+      return;
+    }
+    route = graph_.route(topo.position, params_.u_turn_cost);
+    // The route points back along the hallway: turn round (after a few ticks of agreement).
+    if (route.found && std::abs(normalizeAngle(route.heading - binHeading(bin_))) > 0.75 * kPi) {
+      // Not again soon after a turn: a belief flickering between two edges would swing the robot.
+      if (++route_behind_ticks_ >= 5 && travel_ - last_turn_travel_ > 3.0) {
+        route_behind_ticks_ = 0;
+        ++stats_.u_turns;
+        startTurn(bin_ + params_.heading_bins / 2, p, topo, {});
+        state_text_ = "turning round towards node " + std::to_string(route.goal_node) + " (" +
+                      std::to_string(route.distance) + " m, from " + (topo.position.at_node ? "node " : "edge ") +
+                      std::to_string(topo.position.id) + ")";
+        d->has_goal = true;
+        d->x = p.odom.x;
+        d->y = p.odom.y;
+        d->theta = turn_odom_heading_;
+        return;
+      }
+    } else {
+      route_behind_ticks_ = 0;
+    }
+  }
+
+  // Doors: entered once passed, if new (frontier) or known and unexplored, and the belief is sure.
+  trackDoors(p, dir_robot);
+  DoorTrack door;
+  if (doorPassed(p, dir_robot, &door)) {
+    if (mayEnter(topo, door)) {
+      door_ = door;
+      setState(State::StopForDoor, "stopping at a door to enter the room");
+      d->stop = true;
+      return;
+    }
+    ++stats_.doors_passed;
+  }
+
+  // A side branch the route takes, abeam now.
+  if (route.found && sure) {
+    const int route_bin = binOf(route.heading);
+    const int n = params_.heading_bins;
+    const bool left = route_bin == (bin_ + n / 4) % n, right = route_bin == (bin_ + 3 * n / 4) % n;
+    if ((left && v.open_left) || (right && v.open_right)) {
+      const int near = graph_.nearestNode(topo.position);
+      const bool at_goal = near >= 0 && (uint32_t(near) == route.next_node);
+      bool abeam = false;
+      for (const auto& o : p.openings) {
+        if (o.width <= params_.door_max_width) continue;
+        const double along = o.center.dot(unit(dir_robot));
+        const double lateral = o.center.dot(unit(dir_robot + 0.5 * kPi));
+        if (std::abs(along) < 0.4 && (left ? lateral > 0.0 : lateral < 0.0)) abeam = true;
+      }
+      if (at_goal && abeam) {
+        startTurn(route_bin, p, topo, {});
+        d->has_goal = true;
+        d->x = p.odom.x;
+        d->y = p.odom.y;
+        d->theta = turn_odom_heading_;
+        return;
+      }
+    }
+  }
+
+  if (v.free_ahead < params_.end_distance || blocked) {
+    decideAtEnd(p, topo, v, d);
+    if (blocked) state_text_ = "motion blocked: " + state_text_;
+    if (state_ == State::Turn) {
+      d->has_goal = true;
+      d->x = p.odom.x;
+      d->y = p.odom.y;
+      d->theta = turn_odom_heading_;
+      return;
+    }
+  }
+
+  // The goal: lookahead metres ahead on the mid-line.
+  const Eigen::Vector2d g_robot = params_.lookahead * unit(dir_robot) + v.centre_offset * unit(dir_robot + 0.5 * kPi);
+  const Eigen::Vector2d g = apply(p.odom, g_robot);
+  if (!have_goal_ || (g - last_goal_).norm() > params_.goal_refresh_distance) {
+    last_goal_ = g;
+    have_goal_ = true;
+  }
+  d->has_goal = true;
+  d->x = last_goal_.x();
+  d->y = last_goal_.y();
+}
+
+void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d) {
+  (void)d;
+  const int n = params_.heading_bins;
+  const int left = (bin_ + n / 4) % n, right = (bin_ + 3 * n / 4) % n, back = (bin_ + n / 2) % n;
+  std::vector<int> open;
+  if (v.end_open_left) open.push_back(left);
+  if (v.end_open_right) open.push_back(right);
+  char why[160];
+  std::snprintf(why, sizeof(why), " (free ahead %.2f m, left %s, right %s, at %.2f %.2f odom)", v.free_ahead,
+                v.end_open_left ? "open" : "closed", v.end_open_right ? "open" : "closed", p.odom.x, p.odom.y);
+  const bool localized = topo.mode == "localized";
+  const bool sure = topo.mode == "frontier" || (localized && topo.confident);
+  if (open.empty()) {
+    ++stats_.u_turns;
+    startTurn(back, p, topo, {});
+    state_text_ = "hallway end: turning round" + std::string(why);
+    return;
+  }
+  int choice = open.front();  // left first (depth-first, one fixed order)
+  if (localized && topo.confident) {
+    const RouteStep r = graph_.route(topo.position, params_.u_turn_cost);
+    if (r.found) {
+      const int rb = binOf(r.heading);
+      if (std::find(open.begin(), open.end(), rb) != open.end()) choice = rb;
+    }
+  }
+  std::vector<int> not_taken;
+  if (sure && topo.mode == "frontier") {
+    for (int b : open) {
+      if (b != choice) not_taken.push_back(b);
+    }
+  }
+  ++stats_.turns;
+  startTurn(choice, p, topo, not_taken);
+  state_text_ = "hallway end: turning " + std::string(choice == left ? "left" : "right") + why;
+}
+
+void Coordinator::startTurn(int bin, const Perception& p, const TopoView& topo, std::vector<int> not_taken) {
+  turn_bin_ = ((bin % params_.heading_bins) + params_.heading_bins) % params_.heading_bins;
+  turn_odom_heading_ = odomHeadingOfBin(turn_bin_, topo);
+  pending_branches_ = std::move(not_taken);
+  pending_branch_travel_ = -1.0;
+  last_goal_ = Eigen::Vector2d(p.odom.x, p.odom.y);
+  have_goal_ = true;
+  doors_.clear();  // the doors seen so far belong to the hallway being left
+  setState(State::Turn, "turning");
+}
+
+void Coordinator::trackDoors(const Perception& p, double dir_robot) {
+  const Eigen::Vector2d u = unit(dir_robot), nrm = unit(dir_robot + 0.5 * kPi);
+  for (const auto& o : p.openings) {
+    if (o.kind == laser_features::OpeningKind::kJunction) continue;
+    if (o.width < params_.door_min_width || o.width > params_.door_max_width) continue;
+    if (o.confidence < params_.door_min_confidence) continue;
+    const double lateral = o.center.dot(nrm);
+    if (std::abs(lateral) > params_.door_max_lateral || std::abs(lateral) < 0.4) continue;
+    const double side = lateral > 0.0 ? 1.0 : -1.0;
+    const double into = dir_robot + side * 0.5 * kPi;  // robot frame
+    if (std::abs(normalizeAngle(o.theta - into)) > params_.door_side_angle) continue;
+    (void)u;
+    const Eigen::Vector2d c = apply(p.odom, o.center);
+    const double into_odom = normalizeAngle(into + p.odom.theta);
+    auto it = std::find_if(doors_.begin(), doors_.end(), [&](const DoorTrack& t) {
+      return (t.centre_odom - c).norm() < params_.door_same_distance;
+    });
+    if (it == doors_.end()) {
+      DoorTrack t;
+      t.centre_odom = c;
+      t.into_odom = into_odom;
+      t.width = o.width;
+      t.sightings = 1;
+      doors_.push_back(t);
+      continue;
+    }
+    // Running mean of the position and width (the heading is the hallway's normal).
+    const double k = 1.0 / double(std::min(it->sightings + 1, 20));
+    it->centre_odom += k * (c - it->centre_odom);
+    it->width += k * (o.width - it->width);
+    it->into_odom = into_odom;
+    ++it->sightings;
+  }
+  const Eigen::Vector2d robot(p.odom.x, p.odom.y);
+  doors_.erase(std::remove_if(doors_.begin(), doors_.end(),
+                              [&](const DoorTrack& t) { return (t.centre_odom - robot).norm() > 8.0; }),
+               doors_.end());
+}
+
+bool Coordinator::doorPassed(const Perception& p, double dir_robot, DoorTrack* door) {
+  const Eigen::Vector2d robot(p.odom.x, p.odom.y);
+  const Eigen::Vector2d u = unit(normalizeAngle(dir_robot + p.odom.theta));
+  for (DoorTrack& t : doors_) {
+    if (t.decided || t.sightings < 3) continue;
+    const double along = (t.centre_odom - robot).dot(u);
+    if (along > -params_.door_pass_distance) continue;
+    t.decided = true;
+    if (along < -params_.door_pass_distance - 1.0) continue;  // seen only from behind: too late
+    *door = t;
+    return true;
+  }
+  return false;
+}
+
+bool Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) const {
+  if (topo.mode == "frontier") return true;  // a door on a new stretch is new
+  if (topo.mode != "localized" || !topo.confident) return false;
+  const int n = graph_.nearestNode(topo.position);
+  if (n < 0) return false;
+  const double bearing = normalizeAngle(door.into_odom + topo.heading_offset);
+  for (const GraphOpening& o : graph_.unexplored(uint32_t(n))) {
+    if (std::abs(normalizeAngle(o.bearing - bearing)) < 0.5) return true;
+  }
+  return false;
+}
+
+void Coordinator::placeCreated(bool ok, int place_id) {
+  place_ok_ = ok;
+  place_id_ = ok ? place_id : -1;
+}
+
+void Coordinator::openingRecorded(bool ok, int node) {
+  if (ok && state_ == State::EnterRoom && door_node_ < 0) door_node_ = node;
+}
+
+void Coordinator::goalInPlace(const Perception& p, const Eigen::Vector2d& g, std::optional<double> theta,
+                              Decision* d) const {
+  // odom <- place: the robot's pose in both frames at the same stamp.
+  const Pose2D odom_from_place = compose(p.odom, inverse(p.room_pose));
+  const Eigen::Vector2d go = apply(odom_from_place, g);
+  d->has_goal = true;
+  d->x = go.x();
+  d->y = go.y();
+  if (theta) d->theta = normalizeAngle(*theta + odom_from_place.theta);
+}
+
+void Coordinator::room(const Perception& p, Decision* d) {
+  mode_ = CoordinatorMode::Metric;
+  if (!p.room_pose_valid || !finite(p.room_pose)) {
+    d->stop = true;  // the EKF's pose comes with the place's first features
+    return;
+  }
+  const Pose2D sensor = compose(p.room_pose, p.sensor_in_robot);
+  if (!p.ranges.empty()) room_.addScan(sensor, p.ranges, p.angle_min, p.angle_increment);
+  const Eigen::Vector2d robot(p.room_pose.x, p.room_pose.y);
+  const Eigen::Vector2d door(door_in_place_.x, door_in_place_.y);
+  const Eigen::Vector2d into = unit(door_in_place_.theta);
+  if (state_ == State::ApproachDoor) {
+    // In front of the door on its axis, facing in, before going through.
+    const Eigen::Vector2d a = door - 0.6 * into;
+    goalInPlace(p, a, door_in_place_.theta, d);
+    if ((robot - a).norm() < 0.15 || now_ - state_since_ > 30.0) setState(State::Room, "exploring the room");
+    return;
+  }
+  if (state_ == State::Room) {
+    // Other doors seen from inside the room are closed with a virtual wall: the room's map stays
+    // the room's (they remain openings of the place).
+    for (const auto& o : p.openings) {
+      if (o.width < params_.door_min_width || o.width > params_.door_max_width) continue;
+      const Eigen::Vector2d l = apply(p.room_pose, o.left), r = apply(p.room_pose, o.right);
+      if ((0.5 * (l + r) - door).norm() < 0.8) continue;
+      room_.blockOpening(l, r);
+    }
+    if (now_ - last_room_plan_ >= params_.room_replan_period || !room_goal_) {
+      last_room_plan_ = now_;
+      room_goal_ = room_.nextGoal(robot, now_);
+    }
+    const auto& g = room_goal_;
+    const bool timeout = now_ - state_since_ > params_.room_time_limit;
+    if (room_.status() == RoomStatus::Done || room_.status() == RoomStatus::Invalid || timeout) {
+      if (timeout) ++stats_.rooms_left_early;
+      stats_.room_free_area += room_.freeArea();
+      stats_.peak_room_bytes = std::max(stats_.peak_room_bytes, room_.bytes());
+      exit_path_.clear();
+      exit_index_ = 0;
+      if (auto path = room_.pathToExit(robot)) exit_path_ = path->waypoints;
+      setState(State::ExitPath, "leaving the room by its door");
+      return;
+    }
+    if (g) goalInPlace(p, *g, std::nullopt, d);
+    else d->stop = true;
+    return;
+  }
+  if (state_ == State::ExitPath) {
+    while (exit_index_ < exit_path_.size() && (exit_path_[exit_index_] - robot).norm() < 0.3) ++exit_index_;
+    if (exit_index_ >= exit_path_.size() || now_ - state_since_ > params_.exit_time_limit) {
+      setState(State::ExitDoor, "through the door back to the hallway");
+    } else {
+      goalInPlace(p, exit_path_[exit_index_], std::nullopt, d);
+      return;
+    }
+  }
+  // ExitDoor: through the door (on its axis) back to where the robot left the hallway (the place's
+  // origin), with the hallway's heading.
+  const Eigen::Vector2d inside = door + 0.6 * into;
+  const bool outside = (robot - door).dot(into) < -0.3;
+  if (!outside && (robot - inside).norm() > 0.3 && (robot - door).dot(into) > 0.0 && now_ - state_since_ < 20.0) {
+    goalInPlace(p, inside, door_in_place_.theta + kPi, d);
+    return;
+  }
+  goalInPlace(p, Eigen::Vector2d::Zero(), exit_theta_place_, d);
+  const double err = std::abs(normalizeAngle(exit_theta_place_ - p.room_pose.theta));
+  if ((robot.norm() < 0.15 && err < 0.1) || now_ - state_since_ > params_.exit_time_limit) {
+    Request rec;
+    rec.kind = Request::RecordOpening;
+    rec.node = door_node_;
+    rec.bearing = door_bearing_map_;
+    rec.width = door_.width;
+    rec.explored = true;
+    rec.place_id = place_id_;
+    rec.pose = door_in_place_;
+    d->requests.push_back(rec);
+    bin_ = hallway_bin_;
+    have_goal_ = false;
+    mode_ = CoordinatorMode::Topological;
+    last_turn_time_ = now_;
+    setState(State::Follow, "following the hallway");
+  }
+}
+
+void Coordinator::finish(bool success, const std::string& why, Decision* d) {
+  mode_ = CoordinatorMode::Done;
+  setState(State::Done, success ? "exploration complete" : "exploration stopped: " + why);
+  std::ostringstream s;
+  s << (success ? "exploration complete: " : "exploration incomplete: ") << why << "; " << stats_.places
+    << " places, " << graph_.nodes().size() << " nodes, " << graph_.edges().size() << " edges, "
+    << graph_.exploredCount() << " openings explored, " << graph_.unexploredCount() << " unexplored, "
+    << stats_.travel << " m travelled";
+  Request save;
+  save.kind = Request::SaveMaps;
+  d->requests.push_back(save);
+  Request fin;
+  fin.kind = Request::Finish;
+  fin.success = success;
+  fin.text = s.str();
+  d->requests.push_back(fin);
+  d->stop = true;
+  d->has_goal = false;
+}
+
+}  // namespace exploration

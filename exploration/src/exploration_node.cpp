@@ -1,0 +1,432 @@
+// exploration_node: the coordinator that explores a building by itself (see coordinator.h), with
+// the local motion controller driving cmd_vel. Thin: it converts messages, calls the core, and
+// carries out the core's requests as service calls to pomdp_topo and ekf_local_map.
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
+#include <geometry_msgs/Twist.h>
+#include <hybrid_slam_msgs/AddDoor.h>
+#include <hybrid_slam_msgs/CreatePlace.h>
+#include <hybrid_slam_msgs/ExplorationStatus.h>
+#include <hybrid_slam_msgs/SaveMap.h>
+#include <hybrid_slam_msgs/UpdateOpening.h>
+#include <ros/callback_queue.h>
+#include <ros/ros.h>
+#include <std_msgs/Bool.h>
+#include <std_msgs/Float64.h>
+#include <std_msgs/String.h>
+#include <std_srvs/Trigger.h>
+#include <tf2/utils.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <fstream>
+#include <atomic>
+#include <mutex>
+
+#include "exploration/params_visit.h"
+#include "ros_conversions.h"
+
+namespace exploration {
+
+using laser_features::Pose2D;
+
+struct ParamReader {
+  ros::NodeHandle& nh;
+  void operator()(const char* name, double* value) const { nh.param(name, *value, *value); }
+  void operator()(const char* name, int* value) const { nh.param(name, *value, *value); }
+  void operator()(const char* name, bool* value) const { nh.param(name, *value, *value); }
+};
+
+class ExplorationNode {
+ public:
+  ExplorationNode() : nh_(), pnh_("~"), tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_) {
+    visitParams(&params_, ParamReader{pnh_});
+    std::string why;
+    if (!Coordinator::validate(params_.coordinator, &why) || !MotionController::validate(params_.motion, &why)) {
+      ROS_FATAL("exploration: bad parameter: %s", why.c_str());
+      throw std::invalid_argument(why);
+    }
+    coordinator_ = std::make_unique<Coordinator>(params_.coordinator);
+    motion_ = std::make_unique<MotionController>(params_.motion);
+    pnh_.param<std::string>("odom_frame", odom_frame_, "odom");
+    pnh_.param<std::string>("base_frame", base_frame_, "base_link");
+    pnh_.param<std::string>("topo_node", topo_node_, "pomdp_topo");
+    pnh_.param<std::string>("local_map_node", local_map_node_, "ekf_local_map");
+    pnh_.param("control_rate", control_rate_, 20.0);
+    pnh_.param("progress_period", progress_period_, 30.0);
+    pnh_.param("shutdown_when_done", shutdown_when_done_, true);
+    pnh_.param<std::string>("summary_file", summary_file_, "");
+
+    cmd_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 10);
+    status_pub_ = nh_.advertise<hybrid_slam_msgs::ExplorationStatus>("exploration_status", 10, true);
+    markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("exploration_markers", 2);
+    // Motion control (scans, bumper, the control timer) has its own thread: the coordinator's
+    // planning in rooms must never starve the watchdog or the velocity commands.
+    control_nh_.setCallbackQueue(&control_queue_);
+    scan_sub_ = control_nh_.subscribe("scan", 10, &ExplorationNode::onScan, this);
+    features_sub_ = nh_.subscribe("features", 10, &ExplorationNode::onFeatures, this);
+    map_sub_ = nh_.subscribe("topological_map", 2, &ExplorationNode::onMap, this);
+    belief_sub_ = nh_.subscribe("topological_belief", 10, &ExplorationNode::onBelief, this);
+    confident_sub_ = nh_.subscribe("topo_confident", 10, &ExplorationNode::onConfident, this);
+    heading_sub_ = nh_.subscribe("topo_heading", 10, &ExplorationNode::onHeading, this);
+    mode_sub_ = nh_.subscribe("topo_mode", 10, &ExplorationNode::onMode, this);
+    pose_sub_ = nh_.subscribe("local_pose", 10, &ExplorationNode::onLocalPose, this);
+    bumper_sub_ = control_nh_.subscribe("bumper", 10, &ExplorationNode::onBumper, this);
+    timer_ = control_nh_.createTimer(ros::Duration(1.0 / control_rate_), &ExplorationNode::onTimer, this);
+    control_spinner_.start();
+    wall_start_ = std::chrono::steady_clock::now();
+    publishStatus(ros::Time::now());
+  }
+
+ private:
+  bool lookup(const std::string& target, const std::string& source, const ros::Time& stamp, Pose2D* out) {
+    try {
+      const auto t = tf_buffer_.lookupTransform(target, source, stamp, ros::Duration(0.1));
+      *out = Pose2D{t.transform.translation.x, t.transform.translation.y, tf2::getYaw(t.transform.rotation)};
+      return true;
+    } catch (const tf2::TransformException& e) {
+      ROS_WARN_THROTTLE(5.0, "exploration: no transform %s <- %s: %s", target.c_str(), source.c_str(), e.what());
+      return false;
+    }
+  }
+
+  void onScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
+    if (msg->ranges.empty() || !std::isfinite(msg->angle_min) || !std::isfinite(msg->angle_increment)) {
+      ROS_WARN_THROTTLE(5.0, "exploration: an empty or malformed scan on %s is skipped", scan_sub_.getTopic().c_str());
+      return;
+    }
+    if (!have_sensor_ && !lookup(base_frame_, msg->header.frame_id, ros::Time(0), &sensor_in_robot_)) return;
+    have_sensor_ = true;
+    scanPoints(*msg, sensor_in_robot_, &points_);
+    std::lock_guard<std::mutex> lock(mutex_);
+    motion_->setScan(points_, msg->header.stamp.toSec());
+    scans_.push_back(msg);  // under the lock
+    while (scans_.size() > 20) scans_.pop_front();
+  }
+
+  void onFeatures(const hybrid_slam_msgs::LaserFeatures::ConstPtr& msg) {
+    sensor_msgs::LaserScan::ConstPtr scan;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      for (const auto& s : scans_) {
+        if (s->header.stamp == msg->header.stamp) scan = s;
+      }
+    }
+    if (!scan || !have_sensor_) return;
+    Perception p;
+    p.stamp = msg->header.stamp.toSec();
+    if (!lookup(odom_frame_, base_frame_, msg->header.stamp, &p.odom)) return;
+    p.sensor_in_robot = sensor_in_robot_;
+    p.ranges = scan->ranges;
+    p.angle_min = scan->angle_min;
+    p.angle_increment = scan->angle_increment;
+    scanPoints(*scan, sensor_in_robot_, &p.points);
+    size_t dropped = 0;
+    featuresInRobot(*msg, sensor_in_robot_, &p.lines, &p.openings, &dropped);
+    if (dropped > 0) ROS_WARN_THROTTLE(10.0, "exploration: %zu non-finite features dropped", dropped);
+    odom_theta_at_features_ = p.odom.theta;
+    auto pose = local_poses_.find(msg->header.stamp.toNSec());
+    if (pose != local_poses_.end() && coordinator_->currentPlace() >= 0 &&
+        pose->second.first == coordinator_->currentPlace()) {
+      p.room_pose_valid = true;
+      p.room_pose = pose->second.second;
+    } else if (coordinator_->currentPlace() >= 0 && last_local_place_ == coordinator_->currentPlace() &&
+               std::abs((last_local_stamp_ - msg->header.stamp).toSec()) < 0.3) {
+      // The EKF's pose of a slightly older scan, moved by the odometry since (rooms are metric).
+      Pose2D odom_then;
+      if (lookup(odom_frame_, base_frame_, last_local_stamp_, &odom_then)) {
+        p.room_pose_valid = true;
+        p.room_pose = laser_features::compose(last_local_pose_, laser_features::compose(laser_features::inverse(odom_then), p.odom));
+      }
+    }
+    std::unique_lock<std::mutex> lock(mutex_);
+    const bool reached = motion_->status() == MotionStatus::Reached;
+    const bool blocked = motion_->status() == MotionStatus::Blocked;
+    lock.unlock();
+    const Decision d = coordinator_->update(p, topo_, reached, blocked);
+    for (const Request& r : d.requests) execute(r);
+    lock.lock();
+    if (d.has_goal) {
+      const bool same = has_goal_ && std::abs(d.x - goal_x_) < 1e-6 && std::abs(d.y - goal_y_) < 1e-6 &&
+                        d.theta.has_value() == goal_theta_.has_value() &&
+                        (!d.theta || std::abs(*d.theta - *goal_theta_) < 1e-6);
+      if (!same) {
+        motion_->setGoal(d.x, d.y, d.theta);
+        goal_x_ = d.x;
+        goal_y_ = d.y;
+        goal_theta_ = d.theta;
+        has_goal_ = true;
+      }
+    } else if (has_goal_) {
+      motion_->cancel();
+      has_goal_ = false;
+    }
+    lock.unlock();
+    if (coordinator_->mode() != last_mode_ || coordinator_->state() != last_state_) {
+      ROS_INFO("exploration: %s - %s", toString(coordinator_->mode()), coordinator_->state().c_str());
+      last_mode_ = coordinator_->mode();
+      last_state_ = coordinator_->state();
+      publishStatus(msg->header.stamp);
+    }
+    if ((msg->header.stamp - last_status_).toSec() > 1.0) publishStatus(msg->header.stamp);
+    if ((msg->header.stamp - last_progress_).toSec() > progress_period_) {
+      last_progress_ = msg->header.stamp;
+      printProgress(msg->header.stamp);
+    }
+    if (coordinator_->mode() == CoordinatorMode::Metric && coordinator_->currentPlace() >= 0 &&
+        markers_pub_.getNumSubscribers() > 0 && (msg->header.stamp - last_markers_).toSec() > 1.0) {
+      last_markers_ = msg->header.stamp;
+      visualization_msgs::MarkerArray m;
+      roomMarkers(coordinator_->room(), "place_" + std::to_string(coordinator_->currentPlace()), msg->header.stamp, &m);
+      markers_pub_.publish(m);
+    }
+  }
+
+  template <typename Srv>
+  bool call(const std::string& name, Srv* srv) {
+    ros::ServiceClient client = nh_.serviceClient<Srv>(name);
+    if (!client.waitForExistence(ros::Duration(5.0))) {
+      ROS_ERROR("exploration: service %s is not available", name.c_str());
+      return false;
+    }
+    if (!client.call(*srv)) {
+      ROS_ERROR("exploration: the call to %s failed", name.c_str());
+      return false;
+    }
+    return true;
+  }
+
+  void execute(const Request& r) {
+    switch (r.kind) {
+      case Request::CreatePlace: {
+        hybrid_slam_msgs::CreatePlace srv;
+        srv.request.use_display_pose = false;
+        const bool ok = call(local_map_node_ + "/create_place", &srv) && srv.response.success;
+        if (!ok) ROS_ERROR("exploration: no place created: %s", srv.response.message.c_str());
+        else ROS_INFO("exploration: %s", srv.response.message.c_str());
+        coordinator_->placeCreated(ok, srv.response.place_id);
+        break;
+      }
+      case Request::AddDoor: {
+        hybrid_slam_msgs::AddDoor srv;
+        srv.request.door_id = r.door_id;
+        srv.request.door_in_robot.x = r.pose.x;
+        srv.request.door_in_robot.y = r.pose.y;
+        srv.request.door_in_robot.theta = r.pose.theta;
+        if (call(local_map_node_ + "/add_door", &srv) && !srv.response.success)
+          ROS_WARN("exploration: door not stored in the place: %s", srv.response.message.c_str());
+        break;
+      }
+      case Request::RecordOpening: {
+        hybrid_slam_msgs::UpdateOpening srv;
+        srv.request.node = r.node;
+        srv.request.bearing = r.bearing;
+        srv.request.width = r.width;
+        srv.request.offset = r.offset;
+        srv.request.explored = r.explored;
+        srv.request.place_id = r.place_id;
+        srv.request.door_in_place.x = r.pose.x;
+        srv.request.door_in_place.y = r.pose.y;
+        srv.request.door_in_place.theta = r.pose.theta;
+        const bool ok = call(topo_node_ + "/update_opening", &srv) && srv.response.success;
+        if (!ok) ROS_WARN("exploration: opening not recorded: %s", srv.response.message.c_str());
+        coordinator_->openingRecorded(ok, srv.response.node);
+        break;
+      }
+      case Request::ClosePlace: {
+        std_srvs::Trigger srv;
+        call(local_map_node_ + "/close_place", &srv);
+        break;
+      }
+      case Request::SaveMaps: {
+        hybrid_slam_msgs::SaveMap topo;
+        if (call(topo_node_ + "/save_map", &topo)) ROS_INFO("exploration: topological map: %s", topo.response.message.c_str());
+        hybrid_slam_msgs::SaveMap places;
+        if (call(local_map_node_ + "/save_map", &places)) ROS_INFO("exploration: places: %s", places.response.message.c_str());
+        break;
+      }
+      case Request::Finish:
+        finish(r);
+        break;
+    }
+  }
+
+  void finish(const Request& r) {
+    cmd_pub_.publish(geometry_msgs::Twist());
+    publishStatus(ros::Time::now());
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
+    const double sim = (ros::Time::now() - sim_start_).toSec();
+    if (r.success) ROS_INFO("exploration: %s; %.0f s sim, %.0f s wall (real-time factor %.1f)", r.text.c_str(), sim, wall, sim / std::max(wall, 1e-3));
+    else ROS_ERROR("exploration: %s; %.0f s sim, %.0f s wall", r.text.c_str(), sim, wall);
+    if (!summary_file_.empty()) {
+      std::ofstream f(summary_file_);
+      const CoordinatorStats& s = coordinator_->stats();
+      f << "{\"complete\": " << (r.success ? "true" : "false") << ", \"places\": " << s.places
+        << ", \"nodes\": " << coordinator_->graph().nodes().size() << ", \"edges\": " << coordinator_->graph().edges().size()
+        << ", \"openings_explored\": " << coordinator_->graph().exploredCount()
+        << ", \"openings_unexplored\": " << coordinator_->graph().unexploredCount() << ", \"travel_m\": " << s.travel
+        << ", \"sim_time_s\": " << sim << ", \"wall_time_s\": " << wall << ", \"real_time_factor\": " << sim / std::max(wall, 1e-3)
+        << ", \"rooms_left_early\": " << s.rooms_left_early << ", \"room_free_area_m2\": " << s.room_free_area
+        << ", \"peak_room_grid_bytes\": " << s.peak_room_bytes << ", \"text\": \"" << r.text << "\"}\n";
+    }
+    done_ = true;
+    exit_code_ = r.success ? 0 : 1;
+    if (shutdown_when_done_) ros::requestShutdown();
+  }
+
+  void onTimer(const ros::TimerEvent& e) {
+    if (done_) {
+      cmd_pub_.publish(geometry_msgs::Twist());
+      return;
+    }
+    Pose2D pose;
+    if (!lookup(odom_frame_, base_frame_, ros::Time(0), &pose)) return;
+    const double now = ros::Time::now().toSec();
+    const double dt = last_control_ > 0.0 ? now - last_control_ : 0.0;
+    last_control_ = now;
+    std::lock_guard<std::mutex> lock(mutex_);
+    const Command c = motion_->update(pose, now, dt, bumper_);
+    geometry_msgs::Twist t;
+    t.linear.x = c.v;
+    t.angular.z = c.w;
+    cmd_pub_.publish(t);
+    if (motion_->status() != last_motion_) {
+      last_motion_ = motion_->status();
+      if (last_motion_ == MotionStatus::NoScan || last_motion_ == MotionStatus::Blocked || last_motion_ == MotionStatus::Bumped)
+        ROS_WARN("exploration: motion %s: %s", toString(last_motion_), motion_->statusText().c_str());
+    }
+    (void)e;
+  }
+
+  void onMap(const hybrid_slam_msgs::TopologicalMap::ConstPtr& msg) {
+    TopoGraph g;
+    fromMsg(*msg, &g);
+    coordinator_->setGraph(g);
+  }
+  void onBelief(const hybrid_slam_msgs::TopologicalBelief::ConstPtr& msg) {
+    topo_.position = fromMsg(*msg);
+    topo_.valid = true;
+  }
+  void onConfident(const std_msgs::Bool::ConstPtr& msg) {
+    topo_.confident = msg->data;
+    topo_.valid = true;
+  }
+  void onHeading(const std_msgs::Float64::ConstPtr& msg) {
+    if (!std::isfinite(msg->data)) return;
+    // pomdp_topo publishes the heading right after the features it came from: pair it with the
+    // odometry of the latest features seen here.
+    topo_.heading_offset = laser_features::normalizeAngle(msg->data - odom_theta_at_features_);
+    topo_.heading_valid = true;
+    topo_.valid = true;
+  }
+  void onMode(const std_msgs::String::ConstPtr& msg) {
+    topo_.mode = msg->data;
+    topo_.valid = true;
+  }
+  void onLocalPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg) {
+    const std::string& f = msg->header.frame_id;
+    const std::string prefix = "place_";
+    if (f.compare(0, prefix.size(), prefix) != 0) return;
+    const int id = std::atoi(f.c_str() + prefix.size());
+    const Pose2D pose{msg->pose.pose.position.x, msg->pose.pose.position.y, tf2::getYaw(msg->pose.pose.orientation)};
+    local_poses_[msg->header.stamp.toNSec()] = {id, pose};
+    while (local_poses_.size() > 20) local_poses_.erase(local_poses_.begin());
+    last_local_place_ = id;
+    last_local_pose_ = pose;
+    last_local_stamp_ = msg->header.stamp;
+  }
+  void onBumper(const std_msgs::Bool::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    bumper_ = msg->data;
+  }
+
+  void publishStatus(const ros::Time& stamp) {
+    last_status_ = stamp;
+    hybrid_slam_msgs::ExplorationStatus s;
+    s.header.stamp = stamp;
+    s.mode = static_cast<uint8_t>(coordinator_->mode());
+    s.current_place = coordinator_->mode() == CoordinatorMode::Metric ? coordinator_->currentPlace() : -1;
+    s.current_node = topo_.confident ? coordinator_->graph().nearestNode(topo_.position) : -1;
+    s.places = uint32_t(coordinator_->stats().places);
+    s.nodes = uint32_t(coordinator_->graph().nodes().size());
+    s.openings_explored = uint32_t(coordinator_->graph().exploredCount());
+    s.openings_unexplored = uint32_t(coordinator_->graph().unexploredCount());
+    s.travel_distance = coordinator_->stats().travel;
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
+    s.real_time_factor = (stamp - sim_start_).toSec() / std::max(wall, 1e-3);
+    s.state = coordinator_->state();
+    status_pub_.publish(s);
+  }
+
+  void printProgress(const ros::Time& stamp) {
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
+    const double sim = (stamp - sim_start_).toSec();
+    ROS_INFO("exploration: %s | %d places, %zu nodes, %zu openings explored, %zu unexplored | %.0f m | sim %.0f s, "
+             "real-time factor %.1f | %s",
+             toString(coordinator_->mode()), coordinator_->stats().places, coordinator_->graph().nodes().size(),
+             coordinator_->graph().exploredCount(), coordinator_->graph().unexploredCount(), coordinator_->stats().travel,
+             sim, sim / std::max(wall, 1e-3), coordinator_->state().c_str());
+  }
+
+ public:
+  int exitCode() const { return exit_code_; }
+  void setSimStart(const ros::Time& t) { sim_start_ = t; last_progress_ = t; }
+
+ private:
+  ros::NodeHandle nh_, pnh_, control_nh_;
+  ros::CallbackQueue control_queue_;
+  std::mutex mutex_;  // motion_, scans_, bumper_: shared by the control thread and the coordinator's
+  ExplorationParams params_;
+  std::unique_ptr<Coordinator> coordinator_;
+  std::unique_ptr<MotionController> motion_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_;
+  ros::AsyncSpinner control_spinner_;
+  std::string odom_frame_, base_frame_, topo_node_, local_map_node_, summary_file_;
+  double control_rate_ = 20.0, progress_period_ = 30.0;
+  bool shutdown_when_done_ = true;
+  ros::Publisher cmd_pub_, status_pub_, markers_pub_;
+  ros::Subscriber scan_sub_, features_sub_, map_sub_, belief_sub_, confident_sub_, heading_sub_, mode_sub_, pose_sub_,
+      bumper_sub_;
+  ros::Timer timer_;
+  TopoView topo_;
+  std::deque<sensor_msgs::LaserScan::ConstPtr> scans_;
+  std::vector<Eigen::Vector2d> points_;
+  Pose2D sensor_in_robot_;
+  bool have_sensor_ = false;
+  double odom_theta_at_features_ = 0.0;
+  std::map<uint64_t, std::pair<int, Pose2D>> local_poses_;
+  int last_local_place_ = -1;
+  Pose2D last_local_pose_;
+  ros::Time last_local_stamp_;
+  bool bumper_ = false;
+  bool has_goal_ = false;
+  double goal_x_ = 0.0, goal_y_ = 0.0;
+  std::optional<double> goal_theta_;
+  double last_control_ = -1.0;
+  MotionStatus last_motion_ = MotionStatus::Idle;
+  CoordinatorMode last_mode_ = CoordinatorMode::Topological;
+  std::string last_state_;
+  ros::Time last_status_, last_progress_, last_markers_, sim_start_;
+  std::chrono::steady_clock::time_point wall_start_;
+  std::atomic<bool> done_{false};
+  int exit_code_ = 0;
+};
+
+}  // namespace exploration
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "exploration");
+  ros::NodeHandle nh;        // starts the node (and its /clock subscription) ...
+  ros::Time::waitForValid();  // ... so that sim time can become valid
+  try {
+    exploration::ExplorationNode node;
+    node.setSimStart(ros::Time::now());
+    ros::spin();
+    return node.exitCode();
+  } catch (const std::exception& e) {
+    ROS_FATAL("exploration: %s", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,124 @@
+#include "ros_conversions.h"
+
+#include <cmath>
+
+namespace exploration {
+
+using laser_features::Pose2D;
+
+namespace {
+
+Eigen::Vector2d apply(const Pose2D& f, double x, double y) {
+  const double c = std::cos(f.theta), s = std::sin(f.theta);
+  return Eigen::Vector2d(f.x + c * x - s * y, f.y + s * x + c * y);
+}
+
+}  // namespace
+
+void scanPoints(const sensor_msgs::LaserScan& scan, const Pose2D& sensor_in_robot, std::vector<Eigen::Vector2d>* points) {
+  points->clear();
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    const double r = scan.ranges[i];
+    if (!std::isfinite(r) || r <= scan.range_min || r >= scan.range_max) continue;
+    const double a = scan.angle_min + double(i) * scan.angle_increment;
+    points->push_back(apply(sensor_in_robot, r * std::cos(a), r * std::sin(a)));
+  }
+}
+
+void featuresInRobot(const hybrid_slam_msgs::LaserFeatures& msg, const Pose2D& s,
+                     std::vector<laser_features::LineSegment>* lines, std::vector<laser_features::Opening>* openings,
+                     size_t* dropped) {
+  lines->clear();
+  openings->clear();
+  for (const auto& l : msg.lines) {
+    if (!std::isfinite(l.start.x) || !std::isfinite(l.start.y) || !std::isfinite(l.end.x) || !std::isfinite(l.end.y)) {
+      ++*dropped;
+      continue;
+    }
+    laser_features::LineSegment seg;
+    seg.start = apply(s, l.start.x, l.start.y);
+    seg.end = apply(s, l.end.x, l.end.y);
+    seg.num_points = l.num_points;
+    lines->push_back(seg);  // only the end points are used (the hallway's walls)
+  }
+  for (const auto& o : msg.openings) {
+    if (!std::isfinite(o.x) || !std::isfinite(o.y) || !std::isfinite(o.theta) || !std::isfinite(o.width) ||
+        !std::isfinite(o.left.x) || !std::isfinite(o.left.y) || !std::isfinite(o.right.x) || !std::isfinite(o.right.y)) {
+      ++*dropped;
+      continue;
+    }
+    laser_features::Opening op;
+    op.center = apply(s, o.x, o.y);
+    op.left = apply(s, o.left.x, o.left.y);
+    op.right = apply(s, o.right.x, o.right.y);
+    op.theta = laser_features::normalizeAngle(o.theta + s.theta);
+    op.width = o.width;
+    op.confidence = o.confidence;
+    op.kind = o.kind == hybrid_slam_msgs::OpeningFeature::DOOR       ? laser_features::OpeningKind::kDoor
+              : o.kind == hybrid_slam_msgs::OpeningFeature::JUNCTION ? laser_features::OpeningKind::kJunction
+                                                                     : laser_features::OpeningKind::kUnknown;
+    openings->push_back(op);
+  }
+}
+
+void fromMsg(const hybrid_slam_msgs::TopologicalMap& msg, TopoGraph* graph) {
+  graph->clear();
+  for (const auto& n : msg.nodes) {
+    GraphNode g;
+    g.id = n.id;
+    g.type = n.type;
+    g.x = n.pose.x;
+    g.y = n.pose.y;
+    g.place_id = n.place_id;
+    for (const auto& o : n.openings) g.openings.push_back(GraphOpening{o.bearing, o.width, bool(o.explored)});
+    graph->addNode(g);
+  }
+  for (const auto& e : msg.edges) graph->addEdge(GraphEdge{e.id, e.source, e.target, e.heading, e.length});
+}
+
+GraphPosition fromMsg(const hybrid_slam_msgs::TopologicalBelief& msg) {
+  GraphPosition p;
+  const int i = msg.most_likely;
+  if (i < 0 || size_t(i) >= msg.state_edge.size() || size_t(i) >= msg.at_node.size() ||
+      size_t(i) >= msg.state_offset.size() || size_t(i) >= msg.state_heading.size())
+    return p;
+  p.valid = true;
+  p.at_node = msg.at_node[size_t(i)];
+  p.id = msg.state_edge[size_t(i)];
+  p.offset = msg.state_offset[size_t(i)];
+  p.heading = msg.state_heading[size_t(i)];
+  return p;
+}
+
+void roomMarkers(const RoomExplorer& room, const std::string& frame, const ros::Time& stamp,
+                 visualization_msgs::MarkerArray* markers) {
+  markers->markers.clear();
+  const OccupancyGrid& grid = room.grid();
+  visualization_msgs::Marker occ;
+  occ.header.frame_id = frame;
+  occ.header.stamp = stamp;
+  occ.ns = "room_grid";
+  occ.id = 0;
+  occ.type = visualization_msgs::Marker::CUBE_LIST;
+  occ.action = visualization_msgs::Marker::ADD;
+  occ.pose.orientation.w = 1.0;
+  occ.scale.x = occ.scale.y = grid.resolution();
+  occ.scale.z = 0.02;
+  occ.color.r = 0.1f;
+  occ.color.g = 0.1f;
+  occ.color.b = 0.1f;
+  occ.color.a = 0.8f;
+  for (int y = grid.minY(); y < grid.minY() + grid.height(); ++y) {
+    for (int x = grid.minX(); x < grid.minX() + grid.width(); ++x) {
+      if (grid.cellState(x, y) != CellState::Occupied) continue;
+      const Eigen::Vector2d c = grid.cellCenter(x, y);
+      geometry_msgs::Point p;
+      p.x = c.x();
+      p.y = c.y();
+      occ.points.push_back(p);
+    }
+  }
+  markers->markers.push_back(occ);
+}
+
+}  // namespace exploration

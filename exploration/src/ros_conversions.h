@@ -1,0 +1,33 @@
+// Messages <-> the exploration core's types: the one place where ROS types meet the core.
+#pragma once
+
+#include <hybrid_slam_msgs/ExplorationStatus.h>
+#include <hybrid_slam_msgs/LaserFeatures.h>
+#include <hybrid_slam_msgs/TopologicalBelief.h>
+#include <hybrid_slam_msgs/TopologicalMap.h>
+#include <sensor_msgs/LaserScan.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "exploration/coordinator.h"
+
+namespace exploration {
+
+/// Scan points (finite returns) in the robot frame, given the laser's pose in it.
+void scanPoints(const sensor_msgs::LaserScan& scan, const laser_features::Pose2D& sensor_in_robot,
+                std::vector<Eigen::Vector2d>* points);
+
+/// Lines and openings of a features message (sensor frame) in the robot frame. Entries with
+/// non-finite numbers are dropped (counted in `dropped`).
+void featuresInRobot(const hybrid_slam_msgs::LaserFeatures& msg, const laser_features::Pose2D& sensor_in_robot,
+                     std::vector<laser_features::LineSegment>* lines, std::vector<laser_features::Opening>* openings,
+                     size_t* dropped);
+
+void fromMsg(const hybrid_slam_msgs::TopologicalMap& msg, TopoGraph* graph);
+/// The belief's most likely state (invalid when lost or empty).
+GraphPosition fromMsg(const hybrid_slam_msgs::TopologicalBelief& msg);
+
+/// The room being explored (its grid's free and occupied cells, the goal) in the place frame.
+void roomMarkers(const RoomExplorer& room, const std::string& frame, const ros::Time& stamp,
+                 visualization_msgs::MarkerArray* markers);
+
+}  // namespace exploration

@@ -1,0 +1,137 @@
+#include "exploration/topo_route.h"
+
+#include "laser_features/geometry.h"
+
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <utility>
+
+namespace exploration {
+
+using laser_features::kPi;
+using laser_features::normalizeAngle;
+
+void TopoGraph::clear() {
+  nodes_.clear();
+  edges_.clear();
+}
+
+void TopoGraph::addNode(const GraphNode& node) { nodes_[node.id] = node; }
+
+void TopoGraph::addEdge(const GraphEdge& edge) {
+  if (!nodes_.count(edge.source) || !nodes_.count(edge.target) || !std::isfinite(edge.length)) return;
+  edges_[edge.id] = edge;
+}
+
+const GraphNode* TopoGraph::node(uint32_t id) const {
+  auto it = nodes_.find(id);
+  return it == nodes_.end() ? nullptr : &it->second;
+}
+
+const GraphEdge* TopoGraph::edge(uint32_t id) const {
+  auto it = edges_.find(id);
+  return it == edges_.end() ? nullptr : &it->second;
+}
+
+bool TopoGraph::hasExit(uint32_t node, double heading, double tolerance) const {
+  for (const auto& entry : edges_) {
+    const GraphEdge& e = entry.second;
+    if (e.source == node && std::abs(normalizeAngle(e.heading - heading)) < tolerance) return true;
+    if (e.target == node && std::abs(normalizeAngle(e.heading + kPi - heading)) < tolerance) return true;
+  }
+  return false;
+}
+
+std::vector<GraphOpening> TopoGraph::unexplored(uint32_t id) const {
+  std::vector<GraphOpening> out;
+  const GraphNode* n = node(id);
+  if (n == nullptr) return out;
+  for (const GraphOpening& o : n->openings) {
+    if (!o.explored && !hasExit(id, o.bearing)) out.push_back(o);
+  }
+  return out;
+}
+
+size_t TopoGraph::unexploredCount() const {
+  size_t count = 0;
+  for (const auto& entry : nodes_) count += unexplored(entry.first).size();
+  return count;
+}
+
+size_t TopoGraph::exploredCount() const {
+  size_t count = 0;
+  for (const auto& entry : nodes_) {
+    for (const GraphOpening& o : entry.second.openings) count += o.explored || hasExit(entry.first, o.bearing);
+  }
+  return count;
+}
+
+int TopoGraph::nearestNode(const GraphPosition& pos) const {
+  if (!pos.valid) return -1;
+  if (pos.at_node) return node(pos.id) ? int(pos.id) : -1;
+  const GraphEdge* e = edge(pos.id);
+  if (e == nullptr) return -1;
+  const bool forward = std::abs(normalizeAngle(pos.heading - e->heading)) < 0.5 * kPi;
+  const double to_target = e->length - pos.offset;
+  if (std::abs(to_target - pos.offset) < 1e-9) return int(forward ? e->target : e->source);
+  return int(to_target < pos.offset ? e->target : e->source);
+}
+
+RouteStep TopoGraph::route(const GraphPosition& pos, double u_turn_cost) const {
+  RouteStep step;
+  if (!pos.valid) return step;
+  // Dijkstra from the robot's position; `first[n]` is the first node of the route to n and the
+  // heading the robot travels now to get there.
+  std::map<uint32_t, double> dist;
+  std::map<uint32_t, std::pair<uint32_t, double>> first;
+  using Item = std::pair<double, uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  auto relax = [&](uint32_t n, double d, std::pair<uint32_t, double> f) {
+    auto it = dist.find(n);
+    if (it != dist.end() && it->second <= d) return;
+    dist[n] = d;
+    first[n] = f;
+    queue.push({d, n});
+  };
+  if (pos.at_node) {
+    if (!node(pos.id)) return step;
+    relax(pos.id, 0.0, {pos.id, pos.heading});
+  } else {
+    const GraphEdge* e = edge(pos.id);
+    if (e == nullptr) return step;
+    const bool forward = std::abs(normalizeAngle(pos.heading - e->heading)) < 0.5 * kPi;
+    const double to_target = std::max(0.0, e->length - pos.offset);
+    const double to_source = std::max(0.0, pos.offset);
+    relax(e->target, to_target + (forward ? 0.0 : u_turn_cost), {e->target, e->heading});
+    relax(e->source, to_source + (forward ? u_turn_cost : 0.0), {e->source, normalizeAngle(e->heading + kPi)});
+  }
+  while (!queue.empty()) {
+    const Item top = queue.top();
+    queue.pop();
+    if (top.first > dist[top.second]) continue;
+    const uint32_t n = top.second;
+    const std::vector<GraphOpening> open = unexplored(n);
+    if (!open.empty()) {
+      step.found = true;
+      step.goal_node = n;
+      step.goal_bearing = open.front().bearing;
+      step.distance = top.first;
+      step.next_node = first[n].first;
+      step.heading = first[n].first == n && pos.at_node && pos.id == n ? open.front().bearing : first[n].second;
+      return step;
+    }
+    for (const auto& entry : edges_) {
+      const GraphEdge& e = entry.second;
+      if (e.source != n && e.target != n) continue;
+      const bool out = e.source == n;
+      const uint32_t other = out ? e.target : e.source;
+      const double heading = out ? e.heading : normalizeAngle(e.heading + kPi);
+      const auto f = (pos.at_node && n == pos.id) ? std::make_pair(other, heading) : first[n];
+      relax(other, top.first + e.length, f);
+    }
+  }
+  return step;
+}
+
+}  // namespace exploration

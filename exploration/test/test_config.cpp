@@ -1,0 +1,36 @@
+// config/exploration.yaml documents every parameter with the code's default: check they agree, and
+// that the YAML has no key the node does not read.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <set>
+
+#include "exploration/params_visit.h"
+
+TEST(Config, YamlDefaultsEqualTheCodeDefaults) {
+  const YAML::Node root = YAML::LoadFile(CONFIG_FILE);
+  exploration::ExplorationParams params;
+  std::set<std::string> visited;
+  exploration::visitParams(&params, [&](const char* name, auto* value) {
+    visited.insert(name);
+    const YAML::Node node = root[name];
+    ASSERT_TRUE(node.IsDefined() && node.IsScalar()) << name << " is not documented in " << CONFIG_FILE;
+    using T = std::remove_pointer_t<decltype(value)>;
+    EXPECT_NEAR(static_cast<double>(node.as<T>()), static_cast<double>(*value), 1e-12) << name;
+  });
+  const std::set<std::string> node_keys = {"odom_frame", "base_frame", "topo_node", "local_map_node", "control_rate",
+                                           "progress_period", "shutdown_when_done", "summary_file"};
+  for (const auto& kv : root) {
+    const std::string key = kv.first.as<std::string>();
+    EXPECT_TRUE(visited.count(key) || node_keys.count(key)) << "unknown key " << key;
+  }
+}
+
+TEST(Config, DefaultsAreValid) {
+  exploration::ExplorationParams p;
+  std::string why;
+  EXPECT_TRUE(exploration::Coordinator::validate(p.coordinator, &why)) << why;
+  EXPECT_TRUE(exploration::MotionController::validate(p.motion, &why)) << why;
+  p.coordinator.heading_bins = 6;
+  EXPECT_FALSE(exploration::Coordinator::validate(p.coordinator, &why));
+}

@@ -1,0 +1,114 @@
+// The route to the nearest unexplored opening on the topological graph.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "exploration/topo_route.h"
+
+using exploration::GraphEdge;
+using exploration::GraphNode;
+using exploration::GraphOpening;
+using exploration::GraphPosition;
+using exploration::TopoGraph;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A hallway along +x: 0 (start) -- 4 m -- 1 (door, north) -- 6 m -- 2 (junction, branch north)
+// -- 3 m -- 3 (hallway end).
+TopoGraph hallway(bool door_explored, bool branch_explored) {
+  TopoGraph g;
+  GraphNode n0{0, 4, 0.0, 0.0, -1, {}};
+  GraphNode n1{1, 0, 4.0, 0.0, -1, {GraphOpening{0.5 * kPi, 0.9, door_explored}}};
+  GraphNode n2{2, 1, 10.0, 0.0, -1, {GraphOpening{0.5 * kPi, 2.0, branch_explored}}};
+  GraphNode n3{3, 2, 13.0, 0.0, -1, {}};
+  g.addNode(n0);
+  g.addNode(n1);
+  g.addNode(n2);
+  g.addNode(n3);
+  g.addEdge(GraphEdge{0, 0, 1, 0.0, 4.0});
+  g.addEdge(GraphEdge{1, 1, 2, 0.0, 6.0});
+  g.addEdge(GraphEdge{2, 2, 3, 0.0, 3.0});
+  return g;
+}
+
+GraphPosition onEdge(uint32_t edge, double offset, double heading) {
+  GraphPosition p;
+  p.valid = true;
+  p.at_node = false;
+  p.id = edge;
+  p.offset = offset;
+  p.heading = heading;
+  return p;
+}
+
+}  // namespace
+
+TEST(TopoRoute, CountsUnexploredOpenings) {
+  EXPECT_EQ(hallway(false, false).unexploredCount(), 2u);
+  EXPECT_EQ(hallway(true, false).unexploredCount(), 1u);
+  EXPECT_EQ(hallway(true, true).unexploredCount(), 0u);
+  EXPECT_EQ(hallway(true, true).exploredCount(), 2u);
+}
+
+TEST(TopoRoute, ABranchWithAnEdgeInItsBearingIsExplored) {
+  TopoGraph g = hallway(true, false);
+  g.addNode(GraphNode{4, 2, 10.0, 5.0, -1, {}});
+  g.addEdge(GraphEdge{3, 4, 2, -0.5 * kPi, 5.0});  // reached from the north (a loop): arrives heading south
+  EXPECT_EQ(g.unexploredCount(), 0u);
+}
+
+TEST(TopoRoute, GoesToTheNearestUnexploredOpeningAheadOrBehind) {
+  const TopoGraph g = hallway(false, false);
+  // At 1 m past the door heading east: the door (1 m back) is nearer than the junction (5 m on),
+  // even with the U-turn's cost.
+  auto r = g.route(onEdge(1, 1.0, 0.0), 2.0);
+  ASSERT_TRUE(r.found);
+  EXPECT_EQ(r.goal_node, 1u);
+  EXPECT_NEAR(std::abs(r.heading), kPi, 1e-9);  // turn round
+  EXPECT_NEAR(r.distance, 3.0, 1e-9);
+  // At 4 m past the door: the junction, ahead.
+  r = g.route(onEdge(1, 4.0, 0.0), 2.0);
+  ASSERT_TRUE(r.found);
+  EXPECT_EQ(r.goal_node, 2u);
+  EXPECT_NEAR(r.heading, 0.0, 1e-9);
+  EXPECT_NEAR(r.distance, 2.0, 1e-9);
+}
+
+TEST(TopoRoute, AtTheGoalNodeTheStepIsTheOpening) {
+  const TopoGraph g = hallway(true, false);
+  GraphPosition at;
+  at.valid = true;
+  at.at_node = true;
+  at.id = 2;
+  at.heading = 0.0;
+  const auto r = g.route(at);
+  ASSERT_TRUE(r.found);
+  EXPECT_EQ(r.goal_node, 2u);
+  EXPECT_NEAR(r.heading, 0.5 * kPi, 1e-9);
+  // From the hallway end, heading back west along the edges.
+  at.id = 3;
+  at.heading = kPi;
+  const auto back = g.route(at);
+  ASSERT_TRUE(back.found);
+  EXPECT_EQ(back.goal_node, 2u);
+  EXPECT_EQ(back.next_node, 2u);
+  EXPECT_NEAR(std::abs(back.heading), kPi, 1e-9);
+}
+
+TEST(TopoRoute, NothingLeftOrNoPosition) {
+  EXPECT_FALSE(hallway(true, true).route(onEdge(1, 1.0, 0.0)).found);
+  GraphPosition lost;
+  EXPECT_FALSE(hallway(false, false).route(lost).found);
+  EXPECT_FALSE(hallway(false, false).route(onEdge(99, 1.0, 0.0)).found);
+  EXPECT_EQ(hallway(false, false).nearestNode(lost), -1);
+}
+
+TEST(TopoRoute, NearestNodeOfAnEdgePosition) {
+  const TopoGraph g = hallway(false, false);
+  EXPECT_EQ(g.nearestNode(onEdge(1, 1.0, 0.0)), 1);
+  EXPECT_EQ(g.nearestNode(onEdge(1, 5.0, 0.0)), 2);
+  EXPECT_EQ(g.nearestNode(onEdge(1, 3.0, 0.0)), 2);   // half-way: the one ahead
+  EXPECT_EQ(g.nearestNode(onEdge(1, 3.0, kPi)), 1);
+}

@@ -1,0 +1,159 @@
+#!/usr/bin/python3
+"""Evaluates an exploration (explore.launch) against the world file's ground truth.
+
+Ground truth is read here only (never by the stack): the rooms and doors of the world file, the
+simulator's ground_truth odometry. While the coordinator is METRIC in place k, the regions the robot
+is in say which room place k maps; the topological map's door nodes are matched to the world's
+doors (display poses in the start frame, within 1.5 m). At the end (status DONE, or shutdown) it
+writes a JSON file: rooms mapped / missed / mapped twice, doors found / missed, spurious door
+nodes, travel, times, map file sizes and bytes per square metre of floor.
+"""
+import collections
+import json
+import math
+import os
+
+import rospy
+import yaml
+from hybrid_slam_msgs.msg import ExplorationStatus, TopologicalMap
+from nav_msgs.msg import Odometry
+
+METRIC, DONE = 1, 3
+
+
+def inside(polygon, x, y):
+    c = False
+    n = len(polygon)
+    for i in range(n):
+        (x1, y1), (x2, y2) = polygon[i], polygon[(i + 1) % n]
+        if (y1 > y) != (y2 > y) and x < (x2 - x1) * (y - y1) / (y2 - y1) + x1:
+            c = not c
+    return c
+
+
+def area(polygon):
+    return 0.5 * abs(sum(polygon[i][0] * polygon[(i + 1) % len(polygon)][1] -
+                         polygon[(i + 1) % len(polygon)][0] * polygon[i][1] for i in range(len(polygon))))
+
+
+class ExplorationEvaluator:
+    def __init__(self):
+        with open(rospy.get_param('~world_file')) as f:
+            self.world = yaml.safe_load(f)
+        self.output = rospy.get_param('~output', '')
+        self.map_file = rospy.get_param('~map_file', '')
+        self.regions = self.world.get('regions', [])
+        self.kinds = {r['name']: r['kind'] for r in self.regions}
+        self.start = self.world['robot']['start']
+        self.truth = None
+        self.travel = 0.0
+        self.place_regions = collections.defaultdict(collections.Counter)
+        self.status = None
+        self.map = None
+        self.t0 = None
+        self.written = False
+        rospy.Subscriber('ground_truth', Odometry, self.on_truth, queue_size=200)
+        rospy.Subscriber('exploration_status', ExplorationStatus, self.on_status, queue_size=50)
+        rospy.Subscriber('topological_map', TopologicalMap, self.on_map, queue_size=2)
+        rospy.on_shutdown(self.write)
+
+    def region_at(self, x, y):
+        for r in self.regions:
+            if inside(r['polygon'], x, y):
+                return r['name']
+        return None
+
+    def on_truth(self, msg):
+        p = msg.pose.pose.position
+        if self.truth is not None:
+            step = math.hypot(p.x - self.truth[0], p.y - self.truth[1])
+            if step < 0.5:
+                self.travel += step
+        self.truth = (p.x, p.y)
+        if self.t0 is None:
+            self.t0 = msg.header.stamp.to_sec()
+        if self.status is not None and self.status.mode == METRIC and self.status.current_place >= 0:
+            r = self.region_at(p.x, p.y)
+            if r is not None and self.kinds[r] == 'room':
+                self.place_regions[self.status.current_place][r] += 1
+
+    def on_status(self, msg):
+        self.status = msg
+        if msg.mode == DONE and not self.written:
+            rospy.sleep(1.0)  # the final map messages
+            self.write()
+
+    def on_map(self, msg):
+        self.map = msg
+
+    def to_map(self, x, y):
+        sx, sy, syaw = self.start
+        dx, dy = x - sx, y - sy
+        c, s = math.cos(syaw), math.sin(syaw)
+        return c * dx + s * dy, -s * dx + c * dy
+
+    def summary(self):
+        rooms = sorted(r['name'] for r in self.regions if r['kind'] == 'room')
+        place_room = {k: c.most_common(1)[0][0] for k, c in self.place_regions.items() if c}
+        per_room = collections.Counter(place_room.values())
+        # Doors between a room and a hallway: the ones a hallway exploration can find.
+        doors = [d for d in self.world.get('doors', [])
+                 if sorted(self.kinds.get(b) for b in d['between']) == ['hallway', 'room']]
+        door_nodes = [n for n in (self.map.nodes if self.map else []) if n.type == 0]
+        used = set()
+        found, missed = 0, []
+        for d in doors:
+            mx, my = self.to_map(*d['center'])
+            best = None
+            for n in door_nodes:
+                dist = math.hypot(n.pose.x - mx, n.pose.y - my)
+                if n.id not in used and dist <= 1.5 and (best is None or dist < best[0]):
+                    best = (dist, n.id)
+            if best is None:
+                missed.append(d['between'])
+            else:
+                used.add(best[1])
+                found += 1
+        floor = sum(area(r['polygon']) for r in self.regions)
+        sizes = {}
+        for name, path in (('topological_map_bytes', self.map_file), ('places_bytes', self.map_file + '.places')):
+            sizes[name] = os.path.getsize(path) if path and os.path.exists(path) else None
+        total = sum(v for v in sizes.values() if v)
+        s = self.status
+        out = {
+            'world': self.world['name'],
+            'complete': bool(s is not None and s.mode == DONE and s.openings_unexplored == 0),
+            'rooms': len(rooms), 'rooms_mapped': len(per_room),
+            'rooms_missed': [r for r in rooms if r not in per_room],
+            'rooms_mapped_twice': {r: n for r, n in per_room.items() if n > 1},
+            'places': s.places if s else 0, 'places_in_no_room': sorted(k for k in range(s.places if s else 0)
+                                                                        if k not in place_room),
+            'hallway_doors': len(doors), 'doors_found': found, 'doors_missed': missed,
+            'spurious_door_nodes': [n.id for n in door_nodes if n.id not in used],
+            'nodes': len(self.map.nodes) if self.map else 0, 'edges': len(self.map.edges) if self.map else 0,
+            'openings_explored': s.openings_explored if s else 0,
+            'openings_unexplored': s.openings_unexplored if s else 0,
+            'travel_m': round(self.travel, 1),
+            'sim_time_s': round(s.header.stamp.to_sec() - self.t0, 1) if s and self.t0 else None,
+            'real_time_factor': round(s.real_time_factor, 2) if s else None,
+            'floor_m2': round(floor, 1), 'map_bytes': total,
+            'bytes_per_m2': round(total / floor, 1) if floor > 0 and total else None,
+        }
+        out.update(sizes)
+        return out
+
+    def write(self):
+        if self.written:
+            return
+        self.written = True
+        out = self.summary()
+        if self.output:
+            with open(self.output, 'w') as f:
+                json.dump(out, f, indent=1)
+        rospy.loginfo('evaluate_exploration: %s', json.dumps(out))
+
+
+if __name__ == '__main__':
+    rospy.init_node('evaluate_exploration')
+    ExplorationEvaluator()
+    rospy.spin()
