@@ -52,6 +52,7 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
   if (!(p.room_replan_period >= 0.0)) return fail("room_replan_period must be >= 0");
   if (!(p.settle_time >= 0.0 && p.room_time_limit > 0.0 && p.exit_time_limit > 0.0 && p.max_time >= 0.0))
     return fail("settle_time and max_time must be >= 0, room_time_limit and exit_time_limit > 0");
+  if (p.max_route_attempts < 1) return fail("max_route_attempts must be >= 1");
   if (!(p.branch_record_distance >= 0.0 && p.u_turn_cost >= 0.0 && p.goal_refresh_distance > 0.0))
     return fail("branch_record_distance and u_turn_cost must be >= 0, goal_refresh_distance > 0");
   return RoomExplorer::validate(p.room, error);
@@ -108,7 +109,9 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
       d.stop = true;
       if (topo.valid && topo.heading_valid && !topo.mode.empty()) {
         bin_ = binOf(p.odom.theta + topo.heading_offset);
-        if (topo.mode == "frontier") {
+        const double back = normalizeAngle(odomHeadingOfBin(bin_ + params_.heading_bins / 2, topo) - p.odom.theta);
+        const double free_back = freeDistance(p.points, back, params_.hallway.ahead_sector, 15.0);
+        if (topo.mode == "frontier" && free_back > params_.end_distance + 1.0) {
           // The robot starts mid-hallway: the way behind it is an unexplored opening of the start node.
           Request r;
           r.kind = Request::RecordOpening;
@@ -147,9 +150,10 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
         mode_ = CoordinatorMode::Metric;
         hallway_pose_odom_ = p.odom;
         hallway_bin_ = bin_;
-        door_bearing_map_ = normalizeAngle(door_.into_odom + topo.heading_offset);
+        door_bearing_map_ = enter_bearing_;
         Request rec;
         rec.kind = Request::RecordOpening;
+        rec.node = enter_node_;
         rec.bearing = door_bearing_map_;
         rec.width = door_.width;
         d.requests.push_back(rec);
@@ -177,6 +181,7 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
       }
       // The place's origin is the robot's pose now (it stood still): the door in the robot frame is
       // the door in the place.
+      place_origin_odom_ = p.odom;
       const Pose2D robot_inv = inverse(p.odom);
       const Eigen::Vector2d c = apply(robot_inv, door_.centre_odom);
       door_in_place_ = Pose2D{c.x(), c.y(), normalizeAngle(door_.into_odom - p.odom.theta)};
@@ -198,6 +203,8 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
     case State::Room:
     case State::ExitPath:
     case State::ExitDoor:
+      reached_ = motion_reached;
+      blocked_ = motion_blocked;
       room(p, &d);
       if (state_ == State::Follow) {
         // Back on the hallway's mid-line: the room is done.
@@ -249,6 +256,20 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
       // Not again soon after a turn: a belief flickering between two edges would swing the robot.
       if (++route_behind_ticks_ >= 5 && travel_ - last_turn_travel_ > 3.0) {
         route_behind_ticks_ = 0;
+        // An opening the robot keeps turning round for (it passes its node without taking it:
+        // the door is not seen, or the belief flickers) is given up after max_route_attempts.
+        if (++route_attempts_[route.goal_node] > params_.max_route_attempts) {
+          Request give_up;
+          give_up.kind = Request::RecordOpening;
+          give_up.node = int(route.goal_node);
+          give_up.bearing = route.goal_bearing;
+          give_up.explored = true;
+          d->requests.push_back(give_up);
+          ++stats_.openings_given_up;
+          route_attempts_.erase(route.goal_node);
+          state_text_ = "gave up an opening of node " + std::to_string(route.goal_node);
+          return;
+        }
         ++stats_.u_turns;
         startTurn(bin_ + params_.heading_bins / 2, p, topo, {});
         state_text_ = "turning round towards node " + std::to_string(route.goal_node) + " (" +
@@ -278,29 +299,22 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     ++stats_.doors_passed;
   }
 
-  // A side branch the route takes, abeam now.
+  // A side branch the route takes at the node the robot is at now (the side must be open: the
+  // branch's mouth is beside the robot).
   if (route.found && sure) {
-    const int route_bin = binOf(route.heading);
+    const int route_bin = binOf(route.next_heading);
     const int n = params_.heading_bins;
     const bool left = route_bin == (bin_ + n / 4) % n, right = route_bin == (bin_ + 3 * n / 4) % n;
-    if ((left && v.open_left) || (right && v.open_right)) {
-      const int near = graph_.nearestNode(topo.position);
-      const bool at_goal = near >= 0 && (uint32_t(near) == route.next_node);
-      bool abeam = false;
-      for (const auto& o : p.openings) {
-        if (o.width <= params_.door_max_width) continue;
-        const double along = o.center.dot(unit(dir_robot));
-        const double lateral = o.center.dot(unit(dir_robot + 0.5 * kPi));
-        if (std::abs(along) < 0.4 && (left ? lateral > 0.0 : lateral < 0.0)) abeam = true;
-      }
-      if (at_goal && abeam) {
-        startTurn(route_bin, p, topo, {});
-        d->has_goal = true;
-        d->x = p.odom.x;
-        d->y = p.odom.y;
-        d->theta = turn_odom_heading_;
-        return;
-      }
+    const int near = graph_.nearestNode(topo.position);
+    if (((left && v.open_left) || (right && v.open_right)) && near >= 0 && uint32_t(near) == route.next_node) {
+      startTurn(route_bin, p, topo, {});
+      state_text_ = "turning into the branch of node " + std::to_string(near) + " towards node " +
+                    std::to_string(route.goal_node);
+      d->has_goal = true;
+      d->x = p.odom.x;
+      d->y = p.odom.y;
+      d->theta = turn_odom_heading_;
+      return;
     }
   }
 
@@ -350,7 +364,8 @@ void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const H
   if (localized && topo.confident) {
     const RouteStep r = graph_.route(topo.position, params_.u_turn_cost);
     if (r.found) {
-      const int rb = binOf(r.heading);
+      const int near = graph_.nearestNode(topo.position);
+      const int rb = binOf(near >= 0 && uint32_t(near) == r.next_node ? r.next_heading : r.heading);
       if (std::find(open.begin(), open.end(), rb) != open.end()) choice = rb;
     }
   }
@@ -430,14 +445,20 @@ bool Coordinator::doorPassed(const Perception& p, double dir_robot, DoorTrack* d
   return false;
 }
 
-bool Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) const {
-  if (topo.mode == "frontier") return true;  // a door on a new stretch is new
+bool Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) {
+  enter_node_ = -1;
+  enter_bearing_ = normalizeAngle(door.into_odom + topo.heading_offset);
+  if (topo.mode == "frontier") return true;  // a door on a new stretch is new: its node is pomdp_topo's current one
   if (topo.mode != "localized" || !topo.confident) return false;
   const int n = graph_.nearestNode(topo.position);
   if (n < 0) return false;
-  const double bearing = normalizeAngle(door.into_odom + topo.heading_offset);
   for (const GraphOpening& o : graph_.unexplored(uint32_t(n))) {
-    if (std::abs(normalizeAngle(o.bearing - bearing)) < 0.5) return true;
+    if (std::abs(normalizeAngle(o.bearing - enter_bearing_)) < 0.5) {
+      // A known door not explored yet: the records go to that node and that opening.
+      enter_node_ = n;
+      enter_bearing_ = o.bearing;
+      return true;
+    }
   }
   return false;
 }
@@ -464,10 +485,17 @@ void Coordinator::goalInPlace(const Perception& p, const Eigen::Vector2d& g, std
 
 void Coordinator::room(const Perception& p, Decision* d) {
   mode_ = CoordinatorMode::Metric;
+  Perception q = p;
   if (!p.room_pose_valid || !finite(p.room_pose)) {
-    d->stop = true;  // the EKF's pose comes with the place's first features
-    return;
+    // No EKF pose for this scan (it comes with the place's first features; or the EKF lags):
+    // odometry from the place's origin stands in (rooms are small, its drift too).
+    q.room_pose = compose(inverse(place_origin_odom_), p.odom);
+    q.room_pose_valid = true;
   }
+  roomStep(q, d);
+}
+
+void Coordinator::roomStep(const Perception& p, Decision* d) {
   const Pose2D sensor = compose(p.room_pose, p.sensor_in_robot);
   if (!p.ranges.empty()) room_.addScan(sensor, p.ranges, p.angle_min, p.angle_increment);
   const Eigen::Vector2d robot(p.room_pose.x, p.room_pose.y);
@@ -513,22 +541,37 @@ void Coordinator::room(const Perception& p, Decision* d) {
     while (exit_index_ < exit_path_.size() && (exit_path_[exit_index_] - robot).norm() < 0.3) ++exit_index_;
     if (exit_index_ >= exit_path_.size() || now_ - state_since_ > params_.exit_time_limit) {
       setState(State::ExitDoor, "through the door back to the hallway");
+      exit_step_ = 0;
+      exit_step_since_ = now_;
     } else {
       goalInPlace(p, exit_path_[exit_index_], std::nullopt, d);
       return;
     }
   }
-  // ExitDoor: through the door (on its axis) back to where the robot left the hallway (the place's
-  // origin), with the hallway's heading.
-  const Eigen::Vector2d inside = door + 0.6 * into;
-  const bool outside = (robot - door).dot(into) < -0.3;
-  if (!outside && (robot - inside).norm() > 0.3 && (robot - door).dot(into) > 0.0 && now_ - state_since_ < 20.0) {
-    goalInPlace(p, inside, door_in_place_.theta + kPi, d);
-    return;
+  // ExitDoor: through the door on its axis (a point inside, a point outside) back to where the robot
+  // left the hallway (the place's origin) with the hallway's heading. Each step ends when reached,
+  // when the controller is blocked, or after a third of exit_time_limit.
+  const Eigen::Vector2d steps[2] = {door + 0.6 * into, door - 0.7 * into};
+  const bool step_timeout = now_ - exit_step_since_ > params_.exit_time_limit / 3.0;
+  if (exit_step_ < 2) {
+    const Eigen::Vector2d& w = steps[exit_step_];
+    const bool past = exit_step_ == 0 && (robot - door).dot(into) < 0.6;  // already nearer the door
+    if ((robot - w).norm() < 0.25 || past || blocked_ || step_timeout) {
+      ++exit_step_;
+      exit_step_since_ = now_;
+    } else {
+      goalInPlace(p, w, std::nullopt, d);
+      return;
+    }
+    if (exit_step_ < 2) {
+      goalInPlace(p, steps[exit_step_], std::nullopt, d);
+      return;
+    }
   }
   goalInPlace(p, Eigen::Vector2d::Zero(), exit_theta_place_, d);
   const double err = std::abs(normalizeAngle(exit_theta_place_ - p.room_pose.theta));
-  if ((robot.norm() < 0.15 && err < 0.1) || now_ - state_since_ > params_.exit_time_limit) {
+  const bool back = (robot.norm() < 0.2 && err < 0.15) || (reached_ && err < 0.2);
+  if (back || step_timeout || now_ - state_since_ > params_.exit_time_limit) {
     Request rec;
     rec.kind = Request::RecordOpening;
     rec.node = door_node_;
@@ -542,7 +585,8 @@ void Coordinator::room(const Perception& p, Decision* d) {
     have_goal_ = false;
     mode_ = CoordinatorMode::Topological;
     last_turn_time_ = now_;
-    setState(State::Follow, "following the hallway");
+    last_turn_travel_ = travel_;
+    setState(State::Follow, back ? "following the hallway" : "following the hallway (the way back was not reached exactly)");
   }
 }
 

@@ -81,30 +81,31 @@ int TopoGraph::nearestNode(const GraphPosition& pos) const {
 RouteStep TopoGraph::route(const GraphPosition& pos, double u_turn_cost) const {
   RouteStep step;
   if (!pos.valid) return step;
-  // Dijkstra from the robot's position; `first[n]` is the first node of the route to n and the
-  // heading the robot travels now to get there.
+  // Dijkstra from the robot's position. prev[n]: the node before n on the best route and the
+  // heading leaving it towards n (kStart: n is a first node, reached from the robot directly).
+  constexpr uint32_t kStart = 0xffffffffu;
   std::map<uint32_t, double> dist;
-  std::map<uint32_t, std::pair<uint32_t, double>> first;
+  std::map<uint32_t, std::pair<uint32_t, double>> prev;
   using Item = std::pair<double, uint32_t>;
   std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-  auto relax = [&](uint32_t n, double d, std::pair<uint32_t, double> f) {
+  auto relax = [&](uint32_t n, double d, uint32_t from, double heading) {
     auto it = dist.find(n);
     if (it != dist.end() && it->second <= d) return;
     dist[n] = d;
-    first[n] = f;
+    prev[n] = {from, heading};
     queue.push({d, n});
   };
   if (pos.at_node) {
     if (!node(pos.id)) return step;
-    relax(pos.id, 0.0, {pos.id, pos.heading});
+    relax(pos.id, 0.0, kStart, pos.heading);
   } else {
     const GraphEdge* e = edge(pos.id);
     if (e == nullptr) return step;
     const bool forward = std::abs(normalizeAngle(pos.heading - e->heading)) < 0.5 * kPi;
     const double to_target = std::max(0.0, e->length - pos.offset);
     const double to_source = std::max(0.0, pos.offset);
-    relax(e->target, to_target + (forward ? 0.0 : u_turn_cost), {e->target, e->heading});
-    relax(e->source, to_source + (forward ? u_turn_cost : 0.0), {e->source, normalizeAngle(e->heading + kPi)});
+    relax(e->target, to_target + (forward ? 0.0 : u_turn_cost), kStart, e->heading);
+    relax(e->source, to_source + (forward ? u_turn_cost : 0.0), kStart, normalizeAngle(e->heading + kPi));
   }
   while (!queue.empty()) {
     const Item top = queue.top();
@@ -117,18 +118,25 @@ RouteStep TopoGraph::route(const GraphPosition& pos, double u_turn_cost) const {
       step.goal_node = n;
       step.goal_bearing = open.front().bearing;
       step.distance = top.first;
-      step.next_node = first[n].first;
-      step.heading = first[n].first == n && pos.at_node && pos.id == n ? open.front().bearing : first[n].second;
+      // Back along the route to its first node: that node's heading is the one to travel now; the
+      // heading leaving it is the next step's (or the opening's, at the goal).
+      uint32_t first = n, after = n;
+      double leave = step.goal_bearing;
+      while (prev[first].first != kStart) {
+        after = first;
+        first = prev[first].first;
+        leave = prev[after].second;
+      }
+      step.next_node = first;
+      step.heading = pos.at_node && pos.id == first ? leave : prev[first].second;
+      step.next_heading = first == n ? step.goal_bearing : leave;
       return step;
     }
     for (const auto& entry : edges_) {
       const GraphEdge& e = entry.second;
       if (e.source != n && e.target != n) continue;
       const bool out = e.source == n;
-      const uint32_t other = out ? e.target : e.source;
-      const double heading = out ? e.heading : normalizeAngle(e.heading + kPi);
-      const auto f = (pos.at_node && n == pos.id) ? std::make_pair(other, heading) : first[n];
-      relax(other, top.first + e.length, f);
+      relax(out ? e.target : e.source, top.first + e.length, n, out ? e.heading : normalizeAngle(e.heading + kPi));
     }
   }
   return step;

@@ -93,8 +93,33 @@ TEST(TopoRoute, AtTheGoalNodeTheStepIsTheOpening) {
   const auto back = g.route(at);
   ASSERT_TRUE(back.found);
   EXPECT_EQ(back.goal_node, 2u);
-  EXPECT_EQ(back.next_node, 2u);
+  EXPECT_EQ(back.next_node, 3u);  // at a node, the step starts there
   EXPECT_NEAR(std::abs(back.heading), kPi, 1e-9);
+  EXPECT_NEAR(std::abs(back.next_heading), kPi, 1e-9);
+}
+
+TEST(TopoRoute, TheHeadingToLeaveTheNextNodeTurnsIntoTheBranch) {
+  // From the door (node 1) heading east, the route to a door up the branch of junction 2: at
+  // node 2 the robot must turn north.
+  TopoGraph g = hallway(true, true);
+  g.addNode(GraphNode{4, 0, 10.0, 6.0, -1, {GraphOpening{kPi, 0.9, false}}});
+  g.addEdge(GraphEdge{3, 2, 4, 0.5 * kPi, 6.0});
+  const auto r = g.route(onEdge(1, 2.0, 0.0));
+  ASSERT_TRUE(r.found);
+  EXPECT_EQ(r.goal_node, 4u);
+  EXPECT_EQ(r.next_node, 2u);
+  EXPECT_NEAR(r.heading, 0.0, 1e-9);
+  EXPECT_NEAR(r.next_heading, 0.5 * kPi, 1e-9);
+  EXPECT_NEAR(r.distance, 10.0, 1e-9);
+  // Once at node 2, the step itself turns north; the goal's opening comes after.
+  GraphPosition at;
+  at.valid = true;
+  at.at_node = true;
+  at.id = 2;
+  at.heading = 0.0;
+  const auto s = g.route(at);
+  EXPECT_EQ(s.next_node, 2u);
+  EXPECT_NEAR(s.heading, 0.5 * kPi, 1e-9);
 }
 
 TEST(TopoRoute, NothingLeftOrNoPosition) {

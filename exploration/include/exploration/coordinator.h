@@ -33,6 +33,7 @@
 
 #include <Eigen/Core>
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -60,6 +61,7 @@ struct CoordinatorParams {
   double exit_time_limit = 120.0;    // s, leaving a room takes at most this, else the door is retried once
   double branch_record_distance = 1.0;  // m travelled after a turn before the ways not taken are recorded
   double u_turn_cost = 2.0;          // m, route cost of turning back on an edge
+  int max_route_attempts = 3;        // -, turns round towards one node's opening before it is given up
   double goal_refresh_distance = 0.25;  // m, the hallway goal is re-sent when it moved this much
   double max_time = 0.0;             // s, the exploration gives up after this (sim time); 0: no limit
 };
@@ -121,6 +123,7 @@ struct CoordinatorStats {
   int rooms_left_early = 0;   // rooms whose exploration hit the time limit
   int doors_entered = 0;
   int doors_passed = 0;       // doors not entered (explored already, or the belief unconfident)
+  int openings_given_up = 0;  // openings the route kept missing (see max_route_attempts)
   int turns = 0, u_turns = 0;
   double travel = 0.0;        // m, odometric
   double room_free_area = 0.0;  // m^2, sum over the rooms' grids
@@ -172,9 +175,10 @@ class Coordinator {
   void decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d);
   void trackDoors(const Perception& p, double dir_robot);
   bool doorPassed(const Perception& p, double dir_robot, DoorTrack* door);
-  bool mayEnter(const TopoView& topo, const DoorTrack& door) const;
+  bool mayEnter(const TopoView& topo, const DoorTrack& door);
   void startTurn(int bin, const Perception& p, const TopoView& topo, std::vector<int> not_taken);
   void room(const Perception& p, Decision* d);
+  void roomStep(const Perception& p, Decision* d);  // with the robot's pose in the place
   void goalInPlace(const Perception& p, const Eigen::Vector2d& g, std::optional<double> theta, Decision* d) const;
   void finish(bool success, const std::string& why, Decision* d);
 
@@ -196,7 +200,10 @@ class Coordinator {
   bool have_goal_ = false;
   Eigen::Vector2d last_goal_ = Eigen::Vector2d::Zero();
   std::vector<DoorTrack> doors_;
-  int route_behind_ticks_ = 0;   // consecutive ticks the route pointed back (U-turn hysteresis)
+  int route_behind_ticks_ = 0;
+  std::map<uint32_t, int> route_attempts_;  // U-turns towards each goal node
+  int enter_node_ = -1;                     // the known door's node being entered (-1: a new door)
+  double enter_bearing_ = 0.0;              // rad, map frame, its opening's bearing   // consecutive ticks the route pointed back (U-turn hysteresis)
   double last_turn_time_ = -1e9;
   double last_turn_travel_ = -1e9;  // m, travel_ at the last turn
   // Turning.
@@ -217,6 +224,10 @@ class Coordinator {
   bool place_ok_ = false;
   std::vector<Eigen::Vector2d> exit_path_;  // place frame
   size_t exit_index_ = 0;
+  int exit_step_ = 0;               // ExitDoor: 0 inside the door, 1 outside, 2 back on the hallway
+  double exit_step_since_ = 0.0;
+  laser_features::Pose2D place_origin_odom_;  // the place's origin in the odometry frame
+  bool reached_ = false, blocked_ = false;    // the motion controller's last status
   double last_room_plan_ = -1e9;
   std::optional<Eigen::Vector2d> room_goal_;
   bool exit_retried_ = false;

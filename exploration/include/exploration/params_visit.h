@@ -32,6 +32,7 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("exit_time_limit", &c.exit_time_limit);
   visit("branch_record_distance", &c.branch_record_distance);
   visit("u_turn_cost", &c.u_turn_cost);
+  visit("max_route_attempts", &c.max_route_attempts);
   visit("goal_refresh_distance", &c.goal_refresh_distance);
   visit("max_time", &c.max_time);
   HallwayViewParams& h = c.hallway;

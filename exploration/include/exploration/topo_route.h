@@ -55,6 +55,8 @@ struct RouteStep {
   double distance = 0.0;        // m, along the edges to the goal node
   uint32_t next_node = 0;       // the node the step leads to (the goal node when at it)
   double heading = 0.0;         // rad, map frame, the heading to travel now
+  double next_heading = 0.0;    // rad, map frame, the heading to leave next_node by (the goal's
+                                // opening when next_node is the goal)
 };
 
 class TopoGraph {
@@ -80,7 +82,7 @@ class TopoGraph {
   int nearestNode(const GraphPosition& pos) const;
 
   /// The route from `pos` to the nearest unexplored opening (distance along the edges; a U-turn on
-  /// an edge costs `u_turn_cost` m). Nodes in `skip` are not goals (e.g. openings that failed).
+  /// an edge costs `u_turn_cost` m).
   RouteStep route(const GraphPosition& pos, double u_turn_cost = 2.0) const;
 
  private:

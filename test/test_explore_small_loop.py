@@ -1,0 +1,42 @@
+#!/usr/bin/python3
+"""rostest: a complete exploration of small_loop (explore.launch) against the world's ground truth."""
+import json
+import os
+import time
+import unittest
+
+import rospy
+import rostest
+
+
+class ExploreSmallLoop(unittest.TestCase):
+    def test_complete_exploration(self):
+        path = rospy.get_param('~result')
+        if os.path.exists(path):  # a result of an earlier run must not count
+            os.remove(path)
+        deadline = time.time() + 360.0
+        result = None
+        while time.time() < deadline and not rospy.is_shutdown() and result is None:
+            if os.path.exists(path):
+                time.sleep(0.5)
+                with open(path) as f:
+                    try:
+                        result = json.load(f)
+                    except ValueError:
+                        result = None
+            time.sleep(1.0)
+        self.assertIsNotNone(result, 'no evaluation written: the exploration did not end')
+        print(json.dumps(result))
+        self.assertTrue(result['complete'], 'the exploration ended incomplete')
+        self.assertEqual(result['rooms_missed'], [])
+        self.assertEqual(result['rooms_mapped_twice'], {})
+        self.assertEqual(result['places_in_no_room'], [])
+        self.assertEqual(result['doors_found'], result['hallway_doors'], 'missed: %s' % result['doors_missed'])
+        self.assertEqual(result['spurious_door_nodes'], [])
+        self.assertGreater(result['topological_map_bytes'] or 0, 0, 'the topological map was not saved')
+        self.assertGreater(result['places_bytes'] or 0, 0, 'the places were not saved')
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_explore_small_loop')
+    rostest.rosrun('hybrid_slam', 'explore_small_loop', ExploreSmallLoop)
