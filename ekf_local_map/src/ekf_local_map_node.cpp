@@ -68,6 +68,7 @@ class LocalMapNode {
     pose_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("local_pose", 10);
     map_pub_ = nh_.advertise<hybrid_slam_msgs::LocalMap>("local_map", 2, true);
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("local_map_markers", 2);
+    places_markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("places_markers", 1, true);
     relocation_pub_ = nh_.advertise<hybrid_slam_msgs::RelocationResult>("relocation", 10);
     features_sub_ = nh_.subscribe("features", 10, &LocalMapNode::onFeatures, this);
     services_ = {
@@ -186,6 +187,29 @@ class LocalMapNode {
     }
   }
 
+  /// Every place's lines in its own frame (latched): the hybrid map's metric part, e.g. for a saved
+  /// map shown without a robot (view_map.launch). Sent when a place is closed and after a load.
+  void publishAllPlaces() {
+    visualization_msgs::MarkerArray all, one;
+    visualization_msgs::Marker clear;
+    clear.header.frame_id = map_frame_;
+    clear.header.stamp = ros::Time::now();
+    clear.action = visualization_msgs::Marker::DELETEALL;
+    all.markers.push_back(clear);
+    for (const auto& [id, place] : maps_.places()) {
+      std_msgs::Header header;
+      header.stamp = clear.header.stamp;
+      header.frame_id = placeFrame(id);
+      toMarkers(place.map, header, &one);
+      for (auto& m : one.markers) {
+        if (m.ns != "lines") continue;  // not the DELETEALL nor the robot of each place
+        m.ns = "place_" + std::to_string(id);
+        all.markers.push_back(m);
+      }
+    }
+    places_markers_pub_.publish(all);
+  }
+
   void publishPlaceFrames() {
     std::vector<geometry_msgs::TransformStamped> frames;
     for (const auto& [id, place] : maps_.places()) {
@@ -233,6 +257,7 @@ class LocalMapNode {
 
   bool onClose(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
     maps_.close();
+    publishAllPlaces();
     res.success = true;
     res.message = "no place active (topological mode)";
     if (!map_file_.empty()) {
@@ -269,6 +294,7 @@ class LocalMapNode {
     maps_.swap(loaded);
     last_odom_.reset();
     publishPlaceFrames();
+    publishAllPlaces();
     *message = "loaded " + std::to_string(maps_.size()) + " places from " + path;
     return true;
   }
@@ -309,7 +335,7 @@ class LocalMapNode {
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
-  ros::Publisher pose_pub_, map_pub_, markers_pub_, relocation_pub_;
+  ros::Publisher pose_pub_, map_pub_, markers_pub_, places_markers_pub_, relocation_pub_;
   ros::Subscriber features_sub_;
   std::vector<ros::ServiceServer> services_;
 };

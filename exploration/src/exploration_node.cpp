@@ -174,11 +174,12 @@ class ExplorationNode {
       last_progress_ = msg->header.stamp;
       printProgress(msg->header.stamp);
     }
-    if (coordinator_->mode() == CoordinatorMode::Metric && coordinator_->currentPlace() >= 0 &&
-        markers_pub_.getNumSubscribers() > 0 && (msg->header.stamp - last_markers_).toSec() > 1.0) {
+    if (markers_pub_.getNumSubscribers() > 0 && (msg->header.stamp - last_markers_).toSec() > 1.0) {
       last_markers_ = msg->header.stamp;
       visualization_msgs::MarkerArray m;
-      roomMarkers(coordinator_->room(), "place_" + std::to_string(coordinator_->currentPlace()), msg->header.stamp, &m);
+      if (coordinator_->mode() == CoordinatorMode::Metric && coordinator_->currentPlace() >= 0)
+        roomMarkers(coordinator_->room(), "place_" + std::to_string(coordinator_->currentPlace()), msg->header.stamp, &m);
+      m.markers.push_back(modeMarker(coordinator_->mode(), coordinator_->state(), base_frame_, msg->header.stamp));
       markers_pub_.publish(m);
     }
   }

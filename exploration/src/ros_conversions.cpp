@@ -121,4 +121,25 @@ void roomMarkers(const RoomExplorer& room, const std::string& frame, const ros::
   markers->markers.push_back(occ);
 }
 
+visualization_msgs::Marker modeMarker(CoordinatorMode mode, const std::string& state, const std::string& robot_frame,
+                                      const ros::Time& stamp) {
+  visualization_msgs::Marker m;
+  m.header.frame_id = robot_frame;
+  m.header.stamp = stamp;
+  m.ns = "mode";
+  m.id = 0;
+  m.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.position.z = 1.0;
+  m.pose.orientation.w = 1.0;
+  m.scale.z = 0.5;
+  const bool metric = mode == CoordinatorMode::Metric;
+  m.color.r = metric ? 0.3f : 1.0f;
+  m.color.g = metric ? 1.0f : 0.8f;
+  m.color.b = metric ? 0.3f : 0.2f;
+  m.color.a = 1.0f;
+  m.text = std::string(toString(mode)) + ": " + state;
+  return m;
+}
+
 }  // namespace exploration

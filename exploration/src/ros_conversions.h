@@ -30,4 +30,8 @@ GraphPosition fromMsg(const hybrid_slam_msgs::TopologicalBelief& msg);
 void roomMarkers(const RoomExplorer& room, const std::string& frame, const ros::Time& stamp,
                  visualization_msgs::MarkerArray* markers);
 
+/// The coordinator's mode and state as a text above the robot.
+visualization_msgs::Marker modeMarker(CoordinatorMode mode, const std::string& state, const std::string& robot_frame,
+                                      const ros::Time& stamp);
+
 }  // namespace exploration

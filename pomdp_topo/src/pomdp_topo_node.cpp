@@ -70,7 +70,7 @@ class TopoNodeRos {
     heading_pub_ = nh_.advertise<std_msgs::Float64>("topo_heading", 10);
     events_pub_ = nh_.advertise<std_msgs::String>("topo_events", 100);
     mode_pub_ = nh_.advertise<std_msgs::String>("topo_mode", 1, true);
-    markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("topo_markers", 2);
+    markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("topo_markers", 2, true);
     features_sub_ = nh_.subscribe("features", 20, &TopoNodeRos::onFeatures, this);
     status_sub_ = nh_.subscribe("exploration_status", 10, &TopoNodeRos::onStatus, this);
     services_ = {
@@ -233,6 +233,10 @@ class TopoNodeRos {
     toMsg(map_, header, &msg);
     map_pub_.publish(msg);
     published_revision_ = map_.revision();
+    // The markers follow every change of the map (latched: a map shown without a robot has them).
+    visualization_msgs::MarkerArray markers;
+    toMarkers(map_, localizer_, header, &markers);
+    markers_pub_.publish(markers);
   }
 
   bool save(const std::string& path, std::string* message) {
