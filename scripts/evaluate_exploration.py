@@ -122,7 +122,7 @@ class ExplorationEvaluator:
         s = self.status
         out = {
             'world': self.world['name'],
-            'complete': bool(s is not None and s.mode == DONE and s.openings_unexplored == 0),
+            'complete': bool(s is not None and s.mode == DONE and s.state == 'exploration complete'),
             'rooms': len(rooms), 'rooms_mapped': len(per_room),
             'rooms_missed': [r for r in rooms if r not in per_room],
             'rooms_mapped_twice': {r: n for r, n in per_room.items() if n > 1},

@@ -273,7 +273,10 @@ class ExplorationNode {
     }
     done_ = true;
     exit_code_ = r.success ? 0 : 1;
-    if (shutdown_when_done_) ros::requestShutdown();
+    if (shutdown_when_done_) {
+      ros::WallDuration(1.0).sleep();  // the final status reaches its subscribers (the evaluator) first
+      ros::requestShutdown();
+    }
   }
 
   void onTimer(const ros::TimerEvent& e) {
