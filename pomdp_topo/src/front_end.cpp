@@ -38,10 +38,10 @@ void FrontEnd::shiftHeading(int bins) {
   tracks_.clear();
 }
 
-void FrontEnd::setHeadingBin(int bin) {
+void FrontEnd::setHeadingBin(int bin, double pending) {
   bin_ = ((bin % params_.heading_bins) + params_.heading_bins) % params_.heading_bins;
   turning_ = false;
-  pending_ = 0.0;
+  pending_ = std::isfinite(pending) ? pending : 0.0;
 }
 
 bool FrontEnd::process(const Pose2D& odom, const std::vector<laser_features::LineSegment>& lines,

@@ -113,10 +113,13 @@ class TopoNodeRos {
     if (paused && !paused_) {
       paused_travel_ = front_end_.travel();
       paused_bin_ = front_end_.headingBin();
+      paused_pending_ = front_end_.pendingTravel();
     }
     if (!paused && paused_) {
       builder_.skipTravel(front_end_.travel() - paused_travel_);
-      front_end_.setHeadingBin(paused_bin_);  // the turns in the room are not the hallway's
+      // The turns and travel in the room are not the hallway's; the hallway travel not yet emitted
+      // as an action when the robot left is (else each room visit loses up to a cell).
+      front_end_.setHeadingBin(paused_bin_, paused_pending_);
     }
     paused_ = paused;
   }
@@ -358,6 +361,7 @@ class TopoNodeRos {
   bool paused_ = false, last_confident_ = false;
   double paused_travel_ = 0.0;  // m, FrontEnd::travel() when the map was paused
   int paused_bin_ = 0;          // FrontEnd::headingBin() then
+  double paused_pending_ = 0.0; // m, FrontEnd::pendingTravel() then
   uint64_t lost_resets_ = 0;
   int realign_votes_ = 0, realign_bins_ = 0;
   std::vector<laser_features::LineSegment> lines_;

@@ -80,9 +80,10 @@ class FrontEnd {
   /// Travel not yet emitted as an action (below one resolution step), m.
   double pendingTravel() const { return pending_; }
   const HeadingEstimator& heading() const { return heading_; }
-  /// Sets the travel heading bin without a Turn action (after a pause of the topological map: the
-  /// robot is back where and how it left the hallway, whatever it turned meanwhile).
-  void setHeadingBin(int bin);
+  /// Sets the travel heading bin and the travel not yet emitted without a Turn action (after a pause
+  /// of the topological map: the robot is back where and how it left the hallway, whatever it
+  /// turned and travelled meanwhile; `pending` is pendingTravel() from when it left).
+  void setHeadingBin(int bin, double pending = 0.0);
   /// Re-aligns the heading by whole bins (after a kidnapping, when the topological belief says so).
   void shiftHeading(int bins);
   bool initialized() const { return initialized_; }
