@@ -1,10 +1,14 @@
 #!/usr/bin/python3
-"""rostest: a complete exploration of small_loop (explore.launch) against the world's ground truth."""
+"""rostest: a complete exploration of small_loop (explore.launch) against the world's ground truth.
+
+With ~kill_at > 0 the coordinator is killed once at that sim time (in the first hallway) and
+restarted by roslaunch (respawn): it must pick up from the topological map and still complete."""
 import json
 import os
 import time
 import unittest
 
+import rosnode
 import rospy
 import rostest
 
@@ -16,7 +20,14 @@ class ExploreSmallLoop(unittest.TestCase):
             os.remove(path)
         deadline = time.time() + 360.0
         result = None
+        kill_at = rospy.get_param('~kill_at', 0.0)
+        killed = False
         while time.time() < deadline and not rospy.is_shutdown() and result is None:
+            if kill_at > 0 and not killed and rospy.Time.now().to_sec() >= kill_at:
+                _, failed = rosnode.kill_nodes(['/exploration'])
+                self.assertEqual(failed, [], 'could not kill the coordinator')
+                killed = True
+                rospy.loginfo('killed the coordinator at %.1f s', rospy.Time.now().to_sec())
             if os.path.exists(path):
                 time.sleep(0.5)
                 with open(path) as f:
@@ -26,6 +37,8 @@ class ExploreSmallLoop(unittest.TestCase):
                         result = None
             time.sleep(1.0)
         self.assertIsNotNone(result, 'no evaluation written: the exploration did not end')
+        if kill_at > 0:
+            self.assertTrue(killed, 'the coordinator was never killed')
         print(json.dumps(result))
         self.assertTrue(result['complete'], 'the exploration ended incomplete')
         self.assertEqual(result['rooms_missed'], [])

@@ -594,8 +594,8 @@ void Coordinator::finish(bool success, const std::string& why, Decision* d) {
   mode_ = CoordinatorMode::Done;
   setState(State::Done, success ? "exploration complete" : "exploration stopped: " + why);
   std::ostringstream s;
-  s << (success ? "exploration complete: " : "exploration incomplete: ") << why << "; " << stats_.places
-    << " places, " << graph_.nodes().size() << " nodes, " << graph_.edges().size() << " edges, "
+  s << (success ? "exploration complete: " : "exploration incomplete: ") << why << "; " << graph_.placeCount()
+    << " places (" << stats_.places << " entered by this run), " << graph_.nodes().size() << " nodes, " << graph_.edges().size() << " edges, "
     << graph_.exploredCount() << " openings explored, " << graph_.unexploredCount() << " unexplored, "
     << stats_.travel << " m travelled";
   Request save;

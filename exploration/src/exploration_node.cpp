@@ -263,7 +263,8 @@ class ExplorationNode {
     if (!summary_file_.empty()) {
       std::ofstream f(summary_file_);
       const CoordinatorStats& s = coordinator_->stats();
-      f << "{\"complete\": " << (r.success ? "true" : "false") << ", \"places\": " << s.places
+      f << "{\"complete\": " << (r.success ? "true" : "false") << ", \"places\": " << coordinator_->graph().placeCount()
+        << ", \"places_entered_by_this_run\": " << s.places
         << ", \"nodes\": " << coordinator_->graph().nodes().size() << ", \"edges\": " << coordinator_->graph().edges().size()
         << ", \"openings_explored\": " << coordinator_->graph().exploredCount()
         << ", \"openings_unexplored\": " << coordinator_->graph().unexploredCount() << ", \"travel_m\": " << s.travel
@@ -352,7 +353,7 @@ class ExplorationNode {
     s.mode = static_cast<uint8_t>(coordinator_->mode());
     s.current_place = coordinator_->mode() == CoordinatorMode::Metric ? coordinator_->currentPlace() : -1;
     s.current_node = topo_.confident ? coordinator_->graph().nearestNode(topo_.position) : -1;
-    s.places = uint32_t(coordinator_->stats().places);
+    s.places = uint32_t(coordinator_->graph().placeCount());  // survives a restart of this node
     s.nodes = uint32_t(coordinator_->graph().nodes().size());
     s.openings_explored = uint32_t(coordinator_->graph().exploredCount());
     s.openings_unexplored = uint32_t(coordinator_->graph().unexploredCount());
@@ -366,9 +367,9 @@ class ExplorationNode {
   void printProgress(const ros::Time& stamp) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
     const double sim = (stamp - sim_start_).toSec();
-    ROS_INFO("exploration: %s | %d places, %zu nodes, %zu openings explored, %zu unexplored | %.0f m | sim %.0f s, "
+    ROS_INFO("exploration: %s | %zu places, %zu nodes, %zu openings explored, %zu unexplored | %.0f m | sim %.0f s, "
              "real-time factor %.1f | %s",
-             toString(coordinator_->mode()), coordinator_->stats().places, coordinator_->graph().nodes().size(),
+             toString(coordinator_->mode()), coordinator_->graph().placeCount(), coordinator_->graph().nodes().size(),
              coordinator_->graph().exploredCount(), coordinator_->graph().unexploredCount(), coordinator_->stats().travel,
              sim, sim / std::max(wall, 1e-3), coordinator_->state().c_str());
   }

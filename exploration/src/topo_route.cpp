@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <queue>
+#include <set>
 #include <utility>
 
 namespace exploration {
@@ -65,6 +66,14 @@ size_t TopoGraph::exploredCount() const {
     for (const GraphOpening& o : entry.second.openings) count += o.explored || hasExit(entry.first, o.bearing);
   }
   return count;
+}
+
+size_t TopoGraph::placeCount() const {
+  std::set<int> ids;
+  for (const auto& entry : nodes_) {
+    if (entry.second.place_id >= 0) ids.insert(entry.second.place_id);
+  }
+  return ids.size();
 }
 
 int TopoGraph::nearestNode(const GraphPosition& pos) const {

@@ -76,6 +76,8 @@ class TopoGraph {
   /// Unexplored openings over the whole graph.
   size_t unexploredCount() const;
   size_t exploredCount() const;
+  /// Places linked to the graph's nodes (distinct place ids).
+  size_t placeCount() const;
 
   /// The node the robot is at, or the edge's end it is nearer (ahead of it when half-way); -1 if
   /// `pos` is not valid or names nothing in the graph.

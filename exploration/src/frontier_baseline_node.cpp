@@ -1,0 +1,642 @@
+// frontier_baseline_node: the baseline the topological-metric exploration is compared against
+// (issue 6): greedy frontier exploration on one occupancy grid of the whole building, in the spirit
+// of explore_lite (Hörner 2016) on top of a grid map. Thin: the ROS-free core does the work
+// (exploration/occupancy_grid.h, frontier_explorer.h, motion_controller.h); this node converts
+// messages and keeps the goal.
+//
+// Localization: the robot's pose is tf map -> base_link. The simulator runs with
+// fake_localization, so map -> odom is the ground truth: the baseline maps with perfect poses. That
+// is an upper bound on what explore_lite gets from gmapping (no drift, no loop-closure jumps, no
+// smeared walls); its grid and travel are the best case for a metric-grid explorer.
+//
+// Per scan (main thread): the scan goes into the growing grid (OccupancyGrid::insertScan, the pose
+// at the scan's stamp). Every replan_period (sim time), or at once when the robot reached its goal
+// or the motion controller gave up (Blocked, Bumped):
+//  - the held goal ends when reached (within goal_reach_tolerance), when the motion controller is
+//    Blocked or Bumped (blacklisted, blacklist_radius), or when the robot made no progress towards
+//    it for goal_timeout (blacklisted: explore_lite's progress_timeout; progress is a new shortest
+//    planned path to the goal, and a goal that moved with its frontier restarts the count);
+//  - FrontierExplorer::nextGoal costs every frontier (explore_lite's cost). The held goal follows
+//    its frontier (the usable frontier whose goal or centroid lies within
+//    max(goal_search_radius, goal_reach_tolerance) of it); its frontier gone (seen on the way) frees
+//    the robot for the cheapest one. A frontier whose goal is where the robot already stands is
+//    unobservable from there (beyond range, glass): blacklisted, else it is "reached" forever;
+//  - no usable frontier left: exploration is complete.
+// The goal is driven to along the planner's path (move_base's global plan, in explore_lite): the
+// motion controller gets the path's waypoints one at a time (line-of-sight corners, at most
+// planner/max_segment_length apart), the next one when the robot is within waypoint_tolerance of
+// the current; its scan-based avoidance handles what the grid does not show. A replanned path only
+// replaces the controller's goal when its waypoint moved more than goal_refresh_distance (every
+// setGoal() restarts the controller's stuck detection).
+//
+// Control (its own callback queue and thread, as exploration_node: planning on a large grid must
+// never starve the watchdog or the velocity commands): scans for the avoidance, the bumper, and a
+// control_rate timer running MotionController::update with the map pose and publishing cmd_vel.
+//
+// Output: nav_msgs/OccupancyGrid baseline_map (every map_publish_period, latched) and
+// nav_msgs/Path baseline_path (the path to the goal, at each plan) for rviz; a progress line every
+// progress_period; at the end (complete, or max_time of sim time) a JSON summary_file, then the node
+// shuts down (with required="true" the launch ends).
+#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/Twist.h>
+#include <nav_msgs/OccupancyGrid.h>
+#include <nav_msgs/Path.h>
+#include <ros/callback_queue.h>
+#include <ros/ros.h>
+#include <sensor_msgs/LaserScan.h>
+#include <std_msgs/Bool.h>
+#include <tf2/utils.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "exploration/frontier_explorer.h"
+#include "exploration/motion_controller.h"
+#include "exploration/occupancy_grid.h"
+
+namespace exploration {
+
+using laser_features::Pose2D;
+
+/// Every tunable parameter of the node (config/frontier_baseline.yaml documents each with its unit
+/// and the same default).
+struct BaselineParams {
+  // Node
+  std::string map_frame = "map";         // the grid's frame (ground truth through fake_localization)
+  std::string odom_frame = "odom";       // for the odometric travel only
+  std::string base_frame = "base_link";  // robot frame
+  double control_rate = 20.0;            // Hz (sim time), motion control cycles (cmd_vel)
+  double replan_period = 1.0;            // s (sim time), frontiers and the goal's path are recomputed
+                                         // this often (and at once when a goal ends)
+  double goal_timeout = 30.0;            // s (sim time), no progress towards the goal for this long:
+                                         // blacklisted (explore_lite's progress_timeout)
+  double goal_reach_tolerance = 0.4;     // m, the goal counts as reached this close
+  double blacklist_radius = 0.5;         // m, around a goal given up
+  double waypoint_tolerance = 0.3;       // m, the next waypoint of the path is taken this close
+  double goal_refresh_distance = 0.25;   // m, a replanned waypoint replaces the controller's goal when
+                                         // it moved this much
+  double map_publish_period = 5.0;       // s (sim time), baseline_map is published this often
+  double progress_period = 30.0;         // s (sim time), a progress line is printed this often
+  double max_time = 0.0;                 // s (sim time), the exploration gives up after this; 0: none
+  bool shutdown_when_done = true;        // the node ends when the exploration ends
+  std::string summary_file;              // JSON summary written at the end; "": none
+  OccupancyGridParams grid;
+  FrontierParams frontier;
+  PlannerParams planner;
+  MotionParams motion;
+};
+
+template <typename Visitor>
+void visitParams(BaselineParams* p, Visitor&& visit) {
+  visit("map_frame", &p->map_frame);
+  visit("odom_frame", &p->odom_frame);
+  visit("base_frame", &p->base_frame);
+  visit("control_rate", &p->control_rate);
+  visit("replan_period", &p->replan_period);
+  visit("goal_timeout", &p->goal_timeout);
+  visit("goal_reach_tolerance", &p->goal_reach_tolerance);
+  visit("blacklist_radius", &p->blacklist_radius);
+  visit("waypoint_tolerance", &p->waypoint_tolerance);
+  visit("goal_refresh_distance", &p->goal_refresh_distance);
+  visit("map_publish_period", &p->map_publish_period);
+  visit("progress_period", &p->progress_period);
+  visit("max_time", &p->max_time);
+  visit("shutdown_when_done", &p->shutdown_when_done);
+  visit("summary_file", &p->summary_file);
+  OccupancyGridParams& g = p->grid;
+  visit("grid/resolution", &g.resolution);
+  visit("grid/max_range", &g.max_range);
+  visit("grid/no_return_free_range", &g.no_return_free_range);
+  visit("grid/fill_gaps", &g.fill_gaps);
+  FrontierParams& f = p->frontier;
+  visit("frontier/min_frontier_size", &f.min_frontier_size);
+  visit("frontier/potential_scale", &f.potential_scale);
+  visit("frontier/gain_scale", &f.gain_scale);
+  visit("frontier/goal_search_radius", &f.goal_search_radius);
+  PlannerParams& pl = p->planner;
+  visit("planner/robot_radius", &pl.robot_radius);
+  visit("planner/safety_margin", &pl.safety_margin);
+  visit("planner/allow_unknown", &pl.allow_unknown);
+  visit("planner/max_segment_length", &pl.max_segment_length);
+  MotionParams& m = p->motion;
+  visit("motion/max_linear", &m.max_linear);
+  visit("motion/max_angular", &m.max_angular);
+  visit("motion/max_linear_accel", &m.max_linear_accel);
+  visit("motion/max_angular_accel", &m.max_angular_accel);
+  visit("motion/robot_radius", &m.robot_radius);
+  visit("motion/safety_margin", &m.safety_margin);
+  visit("motion/goal_tolerance", &m.goal_tolerance);
+  visit("motion/heading_tolerance", &m.heading_tolerance);
+  visit("motion/lookahead", &m.lookahead);
+  visit("motion/slow_down_distance", &m.slow_down_distance);
+  visit("motion/min_linear", &m.min_linear);
+  visit("motion/heading_gain", &m.heading_gain);
+  visit("motion/turn_in_place_angle", &m.turn_in_place_angle);
+  visit("motion/candidate_headings", &m.candidate_headings);
+  visit("motion/scan_timeout", &m.scan_timeout);
+  visit("motion/stuck_time", &m.stuck_time);
+  visit("motion/progress_distance", &m.progress_distance);
+  visit("motion/progress_angle", &m.progress_angle);
+}
+
+struct ParamReader {
+  ros::NodeHandle& nh;
+  void operator()(const char* name, double* value) const { nh.param(name, *value, *value); }
+  void operator()(const char* name, int* value) const { nh.param(name, *value, *value); }
+  void operator()(const char* name, bool* value) const { nh.param(name, *value, *value); }
+  void operator()(const char* name, std::string* value) const { nh.param(name, *value, *value); }
+};
+
+namespace {
+
+bool positive(double v) { return std::isfinite(v) && v > 0.0; }
+bool nonNegative(double v) { return std::isfinite(v) && v >= 0.0; }
+
+/// Scan points (finite returns within the sensor's range) in the robot frame.
+void scanPoints(const sensor_msgs::LaserScan& scan, const Pose2D& sensor_in_robot, std::vector<Eigen::Vector2d>* points) {
+  points->clear();
+  for (size_t i = 0; i < scan.ranges.size(); ++i) {
+    const double r = scan.ranges[i];
+    if (!std::isfinite(r) || r <= scan.range_min || r >= scan.range_max) continue;
+    const double a = scan.angle_min + double(i) * scan.angle_increment;
+    points->push_back(laser_features::transformPoint(sensor_in_robot, Eigen::Vector2d(r * std::cos(a), r * std::sin(a))));
+  }
+}
+
+}  // namespace
+
+class FrontierBaselineNode {
+ public:
+  FrontierBaselineNode() : nh_(), pnh_("~"), tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_) {
+    visitParams(&p_, ParamReader{pnh_});
+    std::string why;
+    if (!OccupancyGrid::validate(p_.grid, &why)) why = "grid: " + why;
+    else if (!FrontierExplorer::validate(p_.frontier, &why)) why = "frontier: " + why;
+    else if (!GridPlanner::validate(p_.planner, &why)) why = "planner: " + why;
+    else if (!MotionController::validate(p_.motion, &why)) why = "motion: " + why;
+    else if (!positive(p_.control_rate) || !positive(p_.replan_period) || !positive(p_.goal_timeout) ||
+             !nonNegative(p_.goal_reach_tolerance) || !nonNegative(p_.blacklist_radius) ||
+             !nonNegative(p_.waypoint_tolerance) || !nonNegative(p_.goal_refresh_distance) ||
+             !positive(p_.map_publish_period) || !positive(p_.progress_period) || !nonNegative(p_.max_time))
+      why = "control_rate, replan_period, goal_timeout, map_publish_period and progress_period must be > 0, "
+            "the tolerances, distances and max_time >= 0";
+    else why.clear();
+    if (!why.empty()) {
+      ROS_FATAL("frontier_baseline: bad parameter: %s", why.c_str());
+      throw std::invalid_argument(why);
+    }
+    explorer_ = std::make_unique<FrontierExplorer>(p_.frontier, p_.planner);
+    motion_ = std::make_unique<MotionController>(p_.motion);
+
+    cmd_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 10);
+    map_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("baseline_map", 1, true);
+    path_pub_ = nh_.advertise<nav_msgs::Path>("baseline_path", 2, true);
+    // The grid and the planning: the global queue (ros::spin in main). A small queue: when planning
+    // falls behind, old scans are dropped rather than mapped late.
+    // Both scan subscriptions share one connection: both ask for TCP_NODELAY (no batching of scans,
+    // the watchdog's scan_timeout is 0.5 s of sim time, 50 ms of wall time at rate 10).
+    map_scan_sub_ = nh_.subscribe("scan", 2, &FrontierBaselineNode::onMapScan, this, ros::TransportHints().tcpNoDelay());
+    // Motion control: its own queue and thread.
+    control_nh_.setCallbackQueue(&control_queue_);
+    control_scan_sub_ =
+        control_nh_.subscribe("scan", 10, &FrontierBaselineNode::onControlScan, this, ros::TransportHints().tcpNoDelay());
+    bumper_sub_ = control_nh_.subscribe("bumper", 10, &FrontierBaselineNode::onBumper, this);
+    timer_ = control_nh_.createTimer(ros::Duration(1.0 / p_.control_rate), &FrontierBaselineNode::onTimer, this);
+    wall_start_ = std::chrono::steady_clock::now();
+    sim_start_ = ros::Time::now();
+    last_progress_ = last_map_publish_ = sim_start_;
+    control_spinner_.start();
+    ROS_INFO("frontier_baseline: exploring (grid %.3f m, replan every %.1f s, goal timeout %.0f s%s)",
+             p_.grid.resolution, p_.replan_period, p_.goal_timeout,
+             p_.max_time > 0.0 ? (", max " + std::to_string(int(p_.max_time)) + " s").c_str() : "");
+  }
+
+  ~FrontierBaselineNode() {
+    control_spinner_.stop();
+    timer_.stop();
+  }
+
+  int exitCode() const { return exit_code_; }
+
+ private:
+  bool lookup(const std::string& target, const std::string& source, const ros::Time& stamp, Pose2D* out,
+              double timeout = 0.1) {
+    try {
+      const auto t = tf_buffer_.lookupTransform(target, source, stamp, ros::Duration(timeout));
+      *out = Pose2D{t.transform.translation.x, t.transform.translation.y, tf2::getYaw(t.transform.rotation)};
+      return true;
+    } catch (const tf2::TransformException& e) {
+      ROS_WARN_THROTTLE(5.0, "frontier_baseline: no transform %s <- %s: %s", target.c_str(), source.c_str(), e.what());
+      return false;
+    }
+  }
+
+  static bool wellFormed(const sensor_msgs::LaserScan& msg) {
+    return !msg.ranges.empty() && std::isfinite(msg.angle_min) && std::isfinite(msg.angle_increment);
+  }
+
+  // ---------------------------------------------------------------------------------------------
+  // Main thread: the grid, the frontiers, the goal
+
+  void onMapScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
+    if (done_) return;
+    if (!wellFormed(*msg)) {
+      ROS_WARN_THROTTLE(5.0, "frontier_baseline: an empty or malformed scan on %s is skipped", map_scan_sub_.getTopic().c_str());
+      return;
+    }
+    if (!have_sensor_map_ && !lookup(p_.base_frame, msg->header.frame_id, ros::Time(0), &sensor_in_robot_map_)) return;
+    have_sensor_map_ = true;
+    if (!grid_) {
+      // The sensor's minimum range: nearer readings say nothing about the cells they cross.
+      OccupancyGridParams g = p_.grid;
+      if (std::isfinite(msg->range_min)) g.min_range = std::max(g.min_range, double(msg->range_min));
+      grid_ = std::make_unique<OccupancyGrid>(g);
+    }
+    // The pose at the scan's stamp (the tf may come a little after the scan: waits up to 0.3 s).
+    Pose2D robot;
+    if (!lookup(p_.map_frame, p_.base_frame, msg->header.stamp, &robot, 0.3)) return;
+    std::string why;
+    if (!grid_->insertScan(laser_features::compose(robot, sensor_in_robot_map_), msg->ranges, msg->angle_min,
+                           msg->angle_increment, &why)) {
+      ++scans_refused_;
+      ROS_WARN_THROTTLE(5.0, "frontier_baseline: scan not mapped: %s", why.c_str());
+      return;
+    }
+    const ros::Time now = msg->header.stamp;
+    if (p_.max_time > 0.0 && (now - sim_start_).toSec() >= p_.max_time) {
+      finish(false, "max_time reached (" + std::to_string(int(p_.max_time)) + " s of sim time)");
+      return;
+    }
+    if (replan_requested_.exchange(false) || last_plan_.isZero() || (now - last_plan_).toSec() >= p_.replan_period) {
+      last_plan_ = now;
+      plan(robot.translation(), now);
+      if (done_) return;
+    }
+    if ((now - last_map_publish_).toSec() >= p_.map_publish_period) {
+      last_map_publish_ = now;
+      publishMap(now);
+    }
+    if ((now - last_progress_).toSec() >= p_.progress_period) {
+      last_progress_ = now;
+      printProgress(now);
+    }
+  }
+
+  void dropGoal() {
+    goal_.reset();
+    std::lock_guard<std::mutex> lock(mutex_);
+    waypoints_.clear();
+    waypoint_ = 0;
+    motion_->cancel();
+  }
+
+  void giveUp(const char* why) {
+    explorer_->blacklist(*goal_, p_.blacklist_radius);
+    ++goals_given_up_;
+    ROS_WARN("frontier_baseline: goal (%.2f, %.2f) given up (%s): blacklisted", goal_->x(), goal_->y(), why);
+    dropGoal();
+  }
+
+  void plan(const Eigen::Vector2d& robot, const ros::Time& now) {
+    bool reached_flag = false, stopped_flag = false;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      reached_flag = reached_flag_;
+      stopped_flag = stopped_flag_;
+      reached_flag_ = stopped_flag_ = false;
+    }
+    // The held goal: reached, or given up.
+    if (goal_) {
+      if (reached_flag || (robot - *goal_).norm() <= p_.goal_reach_tolerance) {
+        ++goals_reached_;
+        dropGoal();
+      } else if (stopped_flag) {
+        giveUp("the motion controller stopped: blocked or bumped");
+      } else if ((now - goal_progress_time_).toSec() > p_.goal_timeout) {
+        giveUp("no progress within goal_timeout");
+      }
+    }
+
+    const auto t0 = std::chrono::steady_clock::now();
+    explorer_->nextGoal(*grid_, robot);  // all frontiers costed; the choice of goal is below
+    plan_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ++plans_;
+    if (explorer_->status() == ExplorerStatus::Invalid) {
+      ROS_WARN_THROTTLE(5.0, "frontier_baseline: the robot (%.2f, %.2f) is off the grid: no plan", robot.x(), robot.y());
+      return;
+    }
+    usable_frontiers_ = 0;
+    for (const Frontier& f : explorer_->frontiers()) usable_frontiers_ += f.reachable && !f.blacklisted;
+    total_frontiers_ = explorer_->frontiers().size();
+
+    // The held goal follows its frontier; a frontier gone frees the robot.
+    if (goal_ && !select(robot, true)) {
+      ROS_DEBUG("frontier_baseline: the goal's frontier vanished");
+      dropGoal();
+    }
+    if (!goal_) {
+      if (!select(robot, false)) {
+        finish(true, "exploration complete: no reachable frontier left");
+        return;
+      }
+      ++goals_;
+      goal_anchor_ = *goal_;
+      goal_best_length_ = std::numeric_limits<double>::infinity();
+      goal_progress_time_ = now;
+      ROS_DEBUG("frontier_baseline: goal %d at (%.2f, %.2f), %zu usable frontiers", goals_, goal_->x(), goal_->y(),
+                usable_frontiers_);
+    }
+    std::optional<Path> path = explorer_->planner().pathTo(*goal_);
+    if (!path) {  // not expected for a reachable frontier's goal: drive straight
+      path = Path();
+      path->waypoints = {robot, *goal_};
+      path->length = (*goal_ - robot).norm();
+    }
+    // Progress (explore_lite's progress_timeout): a new shortest path to the goal by a cell, or the
+    // goal moved away with its frontier (a new target).
+    if ((*goal_ - goal_anchor_).norm() > p_.goal_reach_tolerance) {
+      goal_anchor_ = *goal_;
+      goal_best_length_ = path->length;
+      goal_progress_time_ = now;
+    } else if (path->length < goal_best_length_ - grid_->resolution()) {
+      goal_best_length_ = path->length;
+      goal_progress_time_ = now;
+    }
+    publishPath(*path, now);
+    std::lock_guard<std::mutex> lock(mutex_);
+    waypoints_.assign(path->waypoints.begin() + (path->waypoints.size() > 1 ? 1 : 0), path->waypoints.end());
+    waypoint_ = 0;
+    while (waypoint_ + 1 < waypoints_.size() && (waypoints_[waypoint_] - robot).norm() <= p_.waypoint_tolerance)
+      ++waypoint_;
+    const Eigen::Vector2d& target = waypoints_[waypoint_];
+    if (!motion_->hasGoal() || (target - target_).norm() > p_.goal_refresh_distance) sendGoal(target);
+  }
+
+  /// Under mutex_: the controller drives to `target`.
+  void sendGoal(const Eigen::Vector2d& target) {
+    motion_->setGoal(target.x(), target.y());
+    target_ = target;
+  }
+
+  /// track: the held goal follows the usable frontier whose goal or centroid lies near it. Else: the
+  /// cheapest usable frontier not under the robot.
+  bool select(const Eigen::Vector2d& robot, bool track) {
+    const double track_radius = std::max(p_.frontier.goal_search_radius, p_.goal_reach_tolerance);
+    double best = std::numeric_limits<double>::infinity();
+    std::optional<Eigen::Vector2d> chosen;
+    for (const Frontier& f : explorer_->frontiers()) {  // cheapest first, unusable ones last
+      if (!f.reachable || f.blacklisted) break;
+      if (track) {
+        const double d = std::min((f.goal - *goal_).norm(), (f.centroid - *goal_).norm());
+        if (d <= track_radius && (f.goal - *goal_).norm() < best) {
+          best = (f.goal - *goal_).norm();
+          chosen = f.goal;
+        }
+        continue;
+      }
+      if ((f.goal - robot).norm() <= p_.goal_reach_tolerance) {
+        explorer_->blacklist(f.goal, p_.blacklist_radius);
+        ++goals_given_up_;
+        ROS_WARN("frontier_baseline: the frontier at (%.2f, %.2f) stays unseen from its goal: blacklisted",
+                 f.centroid.x(), f.centroid.y());
+        continue;
+      }
+      chosen = f.goal;
+      break;
+    }
+    if (!chosen) return false;
+    goal_ = *chosen;
+    return true;
+  }
+
+  void publishMap(const ros::Time& stamp) {
+    nav_msgs::OccupancyGrid m;
+    m.header.stamp = stamp;
+    m.header.frame_id = p_.map_frame;
+    m.info.map_load_time = stamp;
+    m.info.resolution = float(grid_->resolution());
+    m.info.width = uint32_t(grid_->width());
+    m.info.height = uint32_t(grid_->height());
+    m.info.origin.position.x = grid_->origin().x();
+    m.info.origin.position.y = grid_->origin().y();
+    m.info.origin.orientation.w = 1.0;
+    grid_->toOccupancyData(&m.data);
+    map_pub_.publish(m);
+  }
+
+  void publishPath(const Path& path, const ros::Time& stamp) {
+    if (path_pub_.getNumSubscribers() == 0) return;
+    nav_msgs::Path m;
+    m.header.stamp = stamp;
+    m.header.frame_id = p_.map_frame;
+    for (const Eigen::Vector2d& w : path.waypoints) {
+      geometry_msgs::PoseStamped ps;
+      ps.header = m.header;
+      ps.pose.position.x = w.x();
+      ps.pose.position.y = w.y();
+      ps.pose.orientation.w = 1.0;
+      m.poses.push_back(ps);
+    }
+    path_pub_.publish(m);
+  }
+
+  double freeArea() const {
+    return grid_ ? double(grid_->count(CellState::Free)) * grid_->resolution() * grid_->resolution() : 0.0;
+  }
+
+  double travel() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return travel_;
+  }
+
+  void printProgress(const ros::Time& stamp) {
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
+    const double sim = (stamp - sim_start_).toSec();
+    char goal[64] = "none";
+    if (goal_) std::snprintf(goal, sizeof(goal), "(%.1f, %.1f)", goal_->x(), goal_->y());
+    ROS_INFO("frontier_baseline: %.1f m2 free | %zu frontiers (%zu usable) | %d goals (%d reached, %d given up), "
+             "goal %s | %.0f m | sim %.0f s, real-time factor %.1f | grid %d x %d, plan %.0f ms",
+             freeArea(), total_frontiers_, usable_frontiers_, goals_, goals_reached_, goals_given_up_, goal, travel(),
+             sim, sim / std::max(wall, 1e-3), grid_->width(), grid_->height(), 1e3 * plan_seconds_ / std::max(plans_, 1));
+  }
+
+  void finish(bool complete, const std::string& text) {
+    done_ = true;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      motion_->cancel();
+      waypoints_.clear();
+    }
+    cmd_pub_.publish(geometry_msgs::Twist());
+    const ros::Time stamp = ros::Time::now();
+    if (grid_) publishMap(stamp);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
+    const double sim = (stamp - sim_start_).toSec();
+    const double rtf = sim / std::max(wall, 1e-3);
+    const double free_area = freeArea();
+    const double travelled = travel();
+    if (complete)
+      ROS_INFO("frontier_baseline: %s; %d goals, %.1f m, %.1f m2 free; %.0f s sim, %.0f s wall (real-time factor %.1f)",
+               text.c_str(), goals_, travelled, free_area, sim, wall, rtf);
+    else
+      ROS_ERROR("frontier_baseline: %s; %d goals, %.1f m, %.1f m2 free; %.0f s sim, %.0f s wall", text.c_str(), goals_,
+                travelled, free_area, sim, wall);
+    if (!p_.summary_file.empty()) {
+      std::ofstream f(p_.summary_file);
+      f << "{\"complete\": " << (complete ? "true" : "false") << ", \"goals\": " << goals_
+        << ", \"goals_reached\": " << goals_reached_ << ", \"travel_m\": " << travelled << ", \"sim_time_s\": " << sim
+        << ", \"wall_time_s\": " << wall << ", \"real_time_factor\": " << rtf
+        << ", \"grid_bytes\": " << (grid_ ? grid_->bytes() : 0) << ", \"grid_cells\": " << (grid_ ? grid_->cellCount() : 0)
+        << ", \"free_area_m2\": " << free_area << ", \"blacklisted\": " << explorer_->blacklistSize()
+        << ", \"text\": \"" << text << "\"}\n";
+      if (!f) ROS_ERROR("frontier_baseline: could not write %s", p_.summary_file.c_str());
+    }
+    exit_code_ = complete ? 0 : 1;
+    if (p_.shutdown_when_done) ros::requestShutdown();
+  }
+
+  // ---------------------------------------------------------------------------------------------
+  // Control thread
+
+  void onControlScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
+    if (!wellFormed(*msg)) return;  // the main thread warns
+    if (!have_sensor_control_ && !lookup(p_.base_frame, msg->header.frame_id, ros::Time(0), &sensor_in_robot_control_)) return;
+    have_sensor_control_ = true;
+    scanPoints(*msg, sensor_in_robot_control_, &points_);
+    std::lock_guard<std::mutex> lock(mutex_);
+    motion_->setScan(points_, msg->header.stamp.toSec());
+  }
+
+  void onBumper(const std_msgs::Bool::ConstPtr& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    bumper_ = msg->data;
+  }
+
+  void onTimer(const ros::TimerEvent&) {
+    if (done_) {
+      cmd_pub_.publish(geometry_msgs::Twist());
+      return;
+    }
+    Pose2D pose, odom;
+    if (!lookup(p_.map_frame, p_.base_frame, ros::Time(0), &pose)) return;
+    const bool have_odom = lookup(p_.odom_frame, p_.base_frame, ros::Time(0), &odom);
+    const double now = ros::Time::now().toSec();
+    const double dt = last_control_ > 0.0 ? now - last_control_ : 0.0;
+    last_control_ = now;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (have_odom) {
+      if (have_last_odom_) travel_ += (odom.translation() - last_odom_.translation()).norm();
+      last_odom_ = odom;
+      have_last_odom_ = true;
+    }
+    const Eigen::Vector2d robot = pose.translation();
+    if (!waypoints_.empty()) {
+      // The next waypoint when near the current (the last one is the goal: driven to exactly).
+      bool advanced = false;
+      while (waypoint_ + 1 < waypoints_.size() && (waypoints_[waypoint_] - robot).norm() <= p_.waypoint_tolerance) {
+        ++waypoint_;
+        advanced = true;
+      }
+      if (advanced) sendGoal(waypoints_[waypoint_]);
+      if (waypoint_ + 1 == waypoints_.size() && (waypoints_.back() - robot).norm() <= p_.goal_reach_tolerance &&
+          !reached_flag_) {
+        reached_flag_ = true;
+        replan_requested_ = true;
+      }
+    }
+    const Command c = motion_->update(pose, now, dt, bumper_);
+    const MotionStatus s = motion_->status();
+    if (s != last_motion_) {
+      last_motion_ = s;
+      if (s == MotionStatus::Reached && !waypoints_.empty()) {
+        if (waypoint_ + 1 < waypoints_.size()) {
+          sendGoal(waypoints_[++waypoint_]);
+        } else {
+          reached_flag_ = true;
+          replan_requested_ = true;
+        }
+      } else if ((s == MotionStatus::Blocked || s == MotionStatus::Bumped) && !waypoints_.empty()) {
+        ROS_WARN("frontier_baseline: motion %s: %s", toString(s), motion_->statusText().c_str());
+        stopped_flag_ = true;
+        replan_requested_ = true;
+      } else if (s == MotionStatus::NoScan || s == MotionStatus::Invalid) {
+        ROS_WARN("frontier_baseline: motion %s: %s", toString(s), motion_->statusText().c_str());
+      }
+    }
+    geometry_msgs::Twist t;
+    t.linear.x = c.v;
+    t.angular.z = c.w;
+    cmd_pub_.publish(t);
+  }
+
+  ros::NodeHandle nh_, pnh_, control_nh_;
+  ros::CallbackQueue control_queue_;
+  BaselineParams p_;
+  tf2_ros::Buffer tf_buffer_;
+  tf2_ros::TransformListener tf_listener_;
+  ros::AsyncSpinner control_spinner_;
+  ros::Publisher cmd_pub_, map_pub_, path_pub_;
+  ros::Subscriber map_scan_sub_, control_scan_sub_, bumper_sub_;
+  ros::Timer timer_;
+
+  // Main thread only.
+  std::unique_ptr<OccupancyGrid> grid_;
+  std::unique_ptr<FrontierExplorer> explorer_;
+  Pose2D sensor_in_robot_map_;
+  bool have_sensor_map_ = false;
+  std::optional<Eigen::Vector2d> goal_;  // the held frontier goal, map frame
+  Eigen::Vector2d goal_anchor_ = Eigen::Vector2d::Zero();  // where the goal was at the last progress reset
+  double goal_best_length_ = 0.0;        // m, shortest path to the goal since then
+  ros::Time goal_progress_time_, last_plan_, last_map_publish_, last_progress_, sim_start_;
+  int goals_ = 0, goals_reached_ = 0, goals_given_up_ = 0, plans_ = 0;
+  size_t usable_frontiers_ = 0, total_frontiers_ = 0, scans_refused_ = 0;
+  double plan_seconds_ = 0.0;
+  std::chrono::steady_clock::time_point wall_start_;
+  int exit_code_ = 0;
+
+  // Shared with the control thread: under mutex_.
+  std::mutex mutex_;
+  std::unique_ptr<MotionController> motion_;
+  std::vector<Eigen::Vector2d> waypoints_;  // the path to the goal after the robot's position
+  size_t waypoint_ = 0;                     // the one the controller drives to
+  Eigen::Vector2d target_ = Eigen::Vector2d::Zero();
+  bool reached_flag_ = false, stopped_flag_ = false, bumper_ = false;
+  double travel_ = 0.0;  // m, odometric
+  Pose2D last_odom_;
+  bool have_last_odom_ = false;
+  std::atomic<bool> replan_requested_{false}, done_{false};
+
+  // Control thread only.
+  Pose2D sensor_in_robot_control_;
+  bool have_sensor_control_ = false;
+  std::vector<Eigen::Vector2d> points_;
+  double last_control_ = -1.0;
+  MotionStatus last_motion_ = MotionStatus::Idle;
+};
+
+}  // namespace exploration
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "frontier_baseline");
+  ros::NodeHandle nh;         // starts the node (and its /clock subscription) ...
+  ros::Time::waitForValid();  // ... so that sim time can become valid
+  try {
+    exploration::FrontierBaselineNode node;
+    ros::spin();
+    return node.exitCode();
+  } catch (const std::exception& e) {
+    ROS_FATAL("frontier_baseline: %s", e.what());
+    return 1;
+  }
+}
