@@ -17,10 +17,7 @@ namespace {
 
 bool finite(const Pose2D& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta); }
 
-Eigen::Vector2d apply(const Pose2D& frame, const Eigen::Vector2d& p) {
-  const double c = std::cos(frame.theta), s = std::sin(frame.theta);
-  return Eigen::Vector2d(frame.x + c * p.x() - s * p.y(), frame.y + s * p.x() + c * p.y());
-}
+Eigen::Vector2d apply(const Pose2D& frame, const Eigen::Vector2d& p) { return laser_features::transformPoint(frame, p); }
 
 Eigen::Vector2d unit(double a) { return Eigen::Vector2d(std::cos(a), std::sin(a)); }
 
@@ -53,6 +50,7 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
   if (!(p.settle_time >= 0.0 && p.room_time_limit > 0.0 && p.exit_time_limit > 0.0 && p.max_time >= 0.0))
     return fail("settle_time and max_time must be >= 0, room_time_limit and exit_time_limit > 0");
   if (p.max_route_attempts < 1) return fail("max_route_attempts must be >= 1");
+  if (!(p.goal_pass_distance > 0.0)) return fail("goal_pass_distance must be > 0");
   if (!(p.branch_record_distance >= 0.0 && p.u_turn_cost >= 0.0 && p.goal_refresh_distance > 0.0))
     return fail("branch_record_distance and u_turn_cost must be >= 0, goal_refresh_distance > 0");
   return RoomExplorer::validate(p.room, error);
@@ -251,6 +249,29 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
       return;
     }
     route = graph_.route(topo.position, params_.u_turn_cost);
+    // At the goal node with its opening to a side that never opens (a door the laser does not show
+    // again, a wide door taken for a branch): give it up once the robot has gone past, instead of
+    // turning round for it again and again (each U-turn on a hallway weakens the belief).
+    const int near = graph_.nearestNode(topo.position);
+    if (route.found && near >= 0 && uint32_t(near) == route.goal_node) {
+      if (goal_pass_node_ != near) {
+        goal_pass_node_ = near;
+        goal_pass_travel_ = travel_;
+      } else if (travel_ - goal_pass_travel_ > params_.goal_pass_distance) {
+        Request give_up;
+        give_up.kind = Request::RecordOpening;
+        give_up.node = near;
+        give_up.bearing = route.goal_bearing;
+        give_up.explored = true;
+        d->requests.push_back(give_up);
+        ++stats_.openings_given_up;
+        goal_pass_node_ = -1;
+        state_text_ = "passed node " + std::to_string(near) + " without finding its opening: given up";
+        return;
+      }
+    } else if (near != goal_pass_node_) {
+      goal_pass_node_ = -1;
+    }
     // The route points back along the hallway: turn round (after a few ticks of agreement).
     if (route.found && std::abs(normalizeAngle(route.heading - binHeading(bin_))) > 0.75 * kPi) {
       // Not again soon after a turn: a belief flickering between two edges would swing the robot.

@@ -61,94 +61,13 @@
 #include <string>
 #include <vector>
 
-#include "exploration/frontier_explorer.h"
+#include "exploration/baseline_params.h"
 #include "exploration/motion_controller.h"
-#include "exploration/occupancy_grid.h"
+#include "ros_conversions.h"
 
 namespace exploration {
 
 using laser_features::Pose2D;
-
-/// Every tunable parameter of the node (config/frontier_baseline.yaml documents each with its unit
-/// and the same default).
-struct BaselineParams {
-  // Node
-  std::string map_frame = "map";         // the grid's frame (ground truth through fake_localization)
-  std::string odom_frame = "odom";       // for the odometric travel only
-  std::string base_frame = "base_link";  // robot frame
-  double control_rate = 20.0;            // Hz (sim time), motion control cycles (cmd_vel)
-  double replan_period = 1.0;            // s (sim time), frontiers and the goal's path are recomputed
-                                         // this often (and at once when a goal ends)
-  double goal_timeout = 30.0;            // s (sim time), no progress towards the goal for this long:
-                                         // blacklisted (explore_lite's progress_timeout)
-  double goal_reach_tolerance = 0.4;     // m, the goal counts as reached this close
-  double blacklist_radius = 0.5;         // m, around a goal given up
-  double waypoint_tolerance = 0.3;       // m, the next waypoint of the path is taken this close
-  double goal_refresh_distance = 0.25;   // m, a replanned waypoint replaces the controller's goal when
-                                         // it moved this much
-  double map_publish_period = 5.0;       // s (sim time), baseline_map is published this often
-  double progress_period = 30.0;         // s (sim time), a progress line is printed this often
-  double max_time = 0.0;                 // s (sim time), the exploration gives up after this; 0: none
-  bool shutdown_when_done = true;        // the node ends when the exploration ends
-  std::string summary_file;              // JSON summary written at the end; "": none
-  OccupancyGridParams grid;
-  FrontierParams frontier;
-  PlannerParams planner;
-  MotionParams motion;
-};
-
-template <typename Visitor>
-void visitParams(BaselineParams* p, Visitor&& visit) {
-  visit("map_frame", &p->map_frame);
-  visit("odom_frame", &p->odom_frame);
-  visit("base_frame", &p->base_frame);
-  visit("control_rate", &p->control_rate);
-  visit("replan_period", &p->replan_period);
-  visit("goal_timeout", &p->goal_timeout);
-  visit("goal_reach_tolerance", &p->goal_reach_tolerance);
-  visit("blacklist_radius", &p->blacklist_radius);
-  visit("waypoint_tolerance", &p->waypoint_tolerance);
-  visit("goal_refresh_distance", &p->goal_refresh_distance);
-  visit("map_publish_period", &p->map_publish_period);
-  visit("progress_period", &p->progress_period);
-  visit("max_time", &p->max_time);
-  visit("shutdown_when_done", &p->shutdown_when_done);
-  visit("summary_file", &p->summary_file);
-  OccupancyGridParams& g = p->grid;
-  visit("grid/resolution", &g.resolution);
-  visit("grid/max_range", &g.max_range);
-  visit("grid/no_return_free_range", &g.no_return_free_range);
-  visit("grid/fill_gaps", &g.fill_gaps);
-  FrontierParams& f = p->frontier;
-  visit("frontier/min_frontier_size", &f.min_frontier_size);
-  visit("frontier/potential_scale", &f.potential_scale);
-  visit("frontier/gain_scale", &f.gain_scale);
-  visit("frontier/goal_search_radius", &f.goal_search_radius);
-  PlannerParams& pl = p->planner;
-  visit("planner/robot_radius", &pl.robot_radius);
-  visit("planner/safety_margin", &pl.safety_margin);
-  visit("planner/allow_unknown", &pl.allow_unknown);
-  visit("planner/max_segment_length", &pl.max_segment_length);
-  MotionParams& m = p->motion;
-  visit("motion/max_linear", &m.max_linear);
-  visit("motion/max_angular", &m.max_angular);
-  visit("motion/max_linear_accel", &m.max_linear_accel);
-  visit("motion/max_angular_accel", &m.max_angular_accel);
-  visit("motion/robot_radius", &m.robot_radius);
-  visit("motion/safety_margin", &m.safety_margin);
-  visit("motion/goal_tolerance", &m.goal_tolerance);
-  visit("motion/heading_tolerance", &m.heading_tolerance);
-  visit("motion/lookahead", &m.lookahead);
-  visit("motion/slow_down_distance", &m.slow_down_distance);
-  visit("motion/min_linear", &m.min_linear);
-  visit("motion/heading_gain", &m.heading_gain);
-  visit("motion/turn_in_place_angle", &m.turn_in_place_angle);
-  visit("motion/candidate_headings", &m.candidate_headings);
-  visit("motion/scan_timeout", &m.scan_timeout);
-  visit("motion/stuck_time", &m.stuck_time);
-  visit("motion/progress_distance", &m.progress_distance);
-  visit("motion/progress_angle", &m.progress_angle);
-}
 
 struct ParamReader {
   ros::NodeHandle& nh;
@@ -163,23 +82,13 @@ namespace {
 bool positive(double v) { return std::isfinite(v) && v > 0.0; }
 bool nonNegative(double v) { return std::isfinite(v) && v >= 0.0; }
 
-/// Scan points (finite returns within the sensor's range) in the robot frame.
-void scanPoints(const sensor_msgs::LaserScan& scan, const Pose2D& sensor_in_robot, std::vector<Eigen::Vector2d>* points) {
-  points->clear();
-  for (size_t i = 0; i < scan.ranges.size(); ++i) {
-    const double r = scan.ranges[i];
-    if (!std::isfinite(r) || r <= scan.range_min || r >= scan.range_max) continue;
-    const double a = scan.angle_min + double(i) * scan.angle_increment;
-    points->push_back(laser_features::transformPoint(sensor_in_robot, Eigen::Vector2d(r * std::cos(a), r * std::sin(a))));
-  }
-}
 
 }  // namespace
 
 class FrontierBaselineNode {
  public:
   FrontierBaselineNode() : nh_(), pnh_("~"), tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_) {
-    visitParams(&p_, ParamReader{pnh_});
+    visitBaselineParams(&p_, ParamReader{pnh_});
     std::string why;
     if (!OccupancyGrid::validate(p_.grid, &why)) why = "grid: " + why;
     else if (!FrontierExplorer::validate(p_.frontier, &why)) why = "frontier: " + why;

@@ -8,10 +8,7 @@ using laser_features::Pose2D;
 
 namespace {
 
-Eigen::Vector2d apply(const Pose2D& f, double x, double y) {
-  const double c = std::cos(f.theta), s = std::sin(f.theta);
-  return Eigen::Vector2d(f.x + c * x - s * y, f.y + s * x + c * y);
-}
+Eigen::Vector2d apply(const Pose2D& f, double x, double y) { return laser_features::transformPoint(f, Eigen::Vector2d(x, y)); }
 
 }  // namespace
 

@@ -3,9 +3,14 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <map>
 #include <set>
 
+#include "exploration/baseline_params.h"
 #include "exploration/params_visit.h"
+
+#include <string>
+#include <type_traits>
 
 TEST(Config, YamlDefaultsEqualTheCodeDefaults) {
   const YAML::Node root = YAML::LoadFile(CONFIG_FILE);
@@ -24,6 +29,29 @@ TEST(Config, YamlDefaultsEqualTheCodeDefaults) {
     const std::string key = kv.first.as<std::string>();
     EXPECT_TRUE(visited.count(key) || node_keys.count(key)) << "unknown key " << key;
   }
+}
+
+TEST(Config, BaselineYamlDefaultsEqualTheCodeDefaults) {
+  const YAML::Node root = YAML::LoadFile(BASELINE_CONFIG_FILE);
+  exploration::BaselineParams params;
+  std::set<std::string> visited;
+  exploration::visitBaselineParams(&params, [&](const char* name, auto* value) {
+    visited.insert(name);
+    const YAML::Node node = root[name];
+    ASSERT_TRUE(node.IsDefined() && node.IsScalar()) << name << " is not documented in " << BASELINE_CONFIG_FILE;
+    using T = std::remove_pointer_t<decltype(value)>;
+    if constexpr (std::is_same_v<T, std::string>) {
+      EXPECT_EQ(node.as<std::string>(), *value) << name;
+    } else {
+      EXPECT_NEAR(static_cast<double>(node.as<T>()), static_cast<double>(*value), 1e-12) << name;
+    }
+  });
+  for (const auto& kv : root) EXPECT_TRUE(visited.count(kv.first.as<std::string>())) << "unknown key " << kv.first;
+  // The two explorers drive the robot alike.
+  exploration::ExplorationParams ours;
+  std::map<std::string, double> motion;
+  exploration::visitMotionParams(&ours.motion, [&](const char* name, auto* v) { motion[name] = double(*v); });
+  exploration::visitMotionParams(&params.motion, [&](const char* name, auto* v) { EXPECT_EQ(motion[name], double(*v)) << name; });
 }
 
 TEST(Config, DefaultsAreValid) {

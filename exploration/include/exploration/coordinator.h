@@ -62,6 +62,8 @@ struct CoordinatorParams {
   double branch_record_distance = 1.0;  // m travelled after a turn before the ways not taken are recorded
   double u_turn_cost = 2.0;          // m, route cost of turning back on an edge
   int max_route_attempts = 3;        // -, turns round towards one node's opening before it is given up
+  double goal_pass_distance = 3.0;   // m, travel at the goal node (as the belief says) without finding
+                                     // its opening before the opening is given up
   double goal_refresh_distance = 0.25;  // m, the hallway goal is re-sent when it moved this much
   double max_time = 0.0;             // s, the exploration gives up after this (sim time); 0: no limit
 };
@@ -201,6 +203,8 @@ class Coordinator {
   Eigen::Vector2d last_goal_ = Eigen::Vector2d::Zero();
   std::vector<DoorTrack> doors_;
   int route_behind_ticks_ = 0;
+  int goal_pass_node_ = -1;        // the route's goal node the robot is at (as the belief says)
+  double goal_pass_travel_ = 0.0;  // m, travel_ when it got there
   std::map<uint32_t, int> route_attempts_;  // U-turns towards each goal node
   int enter_node_ = -1;                     // the known door's node being entered (-1: a new door)
   double enter_bearing_ = 0.0;              // rad, map frame, its opening's bearing   // consecutive ticks the route pointed back (U-turn hysteresis)

@@ -12,6 +12,30 @@ struct ExplorationParams {
   MotionParams motion;
 };
 
+/// The motion controller's parameters under "motion/" (shared by exploration_node and the
+/// frontier baseline, so both drive the same robot the same way).
+template <typename Visitor>
+void visitMotionParams(MotionParams* m, Visitor&& visit) {
+  visit("motion/max_linear", &m->max_linear);
+  visit("motion/max_angular", &m->max_angular);
+  visit("motion/max_linear_accel", &m->max_linear_accel);
+  visit("motion/max_angular_accel", &m->max_angular_accel);
+  visit("motion/robot_radius", &m->robot_radius);
+  visit("motion/safety_margin", &m->safety_margin);
+  visit("motion/goal_tolerance", &m->goal_tolerance);
+  visit("motion/heading_tolerance", &m->heading_tolerance);
+  visit("motion/lookahead", &m->lookahead);
+  visit("motion/slow_down_distance", &m->slow_down_distance);
+  visit("motion/min_linear", &m->min_linear);
+  visit("motion/heading_gain", &m->heading_gain);
+  visit("motion/turn_in_place_angle", &m->turn_in_place_angle);
+  visit("motion/candidate_headings", &m->candidate_headings);
+  visit("motion/scan_timeout", &m->scan_timeout);
+  visit("motion/stuck_time", &m->stuck_time);
+  visit("motion/progress_distance", &m->progress_distance);
+  visit("motion/progress_angle", &m->progress_angle);
+}
+
 template <typename Visitor>
 void visitParams(ExplorationParams* p, Visitor&& visit) {
   CoordinatorParams& c = p->coordinator;
@@ -33,6 +57,7 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("branch_record_distance", &c.branch_record_distance);
   visit("u_turn_cost", &c.u_turn_cost);
   visit("max_route_attempts", &c.max_route_attempts);
+  visit("goal_pass_distance", &c.goal_pass_distance);
   visit("goal_refresh_distance", &c.goal_refresh_distance);
   visit("max_time", &c.max_time);
   HallwayViewParams& h = c.hallway;
@@ -58,25 +83,7 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("room/min_frontier_size", &r.frontier.min_frontier_size);
   visit("room/robot_radius", &r.planner.robot_radius);
   visit("room/safety_margin", &r.planner.safety_margin);
-  MotionParams& m = p->motion;
-  visit("motion/max_linear", &m.max_linear);
-  visit("motion/max_angular", &m.max_angular);
-  visit("motion/max_linear_accel", &m.max_linear_accel);
-  visit("motion/max_angular_accel", &m.max_angular_accel);
-  visit("motion/robot_radius", &m.robot_radius);
-  visit("motion/safety_margin", &m.safety_margin);
-  visit("motion/goal_tolerance", &m.goal_tolerance);
-  visit("motion/heading_tolerance", &m.heading_tolerance);
-  visit("motion/lookahead", &m.lookahead);
-  visit("motion/slow_down_distance", &m.slow_down_distance);
-  visit("motion/min_linear", &m.min_linear);
-  visit("motion/heading_gain", &m.heading_gain);
-  visit("motion/turn_in_place_angle", &m.turn_in_place_angle);
-  visit("motion/candidate_headings", &m.candidate_headings);
-  visit("motion/scan_timeout", &m.scan_timeout);
-  visit("motion/stuck_time", &m.stuck_time);
-  visit("motion/progress_distance", &m.progress_distance);
-  visit("motion/progress_angle", &m.progress_angle);
+  visitMotionParams(&p->motion, visit);
 }
 
 }  // namespace exploration
