@@ -610,6 +610,11 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       matched_recently_.push_back(uint32_t(std::lround(l.distance * 1000.0)));
       changed = true;
       event("corner landmark added to edge " + std::to_string(e->id));
+    } else if (!near_end && p.landmark.width > params_.door_max_width) {
+      // A wide opening in the middle of a known stretch: a junction the first pass did not see is
+      // unlikely (hallway branches are seen from afar); a gap beside a pillar or a wide view into
+      // a room is not. Not a node.
+      continue;
     } else if (!near_end) {
       // A new opening creates a new node (an unknown door on a known stretch).
       const double heading = st.heading;
