@@ -51,6 +51,7 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
     return fail("settle_time and max_time must be >= 0, room_time_limit and exit_time_limit > 0");
   if (p.max_route_attempts < 1) return fail("max_route_attempts must be >= 1");
   if (!(p.goal_pass_distance > 0.0)) return fail("goal_pass_distance must be > 0");
+  if (!(p.jump_tolerance >= 0.0 && p.jump_hold_distance >= 0.0)) return fail("jump_tolerance and jump_hold_distance must be >= 0");
   if (!(p.branch_record_distance >= 0.0 && p.u_turn_cost >= 0.0 && p.goal_refresh_distance > 0.0))
     return fail("branch_record_distance and u_turn_cost must be >= 0, goal_refresh_distance > 0");
   return RoomExplorer::validate(p.room, error);
@@ -224,7 +225,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   const HallwayView v = viewHallway(p.points, p.lines, dir_robot, params_.hallway);
   if (v.wall_direction_valid) dir_robot = v.wall_direction;
   const bool localized = topo.mode == "localized";
-  const bool sure = (topo.mode == "frontier") || (localized && topo.confident);
+  const bool sure = (topo.mode == "frontier") || (localized && topo.confident && beliefPlausible(topo));
   state_text_ = sure ? (localized ? "following the hallway on the known map" : "following a new hallway")
                      : "following the hallway until the belief is confident";
 
@@ -243,7 +244,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   }
 
   RouteStep route;
-  if (localized && topo.confident) {
+  if (localized && sure) {
     if (graph_.nodes().size() > 1 && graph_.unexploredCount() == 0 && pending_branches_.empty()) {
       finish(true, "no unexplored opening is left", d);
       return;
@@ -382,7 +383,7 @@ void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const H
     return;
   }
   int choice = open.front();  // left first (depth-first, one fixed order)
-  if (localized && topo.confident) {
+  if (localized && topo.confident && travel_ >= distrust_until_) {
     const RouteStep r = graph_.route(topo.position, params_.u_turn_cost);
     if (r.found) {
       const int near = graph_.nearestNode(topo.position);
@@ -466,11 +467,33 @@ bool Coordinator::doorPassed(const Perception& p, double dir_robot, DoorTrack* d
   return false;
 }
 
+bool Coordinator::beliefPlausible(const TopoView& topo) {
+  // A confident belief that jumps to a node farther along the graph than the robot has travelled
+  // since the last trusted one is not acted on (no room entered, no turn for the route) until it has
+  // held for jump_hold_distance of travel: the map builder's belief can lock onto a look-alike
+  // place after a U-turn at a hallway end (institute's two dead ends of hall_south).
+  const int near = graph_.nearestNode(topo.position);
+  if (near < 0) return false;
+  if (trusted_node_ < 0 || near == trusted_node_) {
+    trusted_node_ = near;
+    trusted_travel_ = travel_;
+    return travel_ >= distrust_until_;
+  }
+  const double d = graph_.distance(uint32_t(trusted_node_), uint32_t(near));
+  if (d > travel_ - trusted_travel_ + params_.jump_tolerance) {
+    distrust_until_ = travel_ + params_.jump_hold_distance;
+    ++stats_.belief_jumps;
+  }
+  trusted_node_ = near;
+  trusted_travel_ = travel_;
+  return travel_ >= distrust_until_;
+}
+
 bool Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) {
   enter_node_ = -1;
   enter_bearing_ = normalizeAngle(door.into_odom + topo.heading_offset);
   if (topo.mode == "frontier") return true;  // a door on a new stretch is new: its node is pomdp_topo's current one
-  if (topo.mode != "localized" || !topo.confident) return false;
+  if (topo.mode != "localized" || !topo.confident || travel_ < distrust_until_) return false;
   const int n = graph_.nearestNode(topo.position);
   if (n < 0) return false;
   for (const GraphOpening& o : graph_.unexplored(uint32_t(n))) {

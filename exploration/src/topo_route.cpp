@@ -68,6 +68,32 @@ size_t TopoGraph::exploredCount() const {
   return count;
 }
 
+double TopoGraph::distance(uint32_t a, uint32_t b) const {
+  if (!node(a) || !node(b)) return std::numeric_limits<double>::infinity();
+  std::map<uint32_t, double> dist{{a, 0.0}};
+  using Item = std::pair<double, uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  queue.push({0.0, a});
+  while (!queue.empty()) {
+    const Item top = queue.top();
+    queue.pop();
+    if (top.second == b) return top.first;
+    if (top.first > dist[top.second]) continue;
+    for (const auto& entry : edges_) {
+      const GraphEdge& e = entry.second;
+      if (e.source != top.second && e.target != top.second) continue;
+      const uint32_t other = e.source == top.second ? e.target : e.source;
+      const double d = top.first + e.length;
+      auto it = dist.find(other);
+      if (it == dist.end() || d < it->second) {
+        dist[other] = d;
+        queue.push({d, other});
+      }
+    }
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
 size_t TopoGraph::placeCount() const {
   std::set<int> ids;
   for (const auto& entry : nodes_) {

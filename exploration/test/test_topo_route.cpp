@@ -130,6 +130,17 @@ TEST(TopoRoute, NothingLeftOrNoPosition) {
   EXPECT_EQ(hallway(false, false).nearestNode(lost), -1);
 }
 
+TEST(TopoRoute, DistanceAlongTheEdges) {
+  const TopoGraph g = hallway(false, false);
+  EXPECT_NEAR(g.distance(0, 3), 13.0, 1e-9);
+  EXPECT_NEAR(g.distance(3, 1), 9.0, 1e-9);
+  EXPECT_NEAR(g.distance(2, 2), 0.0, 1e-9);
+  TopoGraph split = g;
+  split.addNode(GraphNode{9, 2, 50.0, 0.0, -1, {}});  // not connected
+  EXPECT_TRUE(std::isinf(split.distance(0, 9)));
+  EXPECT_TRUE(std::isinf(g.distance(0, 42)));
+}
+
 TEST(TopoRoute, NearestNodeOfAnEdgePosition) {
   const TopoGraph g = hallway(false, false);
   EXPECT_EQ(g.nearestNode(onEdge(1, 1.0, 0.0)), 1);

@@ -62,6 +62,9 @@ struct CoordinatorParams {
   double branch_record_distance = 1.0;  // m travelled after a turn before the ways not taken are recorded
   double u_turn_cost = 2.0;          // m, route cost of turning back on an edge
   int max_route_attempts = 3;        // -, turns round towards one node's opening before it is given up
+  double jump_tolerance = 4.0;       // m, a belief whose node is farther along the graph from the last
+                                     // trusted one than the travel since plus this has jumped ...
+  double jump_hold_distance = 6.0;   // m, ... and is not acted on until it held for this much travel
   double goal_pass_distance = 3.0;   // m, travel at the goal node (as the belief says) without finding
                                      // its opening before the opening is given up
   double goal_refresh_distance = 0.25;  // m, the hallway goal is re-sent when it moved this much
@@ -126,6 +129,7 @@ struct CoordinatorStats {
   int doors_entered = 0;
   int doors_passed = 0;       // doors not entered (explored already, or the belief unconfident)
   int openings_given_up = 0;  // openings the route kept missing (see max_route_attempts)
+  int belief_jumps = 0;       // implausible jumps of the belief (see jump_tolerance)
   int turns = 0, u_turns = 0;
   double travel = 0.0;        // m, odometric
   double room_free_area = 0.0;  // m^2, sum over the rooms' grids
@@ -178,6 +182,7 @@ class Coordinator {
   void trackDoors(const Perception& p, double dir_robot);
   bool doorPassed(const Perception& p, double dir_robot, DoorTrack* door);
   bool mayEnter(const TopoView& topo, const DoorTrack& door);
+  bool beliefPlausible(const TopoView& topo);
   void startTurn(int bin, const Perception& p, const TopoView& topo, std::vector<int> not_taken);
   void room(const Perception& p, Decision* d);
   void roomStep(const Perception& p, Decision* d);  // with the robot's pose in the place
@@ -203,6 +208,9 @@ class Coordinator {
   Eigen::Vector2d last_goal_ = Eigen::Vector2d::Zero();
   std::vector<DoorTrack> doors_;
   int route_behind_ticks_ = 0;
+  int trusted_node_ = -1;          // the belief's node when last trusted
+  double trusted_travel_ = 0.0;    // m, travel_ then
+  double distrust_until_ = 0.0;    // m, travel_ before which a jumped belief is not acted on
   int goal_pass_node_ = -1;        // the route's goal node the robot is at (as the belief says)
   double goal_pass_travel_ = 0.0;  // m, travel_ when it got there
   std::map<uint32_t, int> route_attempts_;  // U-turns towards each goal node

@@ -58,6 +58,8 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("u_turn_cost", &c.u_turn_cost);
   visit("max_route_attempts", &c.max_route_attempts);
   visit("goal_pass_distance", &c.goal_pass_distance);
+  visit("jump_tolerance", &c.jump_tolerance);
+  visit("jump_hold_distance", &c.jump_hold_distance);
   visit("goal_refresh_distance", &c.goal_refresh_distance);
   visit("max_time", &c.max_time);
   HallwayViewParams& h = c.hallway;

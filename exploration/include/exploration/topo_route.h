@@ -79,6 +79,9 @@ class TopoGraph {
   /// Places linked to the graph's nodes (distinct place ids).
   size_t placeCount() const;
 
+  /// Shortest distance along the edges between two nodes, m (infinity if unconnected or unknown).
+  double distance(uint32_t a, uint32_t b) const;
+
   /// The node the robot is at, or the edge's end it is nearer (ahead of it when half-way); -1 if
   /// `pos` is not valid or names nothing in the graph.
   int nearestNode(const GraphPosition& pos) const;
