@@ -69,13 +69,6 @@ namespace exploration {
 
 using laser_features::Pose2D;
 
-struct ParamReader {
-  ros::NodeHandle& nh;
-  void operator()(const char* name, double* value) const { nh.param(name, *value, *value); }
-  void operator()(const char* name, int* value) const { nh.param(name, *value, *value); }
-  void operator()(const char* name, bool* value) const { nh.param(name, *value, *value); }
-  void operator()(const char* name, std::string* value) const { nh.param(name, *value, *value); }
-};
 
 namespace {
 
