@@ -134,7 +134,6 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
       if ((motion_reached && err < 0.15) || err < 0.05 || (motion_blocked && err < 0.3)) {
         bin_ = turn_bin_;
         pending_branch_travel_ = travel_;
-        last_turn_time_ = now_;
         last_turn_travel_ = travel_;
         have_goal_ = false;
         setState(State::Follow, "following the hallway");
@@ -209,7 +208,6 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
         // Back on the hallway's mid-line: the room is done.
         d.requests.insert(d.requests.begin(), Request{Request::ClosePlace});
       }
-      (void)motion_reached;
       break;
     case State::Done:
       d.stop = true;
@@ -273,8 +271,10 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     } else if (near != goal_pass_node_) {
       goal_pass_node_ = -1;
     }
-    // The route points back along the hallway: turn round (after a few ticks of agreement).
-    if (route.found && std::abs(normalizeAngle(route.heading - binHeading(bin_))) > 0.75 * kPi) {
+    // The route points back along the hallway: turn round (after a few ticks of agreement), but
+    // not for the node the robot is at: its door is entered once passed, or given up (above).
+    if (route.found && (near < 0 || uint32_t(near) != route.goal_node) &&
+        std::abs(normalizeAngle(route.heading - binHeading(bin_))) > 0.75 * kPi) {
       // Not again soon after a turn: a belief flickering between two edges would swing the robot.
       if (++route_behind_ticks_ >= 5 && travel_ - last_turn_travel_ > 3.0) {
         route_behind_ticks_ = 0;
@@ -414,7 +414,7 @@ void Coordinator::startTurn(int bin, const Perception& p, const TopoView& topo, 
 }
 
 void Coordinator::trackDoors(const Perception& p, double dir_robot) {
-  const Eigen::Vector2d u = unit(dir_robot), nrm = unit(dir_robot + 0.5 * kPi);
+  const Eigen::Vector2d nrm = unit(dir_robot + 0.5 * kPi);
   for (const auto& o : p.openings) {
     if (o.kind == laser_features::OpeningKind::kJunction) continue;
     if (o.width < params_.door_min_width || o.width > params_.door_max_width) continue;
@@ -424,7 +424,6 @@ void Coordinator::trackDoors(const Perception& p, double dir_robot) {
     const double side = lateral > 0.0 ? 1.0 : -1.0;
     const double into = dir_robot + side * 0.5 * kPi;  // robot frame
     if (std::abs(normalizeAngle(o.theta - into)) > params_.door_side_angle) continue;
-    (void)u;
     const Eigen::Vector2d c = apply(p.odom, o.center);
     const double into_odom = normalizeAngle(into + p.odom.theta);
     auto it = std::find_if(doors_.begin(), doors_.end(), [&](const DoorTrack& t) {
@@ -469,23 +468,23 @@ bool Coordinator::doorPassed(const Perception& p, double dir_robot, DoorTrack* d
 
 bool Coordinator::beliefPlausible(const TopoView& topo) {
   // A confident belief that jumps to a node farther along the graph than the robot has travelled
-  // since the last trusted one is not acted on (no room entered, no turn for the route) until it has
-  // held for jump_hold_distance of travel: the map builder's belief can lock onto a look-alike
-  // place after a U-turn at a hallway end (institute's two dead ends of hall_south).
+  // since it adopted the last trusted one is not acted on (no room entered, no turn for the route)
+  // until it has held for jump_hold_distance of travel: the map builder's belief can lock onto a
+  // look-alike place after a U-turn at a hallway end (institute's two dead ends of hall_south).
+  // Neighbours on the graph are never a jump (the nearest node changes half-way along an edge).
   const int near = graph_.nearestNode(topo.position);
   if (near < 0) return false;
-  if (trusted_node_ < 0 || near == trusted_node_) {
+  if (trusted_node_ >= 0 && near != trusted_node_ && !graph_.adjacent(uint32_t(trusted_node_), uint32_t(near))) {
+    const double d = graph_.distance(uint32_t(trusted_node_), uint32_t(near));
+    if (d > travel_ - trusted_travel_ + params_.jump_tolerance) {
+      distrust_until_ = travel_ + params_.jump_hold_distance;
+      ++stats_.belief_jumps;
+    }
+  }
+  if (near != trusted_node_) {
     trusted_node_ = near;
     trusted_travel_ = travel_;
-    return travel_ >= distrust_until_;
   }
-  const double d = graph_.distance(uint32_t(trusted_node_), uint32_t(near));
-  if (d > travel_ - trusted_travel_ + params_.jump_tolerance) {
-    distrust_until_ = travel_ + params_.jump_hold_distance;
-    ++stats_.belief_jumps;
-  }
-  trusted_node_ = near;
-  trusted_travel_ = travel_;
   return travel_ >= distrust_until_;
 }
 
@@ -628,7 +627,6 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
     bin_ = hallway_bin_;
     have_goal_ = false;
     mode_ = CoordinatorMode::Topological;
-    last_turn_time_ = now_;
     last_turn_travel_ = travel_;
     setState(State::Follow, back ? "following the hallway" : "following the hallway (the way back was not reached exactly)");
   }

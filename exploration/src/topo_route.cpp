@@ -68,6 +68,14 @@ size_t TopoGraph::exploredCount() const {
   return count;
 }
 
+bool TopoGraph::adjacent(uint32_t a, uint32_t b) const {
+  for (const auto& entry : edges_) {
+    const GraphEdge& e = entry.second;
+    if ((e.source == a && e.target == b) || (e.source == b && e.target == a)) return true;
+  }
+  return false;
+}
+
 double TopoGraph::distance(uint32_t a, uint32_t b) const {
   if (!node(a) || !node(b)) return std::numeric_limits<double>::infinity();
   std::map<uint32_t, double> dist{{a, 0.0}};

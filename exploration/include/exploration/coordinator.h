@@ -209,14 +209,13 @@ class Coordinator {
   std::vector<DoorTrack> doors_;
   int route_behind_ticks_ = 0;
   int trusted_node_ = -1;          // the belief's node when last trusted
-  double trusted_travel_ = 0.0;    // m, travel_ then
+  double trusted_travel_ = 0.0;    // m, travel_ when it became the trusted node
   double distrust_until_ = 0.0;    // m, travel_ before which a jumped belief is not acted on
   int goal_pass_node_ = -1;        // the route's goal node the robot is at (as the belief says)
   double goal_pass_travel_ = 0.0;  // m, travel_ when it got there
   std::map<uint32_t, int> route_attempts_;  // U-turns towards each goal node
   int enter_node_ = -1;                     // the known door's node being entered (-1: a new door)
   double enter_bearing_ = 0.0;              // rad, map frame, its opening's bearing   // consecutive ticks the route pointed back (U-turn hysteresis)
-  double last_turn_time_ = -1e9;
   double last_turn_travel_ = -1e9;  // m, travel_ at the last turn
   // Turning.
   int turn_bin_ = 0;

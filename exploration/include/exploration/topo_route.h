@@ -79,6 +79,8 @@ class TopoGraph {
   /// Places linked to the graph's nodes (distinct place ids).
   size_t placeCount() const;
 
+  /// Whether an edge joins the two nodes.
+  bool adjacent(uint32_t a, uint32_t b) const;
   /// Shortest distance along the edges between two nodes, m (infinity if unconnected or unknown).
   double distance(uint32_t a, uint32_t b) const;
 
