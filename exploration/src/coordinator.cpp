@@ -252,7 +252,10 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     // again, a wide door taken for a branch): give it up once the robot has gone past, instead of
     // turning round for it again and again (each U-turn on a hallway weakens the belief).
     const int near = graph_.nearestNode(topo.position);
-    if (route.found && near >= 0 && uint32_t(near) == route.goal_node) {
+    // Doors only: a hallway branch is never given up this way (the north half of institute lies
+    // behind one); the robot turns into it when its side opens (below).
+    const bool door_goal = route.goal_width > 0.0 && route.goal_width <= params_.door_max_width;
+    if (route.found && door_goal && near >= 0 && uint32_t(near) == route.goal_node) {
       if (goal_pass_node_ != near) {
         goal_pass_node_ = near;
         goal_pass_travel_ = travel_;
@@ -328,7 +331,11 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     const int n = params_.heading_bins;
     const bool left = route_bin == (bin_ + n / 4) % n, right = route_bin == (bin_ + 3 * n / 4) % n;
     const int near = graph_.nearestNode(topo.position);
-    if (((left && v.open_left) || (right && v.open_right)) && near >= 0 && uint32_t(near) == route.next_node) {
+    // At the node as the belief says, or within 2 m of the goal node: the belief may be off by a
+    // metre, the branch's mouth opens the side sector only within a quarter metre of its centre.
+    const bool here = (near >= 0 && uint32_t(near) == route.next_node) ||
+                      (route.next_node == route.goal_node && route.distance < 2.0);
+    if (((left && v.open_left) || (right && v.open_right)) && here) {
       startTurn(route_bin, p, topo, {});
       state_text_ = "turning into the branch of node " + std::to_string(near) + " towards node " +
                     std::to_string(route.goal_node);

@@ -160,6 +160,7 @@ RouteStep TopoGraph::route(const GraphPosition& pos, double u_turn_cost) const {
       step.found = true;
       step.goal_node = n;
       step.goal_bearing = open.front().bearing;
+      step.goal_width = open.front().width;
       step.distance = top.first;
       // Back along the route to its first node: that node's heading is the one to travel now; the
       // heading leaving it is the next step's (or the opening's, at the goal).

@@ -52,6 +52,7 @@ struct RouteStep {
   bool found = false;
   uint32_t goal_node = 0;       // the node with the unexplored opening
   double goal_bearing = 0.0;    // rad, the opening's bearing there
+  double goal_width = 0.0;      // m, the opening's width (0 if not measured)
   double distance = 0.0;        // m, along the edges to the goal node
   uint32_t next_node = 0;       // the node the step leads to (the goal node when at it)
   double heading = 0.0;         // rad, map frame, the heading to travel now
