@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "segment_world.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,9 +29,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // ---------------------------------------------------------------------------------------------
 // The world, the laser, the door detector
 
-struct Segment {
-  Vector2d a, b;
-};
+using test::Segment;
 
 /// An axis-aligned rectangle.
 struct Box {
@@ -38,51 +38,12 @@ struct Box {
   double area() const { return (x1 - x0) * (y1 - y0); }
 };
 
-struct World {
-  std::vector<Segment> walls;
+struct World : test::SegmentWorld {
   std::vector<Segment> doors;  // edge points of the doors (what a door detector would report)
   Pose2D entry;                // the entry door's centre, into the room
   double entry_width = 1.0;    // m
   Box room;                    // the room to explore (inside its walls)
   std::vector<Box> solids;     // obstacles inside the room (their area is no free space)
-
-  void wall(double x0, double y0, double x1, double y1) { walls.push_back({{x0, y0}, {x1, y1}}); }
-  void box(double x0, double y0, double x1, double y1) {
-    wall(x0, y0, x1, y0);
-    wall(x1, y0, x1, y1);
-    wall(x1, y1, x0, y1);
-    wall(x0, y1, x0, y0);
-  }
-
-  double clearance(const Vector2d& p) const {
-    double d = kInf;
-    for (const Segment& s : walls) {
-      const Vector2d ab = s.b - s.a;
-      const double t = std::clamp((p - s.a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-      d = std::min(d, (s.a + t * ab - p).norm());
-    }
-    return d;
-  }
-
-  double raycast(const Vector2d& o, const Vector2d& u) const {
-    double best = kInf;
-    for (const Segment& s : walls) {
-      const Vector2d e = s.b - s.a;
-      const double denom = laser_features::cross2(u, e);
-      if (std::abs(denom) < 1e-12) continue;
-      const Vector2d w = s.a - o;
-      const double t = laser_features::cross2(w, e) / denom;
-      const double v = laser_features::cross2(w, u) / denom;
-      if (t > 0.0 && v >= 0.0 && v <= 1.0) best = std::min(best, t);
-    }
-    return best;
-  }
-
-  bool blocked(const Vector2d& p, const Vector2d& q) const {
-    const double len = (q - p).norm();
-    if (len < 1e-12) return false;
-    return raycast(p, (q - p) / len) < len;
-  }
 };
 
 struct Laser {
