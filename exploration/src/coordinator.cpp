@@ -126,10 +126,7 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
     case State::Turn: {
       // Turn on the spot where the robot is now: a position fixed when the turn was decided lies
       // behind the robot once it has braked, and the controller would turn round to reach it.
-      d.has_goal = true;
-      d.x = p.odom.x;
-      d.y = p.odom.y;
-      d.theta = turn_odom_heading_;
+      turnGoal(p, &d);
       const double err = std::abs(normalizeAngle(turn_odom_heading_ - p.odom.theta));
       if ((motion_reached && err < 0.15) || err < 0.05 || (motion_blocked && err < 0.3)) {
         bin_ = turn_bin_;
@@ -300,10 +297,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
         state_text_ = "turning round towards node " + std::to_string(route.goal_node) + " (" +
                       std::to_string(route.distance) + " m, from " + (topo.position.at_node ? "node " : "edge ") +
                       std::to_string(topo.position.id) + ")";
-        d->has_goal = true;
-        d->x = p.odom.x;
-        d->y = p.odom.y;
-        d->theta = turn_odom_heading_;
+        turnGoal(p, d);
         return;
       }
     } else {
@@ -339,10 +333,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
       startTurn(route_bin, p, topo, {});
       state_text_ = "turning into the branch of node " + std::to_string(near) + " towards node " +
                     std::to_string(route.goal_node);
-      d->has_goal = true;
-      d->x = p.odom.x;
-      d->y = p.odom.y;
-      d->theta = turn_odom_heading_;
+      turnGoal(p, d);
       return;
     }
   }
@@ -351,10 +342,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     decideAtEnd(p, topo, v, d);
     if (blocked) state_text_ = "motion blocked: " + state_text_;
     if (state_ == State::Turn) {
-      d->has_goal = true;
-      d->x = p.odom.x;
-      d->y = p.odom.y;
-      d->theta = turn_odom_heading_;
+      turnGoal(p, d);
       return;
     }
   }
@@ -407,6 +395,13 @@ void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const H
   ++stats_.turns;
   startTurn(choice, p, topo, not_taken);
   state_text_ = "hallway end: turning " + std::string(choice == left ? "left" : "right") + why;
+}
+
+void Coordinator::turnGoal(const Perception& p, Decision* d) const {
+  d->has_goal = true;
+  d->x = p.odom.x;
+  d->y = p.odom.y;
+  d->theta = turn_odom_heading_;
 }
 
 void Coordinator::startTurn(int bin, const Perception& p, const TopoView& topo, std::vector<int> not_taken) {

@@ -183,6 +183,8 @@ class Coordinator {
   bool doorPassed(const Perception& p, double dir_robot, DoorTrack* door);
   bool mayEnter(const TopoView& topo, const DoorTrack& door);
   bool beliefPlausible(const TopoView& topo);
+  /// The goal of a turn on the spot: where the robot is now, with the turn's heading.
+  void turnGoal(const Perception& p, Decision* d) const;
   void startTurn(int bin, const Perception& p, const TopoView& topo, std::vector<int> not_taken);
   void room(const Perception& p, Decision* d);
   void roomStep(const Perception& p, Decision* d);  // with the robot's pose in the place
