@@ -62,6 +62,21 @@ class Every {
   double next_ = 0.0;
 };
 
+// "a/b, room_c" -> {"a/b", "room_c"}: the ~closed_doors parameter.
+std::vector<std::string> closedDoors(const std::string& list) {
+  std::vector<std::string> out;
+  std::string item;
+  for (const char c : list + ",") {
+    if (c == ',') {
+      if (!item.empty()) out.push_back(item);
+      item.clear();
+    } else if (c != ' ') {
+      item += c;
+    }
+  }
+  return out;
+}
+
 class SimNode {
  public:
   SimNode(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh) {}
@@ -96,7 +111,8 @@ class SimNode {
       return false;
     }
     try {
-      const World world = loadWorldFile(world_file);
+      World world = loadWorldFile(world_file);
+      world.closeDoors(closedDoors(param<std::string>(pnh_, "closed_doors", "")));
       const RobotModel robot = robotModelFromUrdf(urdf, base_frame_, laser_frame_);
       sim_ = std::make_unique<Simulator>(world, robot, readSimParams(pnh_));
     } catch (const std::exception& e) {

@@ -65,6 +65,16 @@ class ErrorContext {
     return v;
   }
 
+  bool boolean(const YAML::Node& node, const std::string& key) const {
+    if (!node.IsScalar()) fail(node, key, "must be true or false");
+    try {
+      return node.as<bool>();
+    } catch (const YAML::Exception&) {
+      fail(node, key, "must be true or false, got '" + node.Scalar() + "'");
+    }
+    return false;
+  }
+
   std::string text(const YAML::Node& node, const std::string& key) const {
     if (!node.IsScalar()) fail(node, key, "must be a string");
     return node.Scalar();
@@ -134,7 +144,65 @@ std::vector<OrientedBox> World::solidBoxes() const {
     }
   }
   out.insert(out.end(), boxes.begin(), boxes.end());
+  for (const auto& d : doors) {
+    if (d.closed) out.push_back(doorLeaf(d));
+  }
   return out;
+}
+
+OrientedBox World::doorLeaf(const Door& door) const {
+  double best = 0.3;  // m: a door centre lies on its regions' shared boundary
+  double yaw = 0.0;
+  bool found = false;
+  for (const auto& r : regions) {
+    if (r.name != door.between[0] && r.name != door.between[1]) continue;
+    for (size_t i = 0; i < r.polygon.size(); ++i) {
+      const Vec2& a = r.polygon[i];
+      const Vec2& b = r.polygon[(i + 1) % r.polygon.size()];
+      const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+      if (len2 <= 0.0) continue;
+      const double t = std::clamp(((door.center.x - a.x) * dx + (door.center.y - a.y) * dy) / len2, 0.0, 1.0);
+      const double d = std::hypot(a.x + t * dx - door.center.x, a.y + t * dy - door.center.y);
+      if (d < best) {
+        best = d;
+        yaw = std::atan2(dy, dx);
+        found = true;
+      }
+    }
+  }
+  if (!found) {
+    throw WorldError(source + ": door between '" + door.between[0] + "' and '" + door.between[1] +
+                     "': no edge of either region passes within 0.3 m of its centre, cannot close it");
+  }
+  OrientedBox leaf;
+  leaf.center = door.center;
+  leaf.half_x = (door.width + wall_thickness) / 2;
+  leaf.half_y = wall_thickness / 4;
+  leaf.yaw = yaw;
+  return leaf;
+}
+
+void World::closeDoors(const std::vector<std::string>& names) {
+  for (const std::string& name : names) {
+    const size_t slash = name.find('/');
+    const std::string a = name.substr(0, slash);
+    const std::string b = slash == std::string::npos ? "" : name.substr(slash + 1);
+    bool matched = false;
+    for (auto& d : doors) {
+      const bool hit = b.empty() ? (d.between[0] == a || d.between[1] == a)
+                                 : ((d.between[0] == a && d.between[1] == b) || (d.between[0] == b && d.between[1] == a));
+      if (hit) {
+        doorLeaf(d);  // throws when the leaf's direction is unknown
+        d.closed = true;
+        matched = true;
+      }
+    }
+    if (!matched) {
+      std::string known;
+      for (const auto& d : doors) known += (known.empty() ? "" : ", ") + d.between[0] + "/" + d.between[1];
+      throw WorldError(source + ": cannot close door '" + name + "': no such door (doors: " + known + ")");
+    }
+  }
 }
 
 void World::bounds(Vec2* min, Vec2* max) const {
@@ -265,7 +333,7 @@ World parseWorld(const std::string& yaml_text, const std::string& source) {
     if (!doors.IsSequence()) ctx.fail(doors, "doors", "must be a list");
     for (size_t i = 0; i < doors.size(); ++i) {
       const std::string key = indexed("doors", i);
-      ctx.allowKeys(doors[i], key, {"between", "center", "width"});
+      ctx.allowKeys(doors[i], key, {"between", "center", "width", "closed"});
       Door d;
       const YAML::Node between = ctx.required(doors[i], key, "between");
       if (!between.IsSequence() || between.size() != 2) ctx.fail(between, key + ".between", "must name two regions");
@@ -275,7 +343,15 @@ World parseWorld(const std::string& yaml_text, const std::string& source) {
       }
       d.center = ctx.point(ctx.required(doors[i], key, "center"), key + ".center");
       d.width = ctx.positive(ctx.required(doors[i], key, "width"), key + ".width");
+      if (const YAML::Node closed = doors[i]["closed"]) d.closed = ctx.boolean(closed, key + ".closed");
       w.doors.push_back(d);
+      if (d.closed) {
+        try {
+          w.doorLeaf(d);  // fail at load time, with the line, if the door cannot be closed
+        } catch (const WorldError&) {
+          ctx.fail(doors[i], key + ".closed", "cannot close this door: no edge of its regions passes within 0.3 m of its centre");
+        }
+      }
     }
   }
   return w;

@@ -1,6 +1,7 @@
 // World files: valid ones load; every kind of bad file is refused naming the file, line and key.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 
@@ -156,3 +157,46 @@ TEST_P(ShippedWorld, LoadsWithCompleteGroundTruth) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Worlds, ShippedWorld, ::testing::Values("small_loop", "institute", "large_floor"));
+
+// Closed doors (fault tests): a leaf fills the opening along the regions' shared boundary.
+TEST(World, ClosedDoorIsASolidLeafAcrossTheOpening) {
+  World w = bullet_sim::loadWorldFile(std::string(WORLDS_DIR) + "/small_loop.yaml");
+  const size_t open_boxes = w.solidBoxes().size();
+  w.closeDoors({"room_east"});  // its one door, in hall_south's north wall at (12, 2)
+  EXPECT_EQ(w.solidBoxes().size(), open_boxes + 1);
+  EXPECT_LE(bullet_sim::distanceToObstacles(w, {12.0, 2.0}), 0.0);
+  EXPECT_LE(bullet_sim::distanceToObstacles(w, {11.6, 2.0}), 0.0);  // no slit at the door's edges
+  EXPECT_GT(bullet_sim::distanceToObstacles(w, {12.0, 1.7}), 0.2);  // the hallway stays free
+  EXPECT_GT(bullet_sim::distanceToObstacles(w, {12.0, 2.3}), 0.2);  // and so does the room
+  // "a/b" in either order names one door; the others stay open.
+  World v = bullet_sim::loadWorldFile(std::string(WORLDS_DIR) + "/small_loop.yaml");
+  v.closeDoors({"hall_north/room_west"});
+  EXPECT_LE(bullet_sim::distanceToObstacles(v, {4.0, 10.0}), 0.0);
+  EXPECT_GT(bullet_sim::distanceToObstacles(v, {12.0, 2.0}), 0.4);
+}
+
+TEST(World, ClosingAnUnknownDoorNamesTheDoorsThereAre) {
+  World w = bullet_sim::loadWorldFile(std::string(WORLDS_DIR) + "/small_loop.yaml");
+  try {
+    w.closeDoors({"room_nowhere"});
+    FAIL() << "no error";
+  } catch (const WorldError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("room_nowhere"), std::string::npos) << m;
+    EXPECT_NE(m.find("room_east/hall_south"), std::string::npos) << m;
+  }
+}
+
+TEST(World, ClosedKeyInTheWorldFile) {
+  const std::string with_door = replace(
+      replace(kValid, "doors: []", "doors:\n  - {between: [room, hall], center: [6, 2], width: 1, closed: true}"),
+      "regions:\n", "regions:\n  - {name: hall, kind: hallway, polygon: [[6, 0], [8, 0], [8, 4], [6, 4]]}\n");
+  const World w = bullet_sim::parseWorld(with_door, "closed.yaml");
+  ASSERT_EQ(w.doors.size(), 1u);
+  EXPECT_TRUE(w.doors[0].closed);
+  EXPECT_NEAR(std::abs(std::sin(w.doorLeaf(w.doors[0]).yaw)), 1.0, 1e-9);  // along the wall x = 6
+  const std::string e = errorOf(replace(with_door, "closed: true", "closed: maybe"));
+  EXPECT_NE(e.find("doors[0].closed"), std::string::npos) << e;
+  const std::string far = errorOf(replace(with_door, "center: [6, 2]", "center: [3, 2]"));
+  EXPECT_NE(far.find("cannot close this door"), std::string::npos) << far;
+}

@@ -47,7 +47,8 @@ struct Region {
 struct Door {
   std::array<std::string, 2> between;
   Vec2 center;
-  double width = 0.0;  // m
+  double width = 0.0;   // m
+  bool closed = false;  // a closed door is a solid leaf across the opening (fault tests)
 };
 
 struct World {
@@ -63,8 +64,16 @@ struct World {
   std::vector<Region> regions;
   std::vector<Door> doors;
 
-  // Every wall segment as a box (length along the segment, thickness across), then the furniture.
+  // Every wall segment as a box (length along the segment, thickness across), then the furniture,
+  // then a leaf across every closed door.
   std::vector<OrientedBox> solidBoxes() const;
+  // The leaf that fills a door's opening: along the boundary edge of its regions nearest the centre,
+  // one wall thickness longer than the opening, half a wall thickness thick. Throws WorldError when
+  // no region edge passes within 0.3 m of the door's centre (the leaf's direction is then unknown).
+  OrientedBox doorLeaf(const Door& door) const;
+  // Closes doors by name: "a/b" (or "b/a") is the door between regions a and b, a region name alone
+  // closes every door of that region. Throws WorldError for a name that matches no door.
+  void closeDoors(const std::vector<std::string>& names);
   // Axis-aligned bounds of all obstacles (m).
   void bounds(Vec2* min, Vec2* max) const;
   // Index of the region whose polygon contains p, -1 if none.
