@@ -4,7 +4,9 @@
 Ground truth is read here only (never by the stack): the rooms and doors of the world file, the
 simulator's ground_truth odometry. While the coordinator is METRIC in place k, the regions the robot
 is in say which room place k maps; the topological map's door nodes are matched to the world's
-doors (display poses in the start frame, within 1.5 m). At the end (status DONE, or shutdown) it
+doors (display poses in the start frame, within 1.5 m). Doors closed in the world file or by
+~closed_doors (the simulator's parameter) are walls: the rooms they cut off from the start are
+reported as unreachable and not counted as missed. At the end (status DONE, or shutdown) it
 writes a JSON file: rooms mapped / missed / mapped twice, doors found / missed, spurious door
 nodes, travel, times, map file sizes and bytes per square metre of floor.
 """
@@ -45,6 +47,11 @@ class ExplorationEvaluator:
         self.regions = self.world.get('regions', [])
         self.kinds = {r['name']: r['kind'] for r in self.regions}
         self.start = self.world['robot']['start']
+        self.doors = self.world.get('doors', [])
+        closing = [c.strip() for c in rospy.get_param('~closed_doors', '').split(',') if c.strip()]
+        self.open_doors = [d for d in self.doors if not d.get('closed', False) and not any(
+            (set(c.split('/')) == set(d['between']) if '/' in c else c in d['between']) for c in closing)]
+        self.reachable = self.reachable_regions()
         self.truth = None
         self.travel = 0.0
         self.place_regions = collections.defaultdict(collections.Counter)
@@ -56,6 +63,20 @@ class ExplorationEvaluator:
         rospy.Subscriber('exploration_status', ExplorationStatus, self.on_status, queue_size=50)
         rospy.Subscriber('topological_map', TopologicalMap, self.on_map, queue_size=2)
         rospy.on_shutdown(self.write)
+
+    def reachable_regions(self):
+        """Regions the robot can reach from its start through open doors."""
+        first = self.region_at(self.start[0], self.start[1])
+        seen, todo = {first}, [first]
+        while todo:
+            here = todo.pop()
+            for d in self.open_doors:
+                if here in d['between']:
+                    for r in d['between']:
+                        if r not in seen:
+                            seen.add(r)
+                            todo.append(r)
+        return seen
 
     def region_at(self, x, y):
         for r in self.regions:
@@ -93,12 +114,13 @@ class ExplorationEvaluator:
         return c * dx + s * dy, -s * dx + c * dy
 
     def summary(self):
-        rooms = sorted(r['name'] for r in self.regions if r['kind'] == 'room')
+        rooms = sorted(r['name'] for r in self.regions if r['kind'] == 'room' and r['name'] in self.reachable)
+        unreachable = sorted(r['name'] for r in self.regions if r['kind'] == 'room' and r['name'] not in self.reachable)
         place_room = {k: c.most_common(1)[0][0] for k, c in self.place_regions.items() if c}
         per_room = collections.Counter(place_room.values())
         # Doors between a room and a hallway: the ones a hallway exploration can find.
-        doors = [d for d in self.world.get('doors', [])
-                 if sorted(self.kinds.get(b) for b in d['between']) == ['hallway', 'room']]
+        doors = [d for d in self.open_doors if d['between'][0] in self.reachable and
+                 sorted(self.kinds.get(b) for b in d['between']) == ['hallway', 'room']]
         door_nodes = [n for n in (self.map.nodes if self.map else []) if n.type == 0]
         used = set()
         found, missed = 0, []
@@ -126,6 +148,7 @@ class ExplorationEvaluator:
             'rooms': len(rooms), 'rooms_mapped': len(per_room),
             'rooms_missed': [r for r in rooms if r not in per_room],
             'rooms_mapped_twice': {r: n for r, n in per_room.items() if n > 1},
+            'rooms_unreachable': unreachable,
             'places': s.places if s else 0, 'places_in_no_room': sorted(k for k in range(s.places if s else 0)
                                                                         if k not in place_room),
             'hallway_doors': len(doors), 'doors_found': found, 'doors_missed': missed,

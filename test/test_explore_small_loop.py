@@ -2,7 +2,9 @@
 """rostest: a complete exploration of small_loop (explore.launch) against the world's ground truth.
 
 With ~kill_at > 0 the coordinator is killed once at that sim time (in the first hallway) and
-restarted by roslaunch (respawn): it must pick up from the topological map and still complete."""
+restarted by roslaunch (respawn): it must pick up from the topological map and still complete.
+With ~unreachable (comma-separated room names) the simulator has closed doors: the exploration must
+still end complete, with every other room mapped and exactly those rooms reported unreachable."""
 import json
 import os
 import time
@@ -42,6 +44,9 @@ class ExploreSmallLoop(unittest.TestCase):
         print(json.dumps(result))
         self.assertTrue(result['complete'], 'the exploration ended incomplete')
         self.assertEqual(result['rooms_missed'], [])
+        unreachable = sorted(r for r in rospy.get_param('~unreachable', '').split(',') if r)
+        self.assertEqual(result['rooms_unreachable'], unreachable)
+        self.assertEqual(result['rooms_mapped'], result['rooms'])
         self.assertEqual(result['rooms_mapped_twice'], {})
         self.assertEqual(result['places_in_no_room'], [])
         self.assertEqual(result['doors_found'], result['hallway_doors'], 'missed: %s' % result['doors_missed'])
