@@ -3,6 +3,7 @@
 #include <ros/ros.h>
 #include <tf2_ros/transform_listener.h>
 
+#include <cmath>
 #include <map>
 
 #include "laser_features/feature_extractor.h"
@@ -34,8 +35,9 @@ FeatureExtractor::Params readParams(const ros::NodeHandle& pnh) {
 class FeaturesNode {
  public:
   FeaturesNode(ros::NodeHandle nh, ros::NodeHandle pnh)
-      : extractor_(readParams(pnh)), tf_listener_(tf_buffer_) {
+      : extractor_(readParams(pnh)), consistency_(extractor_.params().odometry_consistency), tf_listener_(tf_buffer_) {
     pnh.param<std::string>("base_frame", base_frame_, "base_link");
+    pnh.param<std::string>("odom_frame", odom_frame_, "odom");
     pnh.param("require_transform", require_transform_, true);
     pnh.param("transform_timeout", transform_timeout_, 0.1);
     features_pub_ = nh.advertise<hybrid_slam_msgs::LaserFeatures>("features", 10);
@@ -75,6 +77,7 @@ class FeaturesNode {
       features_.clear();
     }
     toMsg(features_, scan->header, &msg_);
+    msg_.odometry_consistency = error.empty() ? odometryConsistency(*scan) : -1.0;
     features_pub_.publish(msg_);
     if (markers_pub_.getNumSubscribers() > 0) {
       toMarkers(features_, scan->header, &markers_);
@@ -82,7 +85,35 @@ class FeaturesNode {
     }
   }
 
+  // Where the previous scan's frame is in this one's, by odometry (tf odom_frame -> scan frame at
+  // both stamps), and how well that explains the change; -1 without odometry.
+  double odometryConsistency(const sensor_msgs::LaserScan& scan) {
+    geometry_msgs::TransformStamped t;
+    try {
+      // A bag without odometry: no waiting per scan for a frame that never comes.
+      if (!tf_buffer_._frameExists(odom_frame_)) throw tf2::LookupException(odom_frame_ + " does not exist");
+      t = tf_buffer_.lookupTransform(odom_frame_, scan.header.frame_id, scan.header.stamp,
+                                     ros::Duration(transform_timeout_));
+    } catch (const tf2::TransformException&) {
+      consistency_.reset();
+      have_previous_ = false;
+      return -1.0;
+    }
+    const auto& q = t.transform.rotation;
+    const Pose2D pose{t.transform.translation.x, t.transform.translation.y,
+                      std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))};
+    const Pose2D previous_in_current = have_previous_ ? compose(inverse(pose), previous_pose_) : Pose2D();
+    if (!have_previous_) consistency_.reset();
+    previous_pose_ = pose;
+    have_previous_ = true;
+    return consistency_.update(extractor_.points(), previous_in_current);
+  }
+
   FeatureExtractor extractor_;
+  OdometryConsistency consistency_;
+  Pose2D previous_pose_;
+  bool have_previous_ = false;
+  std::string odom_frame_;
   Features features_;
   hybrid_slam_msgs::LaserFeatures msg_;
   visualization_msgs::MarkerArray markers_;

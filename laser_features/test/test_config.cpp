@@ -35,7 +35,7 @@ TEST(Config, YamlDefaultsEqualTheCodeDefaults) {
     EXPECT_NEAR(static_cast<double>(node.as<T>()), static_cast<double>(*value), 1e-9) << name;
   });
   // Every key of the YAML is a parameter of the core or one of the node's own.
-  const std::set<std::string> node_keys = {"base_frame", "require_transform", "transform_timeout"};
+  const std::set<std::string> node_keys = {"base_frame", "require_transform", "transform_timeout", "odom_frame"};
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
     if (kv.second.IsMap()) {

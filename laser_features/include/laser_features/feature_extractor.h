@@ -6,6 +6,7 @@
 #include "laser_features/corner_extractor.h"
 #include "laser_features/geometry.h"
 #include "laser_features/line_extractor.h"
+#include "laser_features/odometry_consistency.h"
 #include "laser_features/opening_extractor.h"
 #include "laser_features/place_classifier.h"
 #include "laser_features/scan.h"
@@ -34,6 +35,7 @@ struct FeatureExtractorParams {
   CornerExtractor::Params corners;    // see corner_extractor.h
   OpeningExtractor::Params openings;  // see opening_extractor.h
   PlaceClassifier::Params place;      // see place_classifier.h
+  OdometryConsistencyParams odometry_consistency;  // see odometry_consistency.h (computed by the node)
   size_t max_beams = kDefaultMaxBeams;  // -, longer scans are refused (20000)
   double circular_tolerance_beams = kDefaultCircularToleranceBeams;  // beams (0.5): a scan is
                                       //   circular when n |increment| >= 2 pi - this * |increment|

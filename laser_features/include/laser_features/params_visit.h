@@ -52,6 +52,11 @@ void visitParams(FeatureExtractorParams* p, Visitor&& visit) {
   visit("place/max_vertices", &p->place.max_vertices);
   visit("place/wall_parallel_angle", &p->place.wall_parallel_angle);
   visit("place/min_wall_length", &p->place.min_wall_length);
+  visit("odometry_consistency/max_range", &p->odometry_consistency.max_range);
+  visit("odometry_consistency/tolerance", &p->odometry_consistency.tolerance);
+  visit("odometry_consistency/tolerance_per_m", &p->odometry_consistency.tolerance_per_m);
+  visit("odometry_consistency/max_gap", &p->odometry_consistency.max_gap);
+  visit("odometry_consistency/min_points", &p->odometry_consistency.min_points);
 }
 
 }  // namespace laser_features
