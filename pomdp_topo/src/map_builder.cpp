@@ -111,6 +111,46 @@ void MapBuilder::becomeLocalizedAt(uint32_t node, int bin) {
   travel_since_localized_ = 0.0;
 }
 
+void MapBuilder::odometryJump(const FrontEnd& fe) {
+  if (mode_ == Mode::LoopCheck) decideLoop(false, fe);  // its evidence is void; the new node stays
+  if (mode_ == Mode::Frontier && params_.mapping) {
+    // Reopen the way the frontier went (a branch taken was recorded explored when the robot turned).
+    const double bearing = binHeading(frontier_bin_);
+    TopoNode* n = map_->node(from_node_);
+    if (n != nullptr) {
+      bool found = false;
+      for (NodeOpening& o : n->openings) {
+        if (std::abs(normalizeAngle(o.bearing - bearing)) < 0.4) {
+          o.explored = false;
+          found = true;
+        }
+      }
+      NodeOpening o;
+      o.bearing = bearing;
+      if (!found) map_->recordOpening(from_node_, o);
+      n->explored = false;
+      event("odometry jump on the frontier from node " + std::to_string(from_node_) +
+            ": that way is left unexplored");
+    }
+  }
+  mode_ = Mode::Localized;
+  refreshLocalizer();
+  localizer_->setUniform();
+  beyond_ = 0.0;
+  last_edge_ = -1;
+  travel_since_localized_ = 0.0;
+  relocation_pending_ = true;
+  relocated_ = false;
+  event("odometry jump: the robot was moved; belief uniform over the known graph");
+}
+
+bool MapBuilder::takeRelocatedPosition(Eigen::Vector2d* position) {
+  if (!relocated_) return false;
+  relocated_ = false;
+  *position = relocated_position_;
+  return true;
+}
+
 void MapBuilder::skipTravel(double metres) {
   if (!std::isfinite(metres)) return;
   travel_base_ += metres;
@@ -552,6 +592,21 @@ void MapBuilder::processLocalized(const Scan& scan) {
   if (ml < 0) return;
   const bool sure = localizer_->confident();
   travel_since_localized_ = sure ? 0.0 : travel_since_localized_ + std::abs(travelled);
+  if (sure && relocation_pending_) {
+    // Relocalized after an odometry jump: the map's position of the most likely state.
+    const PomdpLocalizer::State st = localizer_->state(size_t(ml));
+    const TopoNode* a = map_->node(st.kind == PomdpLocalizer::State::Node ? st.id : map_->edge(st.id)->source);
+    Eigen::Vector2d p(a->pose.x, a->pose.y);
+    if (st.kind == PomdpLocalizer::State::Edge) {
+      const TopoEdge* e = map_->edge(st.id);
+      const TopoNode* b = map_->node(e->target);
+      if (e->length > 0.0) p += (Eigen::Vector2d(b->pose.x, b->pose.y) - p) * std::clamp(st.offset / e->length, 0.0, 1.0);
+    }
+    relocation_pending_ = false;
+    relocated_ = true;
+    relocated_position_ = p;
+    event("relocalized after the odometry jump");
+  }
   if (sure && params_.mapping && beyond_ == 0.0) updateKnownEdge(scan);
 }
 

@@ -193,6 +193,7 @@ void PomdpLocalizer::setMap(const TopologicalMap& map) {
       }
     }
   }
+  blocked_factor_.assign(states_.size(), params_.blocked_travel_probability);
   for (int32_t n = 0; n < num_nodes; ++n) {
     for (int b = 0; b < bins_; ++b) {
       State& s = states_[nodeState(n, b)];
@@ -202,6 +203,13 @@ void PomdpLocalizer::setMap(const TopologicalMap& map) {
       s.offset = 0.0;
       s.heading = binHeading(b);
       s.cell = uint32_t(b);
+      // Travel out of a node through an unexplored opening is no travel into a wall: the robot may
+      // be on its way off the known map there (e.g. a frontier left after a kidnapping).
+      for (const NodeOpening& o : node_openings_[size_t(n)]) {
+        if (!o.explored && std::abs(normalizeAngle(o.bearing - s.heading)) < 0.25 * kPi) {
+          blocked_factor_[nodeState(n, b)] = 1.0;
+        }
+      }
     }
   }
   buildExpected();
@@ -564,12 +572,11 @@ bool PomdpLocalizer::predict(const Action& action, std::string* error) {
     const double p_under = p, p_over = p, p_mid = 1.0 - 2.0 * p;
     std::fill(scratch_.begin(), scratch_.end(), 0.0);
     const int32_t* next = table.next.data();
-    const double blocked = params_.blocked_travel_probability;
     auto add = [&](int32_t t, double mass) {
       if (t >= 0) {
         scratch_[t] += mass;
       } else {
-        scratch_[~t] += blocked * mass;
+        scratch_[~t] += blocked_factor_[size_t(~t)] * mass;
       }
     };
     for (size_t s = 0; s < belief_.size(); ++s) {  // sum_s T(s, a, s') b(s)

@@ -63,6 +63,7 @@ class TopoNodeRos {
     pnh.param("transform_timeout", transform_timeout_, 0.1);
     pnh.param("markers_period", markers_period_, 0.5);
     pnh.param("realign_updates", realign_updates_, 20);
+    pnh.param("kidnap_consistency", kidnap_consistency_, 0.75);
 
     map_pub_ = nh_.advertise<hybrid_slam_msgs::TopologicalMap>("topological_map", 1, true);
     belief_pub_ = nh_.advertise<hybrid_slam_msgs::TopologicalBelief>("topological_belief", 10);
@@ -153,12 +154,24 @@ class TopoNodeRos {
       return;
     }
     if (first) builder_.start(front_end_);
+    // A scan the odometry does not explain: the robot was moved (kidnapped) and its place is unknown.
+    if (!first && !paused_ && kidnap_consistency_ > 0.0 && msg->odometry_consistency >= 0.0 &&
+        msg->odometry_consistency < kidnap_consistency_) {
+      ROS_WARN("pomdp_topo: odometry consistency %.2f < %.2f: the robot was moved; belief reset to uniform",
+               msg->odometry_consistency, kidnap_consistency_);
+      front_end_.clearTracks();
+      builder_.odometryJump(front_end_);
+      publishMap();  // a reopened opening is no structural change (no new revision) but must be seen
+      if (autosave_ && !map_file_.empty()) save(map_file_, nullptr);
+    }
     if (paused_) {
       front_end_.takePassed();  // in a room: the topological map does not move
       return;
     }
     const Observation observation = front_end_.observation();
     builder_.process(actions_, observation, front_end_.takePassed(), front_end_);
+    Eigen::Vector2d relocated;
+    if (builder_.takeRelocatedPosition(&relocated)) front_end_.setPosition(relocated);
     if (localizer_.lostResets() != lost_resets_) {
       lost_resets_ = localizer_.lostResets();
       ROS_WARN("pomdp_topo: the belief is lost (the map does not explain the observations or a turn); reset to uniform");
@@ -352,6 +365,7 @@ class TopoNodeRos {
   bool load_on_start_ = true, autosave_ = true;
   double transform_timeout_ = 0.1, markers_period_ = 0.5;
   int realign_updates_ = 20;
+  double kidnap_consistency_ = 0.75;
   ros::Publisher map_pub_, belief_pub_, confident_pub_, heading_pub_, events_pub_, mode_pub_, markers_pub_;
   std::string last_mode_;
   ros::Subscriber features_sub_, status_sub_;

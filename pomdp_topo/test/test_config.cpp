@@ -19,7 +19,8 @@ TEST(Config, YamlDefaultsEqualTheCodeDefaults) {
     EXPECT_NEAR(static_cast<double>(node.as<T>()), static_cast<double>(*value), 1e-12) << name;
   });
   const std::set<std::string> node_keys = {"map_frame", "odom_frame", "base_frame", "map_file", "load_on_start",
-                                           "autosave", "transform_timeout", "markers_period", "realign_updates"};
+                                           "autosave", "transform_timeout", "markers_period", "realign_updates",
+                                           "kidnap_consistency"};
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
     EXPECT_TRUE(visited.count(key) || node_keys.count(key)) << "unknown key " << key;

@@ -74,6 +74,9 @@ struct Drive {
   FrontEnd front_end;
   MapBuilder builder;
   size_t steps = 0, localized = 0, right = 0;
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero();  // the first path's start: the map frame's origin
+  Eigen::Vector2d shift = Eigen::Vector2d::Zero();   // true position - odometry (a kidnapping sets it)
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> relocations;  // (map's position, truth)
 
   Drive() : builder(&map, &localizer) {}
 
@@ -88,15 +91,24 @@ struct Drive {
     auto tick = [&](int next) {
       floor->scan(pose, next, path, &lines, &openings);
       actions.clear();
-      ASSERT_TRUE(front_end.process(pose, lines, corners, openings, &actions));
-      if (steps++ == 0) builder.start(front_end);
+      const Pose2D odometry{pose.x - shift.x(), pose.y - shift.y(), pose.theta};
+      ASSERT_TRUE(front_end.process(odometry, lines, corners, openings, &actions));
+      if (steps++ == 0) {
+        builder.start(front_end);
+        origin = path[0];
+      }
       builder.process(actions, front_end.observation(), front_end.takePassed(), front_end);
+      Eigen::Vector2d relocated;
+      if (builder.takeRelocatedPosition(&relocated)) {  // as pomdp_topo_node does
+        front_end.setPosition(relocated);
+        relocations.push_back({relocated, Eigen::Vector2d(pose.x, pose.y) - origin});
+      }
       if (builder.mode() == MapBuilder::Mode::Localized && localizer.mostLikely() >= 0) {
         ++localized;
         const auto& st = localizer.state(size_t(localizer.mostLikely()));
         const Eigen::Vector2d p = position(st);
         // Map positions are relative to the start (the map frame is the start pose).
-        const Eigen::Vector2d truth = Eigen::Vector2d(pose.x, pose.y) - path[0];
+        const Eigen::Vector2d truth = Eigen::Vector2d(pose.x, pose.y) - origin;
         if ((p - truth).norm() <= 1.0 && std::abs(normalizeAngle(st.heading - pose.theta)) < 0.5) ++right;
       }
     };
@@ -231,6 +243,83 @@ TEST(FrontEnd, OneTurnActionPerUTurnAndTravelInResolutionSteps) {
   EXPECT_NE(error.find("jump"), std::string::npos);
   pose.x = std::nan("");
   EXPECT_FALSE(fe.process(pose, lines, corners, openings, &actions, &error));
+}
+
+
+// An odometry jump (kidnapping) while a frontier is mapped: the frontier's way is left as an
+// unexplored opening of the node it started from, and the belief is uniform (unconfident, so the
+// map does not change until the robot is localized again); on the known graph, just the belief.
+TEST(MapBuilder, OdometryJumpLeavesTheFrontierUnexploredAndTheBeliefUniform) {
+  SyntheticFloor floor;
+  floor.doors.push_back({{4.0, 1.1}, 0.5 * kPi, 0.9});
+  Drive drive;
+  drive.run(&floor, {{1.5, 0}, {9.0, 0}}, 0.0);
+  ASSERT_EQ(drive.builder.mode(), MapBuilder::Mode::Frontier);
+  const uint32_t from = uint32_t(drive.builder.currentNode());
+  const size_t nodes = drive.map.nodeCount();
+  drive.builder.odometryJump(drive.front_end);
+  EXPECT_EQ(drive.builder.mode(), MapBuilder::Mode::Localized);
+  EXPECT_FALSE(drive.builder.confident());
+  EXPECT_EQ(drive.map.nodeCount(), nodes);
+  const TopoNode* n = drive.map.node(from);
+  ASSERT_NE(n, nullptr);
+  bool east_unexplored = false;
+  for (const NodeOpening& o : n->openings) east_unexplored |= std::abs(normalizeAngle(o.bearing)) < 0.1 && !o.explored;
+  EXPECT_TRUE(east_unexplored) << "the frontier's way (east) is not an unexplored opening of node " << from;
+  EXPECT_FALSE(n->explored);
+  // Every state equally likely.
+  const auto& belief = drive.localizer.belief();
+  ASSERT_FALSE(belief.empty());
+  for (double p : belief) EXPECT_NEAR(p, 1.0 / double(belief.size()), 1e-9);
+}
+
+// A kidnapping on the frontier, back onto the mapped stretch: after relocalizing at the doors the
+// robot leaves the known graph where the frontier was left, at the last door, not elsewhere.
+TEST(MapBuilder, KidnappedOnTheFrontierRelocalizesAndResumesTheFrontierAtItsNode) {
+  SyntheticFloor floor;
+  floor.doors.push_back({{4.0, 1.1}, 0.5 * kPi, 0.9});
+  floor.doors.push_back({{6.0, -1.1}, -0.5 * kPi, 0.9});
+  floor.doors.push_back({{8.0, 1.1}, 0.5 * kPi, 0.9});
+  Drive drive;
+  drive.run(&floor, {{1.5, 0}, {11.0, 0}}, 0.0);
+  ASSERT_EQ(drive.builder.mode(), MapBuilder::Mode::Frontier);
+  ASSERT_EQ(drive.count(NodeType::Door), 3u);
+  // Moved 8 m back west; odometry goes on from where it was.
+  drive.shift = Eigen::Vector2d(3.0 - 11.0, 0.0);
+  drive.builder.odometryJump(drive.front_end);
+  drive.front_end.clearTracks();
+  drive.run(&floor, {{3.0, 0}, {14.0, 0}}, 0.0);
+  ASSERT_EQ(drive.relocations.size(), 1u);
+  EXPECT_LT((drive.relocations[0].first - drive.relocations[0].second).norm(), 1.0)
+      << drive.relocations[0].first.transpose() << " vs " << drive.relocations[0].second.transpose();
+  EXPECT_EQ(drive.count(NodeType::Door), 3u);
+  EXPECT_EQ(drive.builder.mode(), MapBuilder::Mode::Frontier);
+  const TopoNode* last = drive.map.node(uint32_t(drive.builder.currentNode()));
+  ASSERT_NE(last, nullptr);
+  EXPECT_NEAR(last->pose.x + 1.5, 8.0, 0.5) << "the frontier resumed from another node";
+  EXPECT_NEAR(drive.builder.frontierDistance(), 6.0, 1.0);
+  EXPECT_NEAR(drive.front_end.pose().x + 1.5, 14.0, 1.0) << "the front end's position was not moved to the map's";
+}
+
+// An odometry jump on the known graph (the hallway of five doors, mapped and localized): the belief
+// becomes uniform, is confident again after some doors, and the position handed to the front end
+// once is where the robot truly is.
+TEST(MapBuilder, OdometryJumpOnTheKnownGraphRelocalizesWhereTheRobotIs) {
+  SyntheticFloor floor;
+  const double xs[] = {4.0, 7.5, 9.0, 14.0, 17.0};
+  for (int i = 0; i < 5; ++i) floor.doors.push_back({{xs[i], i % 2 ? -1.1 : 1.1}, i % 2 ? -0.5 * kPi : 0.5 * kPi, 0.9});
+  Drive drive;
+  drive.run(&floor, {{1.5, 0}, {20.0, 0}, {-1.5, 0}, {2.0, 0}}, 0.0);
+  ASSERT_TRUE(drive.builder.confident());
+  const size_t nodes = drive.map.nodeCount();
+  drive.builder.odometryJump(drive.front_end);
+  EXPECT_FALSE(drive.builder.confident());
+  drive.run(&floor, {{2.0, 0}, {19.0, 0}}, 0.0);
+  ASSERT_EQ(drive.relocations.size(), 1u);
+  EXPECT_LT((drive.relocations[0].first - drive.relocations[0].second).norm(), 1.0)
+      << drive.relocations[0].first.transpose() << " vs " << drive.relocations[0].second.transpose();
+  EXPECT_TRUE(drive.builder.confident());
+  EXPECT_EQ(drive.map.nodeCount(), nodes) << "the map changed while relocalizing";
 }
 
 }  // namespace

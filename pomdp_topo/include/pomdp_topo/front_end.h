@@ -86,6 +86,20 @@ class FrontEnd {
   void setHeadingBin(int bin, double pending = 0.0);
   /// Re-aligns the heading by whole bins (after a kidnapping, when the topological belief says so).
   void shiftHeading(int bins);
+  /// Forgets every tracked feature and unreported passed landmark (after an odometry jump: their
+  /// positions in the odometry frame no longer say where they are).
+  void clearTracks() {
+    tracks_.clear();
+    passed_.clear();
+  }
+  /// Moves the corrected pose to `position` (m, map frame), keeping the heading: after an odometry
+  /// jump, once the belief says where the robot is again, so that new nodes and loop candidates are
+  /// placed where the map has them rather than 'where odometry thinks'. Tracks are forgotten.
+  void setPosition(const Eigen::Vector2d& position) {
+    pose_.x = position.x();
+    pose_.y = position.y();
+    clearTracks();
+  }
   bool initialized() const { return initialized_; }
 
   struct Track {

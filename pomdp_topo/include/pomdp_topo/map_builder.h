@@ -62,6 +62,16 @@ class MapBuilder {
   void process(const std::vector<Action>& actions, const Observation& observation,
                const std::vector<PassedLandmark>& passed, const FrontEnd& front_end);
 
+  /// The robot was moved without the odometry knowing (laser_features' odometry consistency fell):
+  /// whatever the builder was doing, the robot's place is now unknown. A frontier being followed is
+  /// left as an unexplored opening of the node it started from (the exploration comes back to it);
+  /// a loop check keeps the new place; the belief becomes uniform over the known graph (Localized,
+  /// unconfident: no map change until it is confident again).
+  void odometryJump(const FrontEnd& fe);
+  /// After an odometry jump, once the belief is confident again: where the map puts the robot (m,
+  /// map frame), once; the caller moves the FrontEnd there (FrontEnd::setPosition). False otherwise.
+  bool takeRelocatedPosition(Eigen::Vector2d* position);
+
   /// The robot travelled `metres` (FrontEnd::travel()) while the topological map was paused (in a
   /// room, METRIC mode) and came back where it left the hallway: that travel is not the hallway's.
   void skipTravel(double metres);
@@ -137,6 +147,9 @@ class MapBuilder {
   double travel_base_ = 0.0;
   std::vector<EdgeLandmark> pending_;  // corners on the frontier, distance from from_node_
   double travel_since_localized_ = 0.0;
+  bool relocation_pending_ = false;     // an odometry jump happened; not yet confident again
+  bool relocated_ = false;              // confident again: the position is to be taken
+  Eigen::Vector2d relocated_position_ = Eigen::Vector2d::Zero();
 
   // Localized.
   double beyond_ = 0.0;     // travel while the most likely state is a node with no exit that way

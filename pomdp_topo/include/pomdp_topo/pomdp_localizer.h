@@ -31,7 +31,7 @@ struct PomdpParams {
   double node_radius = 1.0;                 // m, an edge state this close to a node turns there
   double turn_mid_edge_probability = 0.05;  // -, a non-180-degree turn away from nodes: the mass stays, times this
   double turn_lost_mass = 0.02;             // -, a 90-degree turn with less belief than this at (or near) nodes: lost, reset to uniform
-  double blocked_travel_probability = 0.1;  // -, a travel ending >= one cell past a node without a way on (into a wall): the mass stays at the node, times this
+  double blocked_travel_probability = 0.1;  // -, a travel ending >= one cell past a node without a way on (into a wall): the mass stays at the node, times this (1 through an unexplored opening of the node)
   double window_ahead = 2.0;                // m, landmarks this far ahead along the travel heading are expected (side openings farther ahead are often not seen yet)
   double window_behind = 3.0;               // m, landmarks this far behind are expected
   double window_lateral = 3.0;              // m, and at most this far to the side
@@ -219,6 +219,9 @@ class PomdpLocalizer {
   std::vector<int32_t> node_exit_back_;  // [node * bins + b]: leaving with heading ~ bin b + pi
   std::vector<std::vector<NodeOpening>> node_openings_;
   std::vector<char> node_closed_;        // per node: a hallway end (nothing beyond it)
+  // Per state: the factor on mass whose travel is blocked there (blocked_travel_probability, or 1
+  // for a node state heading through an unexplored opening of its node).
+  std::vector<double> blocked_factor_;
   // Per state: along distances where the known map ends ahead / behind at a node with no way on
   // that is not a hallway end (observed landmarks beyond are unexplored, not false).
   std::vector<float> unknown_ahead_, unknown_behind_;
