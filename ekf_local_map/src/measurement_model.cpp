@@ -21,9 +21,31 @@ SensorPose sensorPose(const Pose2D& robot, const Pose2D& sensor_in_robot) {
 
 Line predictLineInSensor(const Line& map_line, const SensorPose& sensor, Eigen::Matrix2d* J_line,
                          Matrix23d* J_robot) {
-  Matrix23d J_sensor;  // dh/d(sensor pose); chain rule through robot (+) sensor
-  const Line predicted = laser_features::transformLineToFrame(map_line, sensor.pose, J_line, &J_sensor);
-  if (J_robot) *J_robot = J_sensor * sensor.J_robot;
+  // laser_features::transformLineToFrame written out for this hot path (once per map line and
+  // scan), with the chain rule through robot (+) sensor applied to the sparse d(h)/d(sensor) = diag(1, sign) [0 0 -1; -cos(alpha) -sin(alpha) 0]. Same values
+  // (the dropped terms are exact zeros).
+  const double c = std::cos(map_line.alpha);
+  const double s = std::sin(map_line.alpha);
+  const Pose2D& frame = sensor.pose;
+  Line predicted;
+  predicted.alpha = map_line.alpha - frame.theta;
+  predicted.r = map_line.r - frame.x * c - frame.y * s;
+  const bool flip = predicted.r < 0.0;  // canonical form r >= 0: (alpha + pi, -r)
+  if (flip) {
+    predicted.alpha += laser_features::kPi;
+    predicted.r = -predicted.r;
+  }
+  predicted.alpha = normalizeAngle(predicted.alpha);
+  const double sign = flip ? -1.0 : 1.0;
+  Eigen::Matrix2d Jl;
+  Jl << 1.0, 0.0, sign * (frame.x * s - frame.y * c), sign;
+  predicted.cov = Jl * map_line.cov * Jl.transpose();  // as transformLineToFrame (zero in the filter)
+  if (J_line) *J_line = Jl;
+  if (J_robot) {
+    const Eigen::Matrix3d& J = sensor.J_robot;
+    J_robot->row(0) = -J.row(2);
+    J_robot->row(1) = (sign * -c) * J.row(0) + (sign * -s) * J.row(1);
+  }
   return predicted;
 }
 

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <string>
 
 namespace ekf_local_map {
 namespace {
@@ -157,6 +158,102 @@ TEST(Update, EqualsTheDenseJosephFormEkf) {
   EXPECT_LT((map.covariance() - expected.P).cwiseAbs().maxCoeff(), 1e-14);
   EXPECT_NEAR(report.joint_nis, expected.joint_nis, 1e-9);
   EXPECT_TRUE(positiveSemiDefinite(map.covariance()));
+}
+
+/// Eqs. 14–17 written out on dense matrices in their plainest form (S = H P H^T + R,
+/// K = P H^T S^-1, x + K nu, P - K S K^T), for the given (observation, line) pairs.
+DenseUpdate denseTextbookUpdate(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
+                                const std::vector<LineSegment>& observations, const std::vector<LineMatch>& matches,
+                                const Pose2D& mount) {
+  const Eigen::Index n = x.size(), k = Eigen::Index(matches.size());
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(2 * k, n), R = Eigen::MatrixXd::Zero(2 * k, 2 * k);
+  Eigen::VectorXd nu(2 * k);
+  for (Eigen::Index a = 0; a < k; ++a) {
+    const LineMatch& match = matches[size_t(a)];
+    const Eigen::Index l = 3 + 2 * Eigen::Index(match.line);
+    Eigen::Matrix2d J_line;
+    Matrix23d J_robot;
+    const Line h = predictLineInSensor({x(l), x(l + 1), {}}, {x(0), x(1), x(2)}, mount, &J_line, &J_robot);  // eq. 12
+    const LineInnovation innovation = lineInnovation(observations[match.observation].line, h);              // eq. 13
+    H.block(2 * a, 0, 2, 3) = innovation.jacobianSign() * J_robot;
+    H.block(2 * a, l, 2, 2) = innovation.jacobianSign() * J_line;
+    R.block(2 * a, 2 * a, 2, 2) = observations[match.observation].line.cov;
+    nu.segment(2 * a, 2) = innovation.nu;
+  }
+  const Eigen::MatrixXd S = H * P * H.transpose() + R;                   // eq. 14
+  const Eigen::MatrixXd K = P * H.transpose() * S.inverse();             // eq. 15
+  DenseUpdate result;
+  result.x = x + K * nu;                                                 // eq. 16
+  result.P = P - K * S * K.transpose();                                  // eq. 17
+  result.joint_nis = nu.dot(S.inverse() * nu);
+  return result;
+}
+
+/// A place of `num_lines` well separated lines: 10 (or all, if fewer) around the origin, seen by
+/// the test scans and spread over the state (so that H reaches into every part of P), the others
+/// 8-20 m away.
+std::vector<TrueSegment> scatteredPlace(size_t num_lines, std::vector<size_t>* seen, std::mt19937* rng) {
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const size_t near = std::min<size_t>(num_lines, 10);
+  seen->clear();
+  for (size_t q = 0; q < near; ++q) seen->push_back(q * num_lines / near + (q * 7) % std::max<size_t>(num_lines / near, 1));
+  std::vector<TrueSegment> segments;
+  size_t q = 0;
+  for (size_t i = 0; i < num_lines; ++i) {
+    const bool is_near = q < near && (*seen)[q] == i;
+    const double angle = is_near ? kPi * double(q) / double(near) + 0.05 : kPi * uniform(*rng);
+    const double distance = is_near ? 1.0 + 0.3 * double(q) : 8.0 + 12.0 * uniform(*rng);
+    const double bearing = is_near ? 2.0 * kPi * double(q) / double(near) + 0.3 : 2.0 * kPi * uniform(*rng);
+    q += is_near ? 1 : 0;
+    const Eigen::Vector2d centre = distance * Eigen::Vector2d(std::cos(bearing), std::sin(bearing));
+    const Eigen::Vector2d half = 0.8 * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    segments.push_back({centre - half, centre + half});
+  }
+  return segments;
+}
+
+TEST(Update, SimdKernelsEqualTheDenseTextbookEkf) {
+  // The stacked update's kernels (W = P H^T, V = W L^-T with x += V L^-1 nu, P -= V V^T on the
+  // lower triangle) against the plain dense eqs. 14–17, for state sizes that exercise every row
+  // tail and block edge of the kernels, on every instruction set this CPU offers.
+  const UpdateKernelIsa default_isa = updateKernelIsa();
+  for (const UpdateKernelIsa isa : {UpdateKernelIsa::kPortable, UpdateKernelIsa::kAvx2Fma}) {
+    if (!setUpdateKernelIsa(isa)) {
+      std::printf("(kernel set %d not available on this CPU: skipped)\n", int(isa));
+      continue;
+    }
+    for (const size_t num_lines : {3, 4, 10, 37, 61, 120}) {
+      SCOPED_TRACE("kernels " + std::to_string(int(isa)) + ", " + std::to_string(num_lines) + " lines");
+      std::mt19937 rng(uint32_t(100 + num_lines));
+      std::vector<size_t> seen_index;
+      const std::vector<TrueSegment> segments = scatteredPlace(num_lines, &seen_index, &rng);
+      const Pose2D robot{0.02, -0.01, 0.03};
+      StochasticMap map = randomMap(segments, robot, 1e-4, &rng);
+      const Eigen::VectorXd x = map.state();
+      const Eigen::MatrixXd P = map.covariance();
+      std::vector<TrueSegment> seen;
+      for (size_t i : seen_index) seen.push_back(segments[i]);
+      const std::vector<LineSegment> observations = observeAll(seen, {0.03, -0.015, 0.034}, kSensorMount, &rng);
+
+      UpdateReport report;
+      map.update(observations, kSensorMount, &report);
+      ASSERT_EQ(report.matched, seen.size());
+      ASSERT_EQ(report.new_lines, 0u);
+      ASSERT_TRUE(report.fused);
+      for (const LineMatch& match : report.matches) EXPECT_EQ(match.line, seen_index[match.observation]);
+
+      const DenseUpdate expected = denseTextbookUpdate(x, P, observations, report.matches, kSensorMount);
+      // Relative to the size of the correction (state) and of the covariance.
+      const Eigen::VectorXd correction = stateDifference(expected.x, x);
+      const double state_error = stateDifference(map.state(), expected.x).cwiseAbs().maxCoeff();
+      EXPECT_LE(state_error, 1e-9 * correction.cwiseAbs().maxCoeff());
+      const double cov_error = (map.covariance() - expected.P).cwiseAbs().maxCoeff();
+      EXPECT_LE(cov_error, 1e-9 * P.cwiseAbs().maxCoeff());
+      EXPECT_NEAR(report.joint_nis, expected.joint_nis, 1e-9 * expected.joint_nis);
+      EXPECT_TRUE(positiveSemiDefinite(map.covariance()));
+    }
+  }
+  setUpdateKernelIsa(default_isa);
 }
 
 TEST(Update, ALineWhoseRCrossesZeroIsCanonicalizedWithItsCovariance) {

@@ -164,6 +164,14 @@ struct MapLine {
   double length() const { return (extent_end - extent_start).norm(); }
 };
 
+/// The SIMD kernels of the stacked update (eqs. 15–17): portable (SSE2 / NEON width), or AVX2 +
+/// FMA on x86-64 CPUs that have it (chosen at run time, the default when available). The results
+/// agree up to floating-point rounding. For tests and benchmarks; process-wide.
+enum class UpdateKernelIsa : uint8_t { kPortable, kAvx2Fma };
+UpdateKernelIsa updateKernelIsa();
+/// False, changing nothing, when this CPU (or build) lacks the instruction set.
+bool setUpdateKernelIsa(UpdateKernelIsa isa);
+
 class StochasticMap {
  public:
   using Params = StochasticMapParams;
@@ -304,6 +312,7 @@ class StochasticMap {
   Eigen::MatrixXd W_;                // P H^T, then V = W L^-T (stateSize x 2 matches)
   Eigen::MatrixXd S_;                // stacked innovation covariance, then its Cholesky factor
   Eigen::VectorXd nu_;               // stacked innovation, then L^-1 nu
+  Eigen::VectorXd inv_diag_;         // 1 / L(j, j)
   double batch_nis_ = 0.0;           // (L^-1 nu)^T (L^-1 nu) of the stacked batch
   size_t batch_size_ = 0;            // matches in the stacked batch
   std::vector<LinePrediction> predictions_;
