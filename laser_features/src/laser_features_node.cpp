@@ -8,6 +8,7 @@
 
 #include "laser_features/feature_extractor.h"
 #include "laser_features/params_visit.h"
+#include "laser_features/tf_lookup.h"
 #include "ros_conversions.h"
 
 namespace laser_features {
@@ -61,8 +62,9 @@ class FeaturesNode {
   void onScan(const sensor_msgs::LaserScanConstPtr& scan) {
     if (require_transform_ && scan->header.frame_id != base_frame_) {
       std::string why;
-      if (!tf_buffer_.canTransform(base_frame_, scan->header.frame_id, scan->header.stamp,
-                                   ros::Duration(transform_timeout_), &why)) {
+      geometry_msgs::TransformStamped unused;
+      if (!lookupTransform(tf_buffer_, base_frame_, scan->header.frame_id, scan->header.stamp, transform_timeout_,
+                           &unused, &why)) {
         reportOnce("no transform " + scan->header.frame_id,
                    "no transform from the scan's frame '" + scan->header.frame_id + "' to '" + base_frame_ +
                        "'; scan skipped (" + why + ")");
@@ -85,34 +87,21 @@ class FeaturesNode {
     }
   }
 
-  // Where the previous scan's frame is in this one's, by odometry (tf odom_frame -> scan frame at
-  // both stamps), and how well that explains the change; -1 without odometry.
+  // How well odometry (tf odom_frame -> scan frame at the scan's stamp) explains the change from
+  // the previous scans; -1 without odometry.
   double odometryConsistency(const sensor_msgs::LaserScan& scan) {
-    geometry_msgs::TransformStamped t;
-    try {
-      // A bag without odometry: no waiting per scan for a frame that never comes.
-      if (!tf_buffer_._frameExists(odom_frame_)) throw tf2::LookupException(odom_frame_ + " does not exist");
-      t = tf_buffer_.lookupTransform(odom_frame_, scan.header.frame_id, scan.header.stamp,
-                                     ros::Duration(transform_timeout_));
-    } catch (const tf2::TransformException&) {
+    Pose2D pose;
+    // A bag without odometry: no waiting per scan for a frame that never comes.
+    if (!tf_buffer_._frameExists(odom_frame_) ||
+        !lookupPose2D(tf_buffer_, odom_frame_, scan.header.frame_id, scan.header.stamp, transform_timeout_, &pose)) {
       consistency_.reset();
-      have_previous_ = false;
       return -1.0;
     }
-    const auto& q = t.transform.rotation;
-    const Pose2D pose{t.transform.translation.x, t.transform.translation.y,
-                      std::atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))};
-    const Pose2D previous_in_current = have_previous_ ? compose(inverse(pose), previous_pose_) : Pose2D();
-    if (!have_previous_) consistency_.reset();
-    previous_pose_ = pose;
-    have_previous_ = true;
-    return consistency_.update(extractor_.points(), previous_in_current);
+    return consistency_.update(extractor_.points(), pose);
   }
 
   FeatureExtractor extractor_;
   OdometryConsistency consistency_;
-  Pose2D previous_pose_;
-  bool have_previous_ = false;
   std::string odom_frame_;
   Features features_;
   hybrid_slam_msgs::LaserFeatures msg_;

@@ -41,28 +41,80 @@ OdometryConsistency::Verdict OdometryConsistency::compare(const ScanPoints& scan
   return best <= tolerance ? Verdict::kAgrees : Verdict::kDisagrees;
 }
 
-double OdometryConsistency::update(const ScanPoints& scan, const Pose2D& previous_in_current) {
+double OdometryConsistency::score(const Keyframe& frame, const ScanPoints& scan,
+                                  const Pose2D& frame_in_current) const {
   int compared[2] = {0, 0}, agreeing[2] = {0, 0};  // along, across the dominant wall direction
-  for (size_t k = 0; k < previous_.size(); ++k) {
-    const Verdict v = compare(scan, transformPoint(previous_in_current, previous_[k]));
+  for (size_t k = 0; k < frame.points.size(); ++k) {
+    const Verdict v = compare(scan, transformPoint(frame_in_current, frame.points[k]));
     if (v == Verdict::kNotCompared) continue;
-    ++compared[across_[k]];
-    if (v == Verdict::kAgrees) ++agreeing[across_[k]];
+    ++compared[frame.across[k]];
+    if (v == Verdict::kAgrees) ++agreeing[frame.across[k]];
   }
-  double result = -1.0;
-  if (compared[0] + compared[1] >= params_.min_points) {
-    result = static_cast<double>(agreeing[0] + agreeing[1]) / (compared[0] + compared[1]);
-    for (int c = 0; c < 2; ++c) {
-      if (compared[c] >= params_.min_points / 2) result = std::min(result, static_cast<double>(agreeing[c]) / compared[c]);
-    }
+  const int min_points = std::max(1, params_.min_points);
+  if (compared[0] + compared[1] < min_points) return -1.0;
+  double result = static_cast<double>(agreeing[0] + agreeing[1]) / (compared[0] + compared[1]);
+  for (int c = 0; c < 2; ++c) {
+    if (compared[c] >= min_points / 2) result = std::min(result, static_cast<double>(agreeing[c]) / compared[c]);
   }
-  remember(scan);
   return result;
 }
 
-void OdometryConsistency::remember(const ScanPoints& scan) {
-  previous_.clear();
-  normals_.clear();
+double OdometryConsistency::bestScore(const Keyframe& frame, const ScanPoints& scan,
+                                      const Pose2D& sensor_in_odom) const {
+  const Pose2D increment = compose(inverse(sensor_in_odom), frame.pose);  // the frame in this scan's
+  double best = score(frame, scan, increment);
+  // Real odometry is off by centimetres and a degree or two per step, more on long steps (logs
+  // that hold a scan per metre): the best of a small grid of corrections around the increment
+  // counts, two levels, coarse then fine. A kidnapping is metres off and stays low.
+  if (best < 0.0 || best >= params_.good_enough) return best;
+  double dxy = params_.search_xy + params_.search_xy_per_m * increment.translation().norm();
+  double dth = params_.search_theta + params_.search_theta_per_rad * std::abs(increment.theta);
+  Pose2D centre = increment;
+  for (int level = 0; level < 2 && best < params_.good_enough; ++level) {
+    Pose2D best_pose = centre;
+    for (int i = -1; i <= 1; ++i) {
+      for (int j = -1; j <= 1; ++j) {
+        for (int k = -1; k <= 1; ++k) {
+          if (i == 0 && j == 0 && k == 0) continue;
+          // The correction acts in the current frame: a small pose error of the robot now.
+          const Pose2D candidate = compose(Pose2D{i * dxy, j * dxy, k * dth}, centre);
+          const double s = score(frame, scan, candidate);
+          if (s > best) {
+            best = s;
+            best_pose = candidate;
+          }
+        }
+      }
+    }
+    centre = best_pose;
+    dxy /= 3.0;
+    dth /= 3.0;
+  }
+  return best;
+}
+
+double OdometryConsistency::update(const ScanPoints& scan, const Pose2D& sensor_in_odom) {
+  double result = -1.0;
+  if (reference_.valid) {
+    // The pair before was doubtful: does this scan agree with the scan from before it?
+    result = bestScore(reference_, scan, sensor_in_odom);
+    reference_.valid = false;
+  } else if (previous_.valid) {
+    result = bestScore(previous_, scan, sensor_in_odom);
+    if (result >= 0.0 && result < params_.recheck_below) {
+      std::swap(reference_, previous_);  // keep the scan before the doubtful pair; report later
+      result = -1.0;
+    }
+  }
+  remember(scan, sensor_in_odom, &previous_);
+  return result;
+}
+
+void OdometryConsistency::remember(const ScanPoints& scan, const Pose2D& pose, Keyframe* frame) {
+  frame->points.clear();
+  frame->normals.clear();
+  frame->pose = pose;
+  frame->valid = true;
   const size_t n = scan.size();
   double c2 = 0.0, s2 = 0.0;  // the dominant normal direction, as a doubled angle (axial mean)
   for (size_t i = 0; i < n; ++i) {
@@ -80,14 +132,14 @@ void OdometryConsistency::remember(const ScanPoints& scan) {
       c2 += std::cos(2 * normal);
       s2 += std::sin(2 * normal);
     }
-    previous_.push_back(b.p);
-    normals_.push_back(normal);
+    frame->points.push_back(b.p);
+    frame->normals.push_back(normal);
   }
   const double dominant = 0.5 * std::atan2(s2, c2);
-  across_.resize(previous_.size());
-  for (size_t k = 0; k < previous_.size(); ++k) {
+  frame->across.resize(frame->points.size());
+  for (size_t k = 0; k < frame->points.size(); ++k) {
     // |cos| of the angle between the normal and the dominant axis; a lone point counts as along.
-    across_[k] = std::isfinite(normals_[k]) && std::abs(std::cos(normals_[k] - dominant)) < std::sqrt(0.5);
+    frame->across[k] = std::isfinite(frame->normals[k]) && std::abs(std::cos(frame->normals[k] - dominant)) < std::sqrt(0.5);
   }
 }
 

@@ -57,6 +57,12 @@ void visitParams(FeatureExtractorParams* p, Visitor&& visit) {
   visit("odometry_consistency/tolerance_per_m", &p->odometry_consistency.tolerance_per_m);
   visit("odometry_consistency/max_gap", &p->odometry_consistency.max_gap);
   visit("odometry_consistency/min_points", &p->odometry_consistency.min_points);
+  visit("odometry_consistency/good_enough", &p->odometry_consistency.good_enough);
+  visit("odometry_consistency/search_xy", &p->odometry_consistency.search_xy);
+  visit("odometry_consistency/search_xy_per_m", &p->odometry_consistency.search_xy_per_m);
+  visit("odometry_consistency/search_theta", &p->odometry_consistency.search_theta);
+  visit("odometry_consistency/search_theta_per_rad", &p->odometry_consistency.search_theta_per_rad);
+  visit("odometry_consistency/recheck_below", &p->odometry_consistency.recheck_below);
 }
 
 }  // namespace laser_features
