@@ -17,6 +17,7 @@
 
 #include <optional>
 
+#include "laser_features/tf_lookup.h"
 #include "ekf_local_map/odometry_noise.h"
 #include "ekf_local_map/params_visit.h"
 #include "ekf_local_map/persistence.h"
@@ -94,14 +95,7 @@ class LocalMapNode {
 
   bool lookup(const std::string& target, const std::string& source, const ros::Time& stamp, Pose2D* out,
               std::string* why) {
-    try {
-      const auto t = tf_buffer_.lookupTransform(target, source, stamp, ros::Duration(transform_timeout_));
-      *out = toPose(t.transform);
-      return true;
-    } catch (const tf2::TransformException& e) {
-      *why = e.what();
-      return false;
-    }
+    return laser_features::lookupPose2D(tf_buffer_, target, source, stamp, transform_timeout_, out, why);
   }
 
   void onFeatures(const hybrid_slam_msgs::LaserFeaturesConstPtr& msg) {

@@ -71,6 +71,9 @@ void MapBuilder::start(const FrontEnd& fe) {
   fe_params_ = fe.params();
   candidates_.clear();
   buffer_.clear();
+  relocation_pending_ = false;
+  relocated_ = false;
+  localizer_->clearOpenWays();
   if (map_->empty()) {
     if (!params_.mapping) {
       mode_ = Mode::Localized;
@@ -92,6 +95,7 @@ void MapBuilder::start(const FrontEnd& fe) {
 }
 
 void MapBuilder::startFrontier(uint32_t node, int bin, double s, double travel) {
+  localizer_->clearOpenWays();  // the way left open after an odometry jump (if any) is being mapped
   mode_ = Mode::Frontier;
   from_node_ = node;
   frontier_bin_ = bin;
@@ -129,6 +133,7 @@ void MapBuilder::odometryJump(const FrontEnd& fe) {
       o.bearing = bearing;
       if (!found) map_->recordOpening(from_node_, o);
       n->explored = false;
+      localizer_->addOpenWay(from_node_, bearing);
       event("odometry jump on the frontier from node " + std::to_string(from_node_) +
             ": that way is left unexplored");
     }

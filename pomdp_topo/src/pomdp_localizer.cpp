@@ -193,7 +193,6 @@ void PomdpLocalizer::setMap(const TopologicalMap& map) {
       }
     }
   }
-  blocked_factor_.assign(states_.size(), params_.blocked_travel_probability);
   for (int32_t n = 0; n < num_nodes; ++n) {
     for (int b = 0; b < bins_; ++b) {
       State& s = states_[nodeState(n, b)];
@@ -203,15 +202,9 @@ void PomdpLocalizer::setMap(const TopologicalMap& map) {
       s.offset = 0.0;
       s.heading = binHeading(b);
       s.cell = uint32_t(b);
-      // Travel out of a node through an unexplored opening is no travel into a wall: the robot may
-      // be on its way off the known map there (e.g. a frontier left after a kidnapping).
-      for (const NodeOpening& o : node_openings_[size_t(n)]) {
-        if (!o.explored && std::abs(normalizeAngle(o.bearing - s.heading)) < 0.25 * kPi) {
-          blocked_factor_[nodeState(n, b)] = 1.0;
-        }
-      }
     }
   }
+  applyOpenWays();
   buildExpected();
 
   // Buffers of the steps.
@@ -561,6 +554,25 @@ void PomdpLocalizer::finishPrediction() {
   const double u = params_.uniform_mixing;
   const double keep = (1.0 - u) / total, add = u / double(scratch_.size());
   for (size_t s = 0; s < scratch_.size(); ++s) belief_[s] = scratch_[s] * keep + add;
+}
+
+void PomdpLocalizer::addOpenWay(uint32_t node, double heading) {
+  open_ways_.emplace_back(node, headingBin(heading));
+  applyOpenWays();
+}
+
+void PomdpLocalizer::clearOpenWays() {
+  open_ways_.clear();
+  applyOpenWays();
+}
+
+void PomdpLocalizer::applyOpenWays() {
+  if (blocked_factor_.size() != states_.size()) blocked_factor_.assign(states_.size(), 0.0);
+  std::fill(blocked_factor_.begin(), blocked_factor_.end(), params_.blocked_travel_probability);
+  for (const auto& way : open_ways_) {
+    const auto it = node_index_.find(way.first);
+    if (it != node_index_.end()) blocked_factor_[nodeState(it->second, way.second)] = 1.0;
+  }
 }
 
 bool PomdpLocalizer::predict(const Action& action, std::string* error) {

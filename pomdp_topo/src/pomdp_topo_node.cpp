@@ -19,6 +19,7 @@
 
 #include <cmath>
 
+#include "laser_features/tf_lookup.h"
 #include "pomdp_topo/map_io.h"
 #include "pomdp_topo/params_visit.h"
 #include "ros_conversions.h"
@@ -95,16 +96,7 @@ class TopoNodeRos {
  private:
   bool lookup(const std::string& target, const std::string& source, const ros::Time& stamp, Pose2D* out,
               std::string* why) {
-    try {
-      const auto t = tf_buffer_.lookupTransform(target, source, stamp, ros::Duration(transform_timeout_));
-      out->x = t.transform.translation.x;
-      out->y = t.transform.translation.y;
-      out->theta = tf2::getYaw(t.transform.rotation);
-      return true;
-    } catch (const tf2::TransformException& e) {
-      *why = e.what();
-      return false;
-    }
+    return laser_features::lookupPose2D(tf_buffer_, target, source, stamp, transform_timeout_, out, why);
   }
 
   void onStatus(const hybrid_slam_msgs::ExplorationStatus& msg) {

@@ -31,7 +31,7 @@ struct PomdpParams {
   double node_radius = 1.0;                 // m, an edge state this close to a node turns there
   double turn_mid_edge_probability = 0.05;  // -, a non-180-degree turn away from nodes: the mass stays, times this
   double turn_lost_mass = 0.02;             // -, a 90-degree turn with less belief than this at (or near) nodes: lost, reset to uniform
-  double blocked_travel_probability = 0.1;  // -, a travel ending >= one cell past a node without a way on (into a wall): the mass stays at the node, times this (1 through an unexplored opening of the node)
+  double blocked_travel_probability = 0.1;  // -, a travel ending >= one cell past a node without a way on (into a wall): the mass stays at the node, times this (1 along an open way, see addOpenWay)
   double window_ahead = 2.0;                // m, landmarks this far ahead along the travel heading are expected (side openings farther ahead are often not seen yet)
   double window_behind = 3.0;               // m, landmarks this far behind are expected
   double window_lateral = 3.0;              // m, and at most this far to the side
@@ -97,6 +97,11 @@ class PomdpLocalizer {
   bool step(const Action& action, const Observation& observation, std::string* error = nullptr);
 
   void setUniform();
+  /// Travel from `node` along `heading` (rad) is no travel into a wall although no edge leads that
+  /// way: the hallway goes on unmapped there (a frontier the map builder left after an odometry
+  /// jump). Kept across setMap() until clearOpenWays().
+  void addOpenWay(uint32_t node, double heading);
+  void clearOpenWays();
   bool setState(size_t index);
   /// Any belief (normalized here); false (no change) for a wrong size, a negative or non-finite
   /// entry, or a zero sum.
@@ -220,8 +225,10 @@ class PomdpLocalizer {
   std::vector<std::vector<NodeOpening>> node_openings_;
   std::vector<char> node_closed_;        // per node: a hallway end (nothing beyond it)
   // Per state: the factor on mass whose travel is blocked there (blocked_travel_probability, or 1
-  // for a node state heading through an unexplored opening of its node).
+  // for a node state heading an open way, see addOpenWay).
   std::vector<double> blocked_factor_;
+  std::vector<std::pair<uint32_t, int>> open_ways_;  // (node id, heading bin)
+  void applyOpenWays();
   // Per state: along distances where the known map ends ahead / behind at a node with no way on
   // that is not a hallway end (observed landmarks beyond are unexplored, not false).
   std::vector<float> unknown_ahead_, unknown_behind_;
