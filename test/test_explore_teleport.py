@@ -70,11 +70,12 @@ class ExploreTeleport(unittest.TestCase):
         while time.time() < deadline and not rospy.is_shutdown() and result is None:
             s, t = self.status, self.truth
             if (self.teleported_at is None and s is not None and t is not None and s.places >= 1 and
-                    s.mode != METRIC and 13.0 <= t[0] <= 14.0 and t[1] < 2.0 and abs(t[2]) < 0.3):
+                    self.confident is True and s.mode != METRIC and 13.0 <= t[0] <= 14.0 and t[1] < 2.0 and
+                    abs(t[2]) < 0.3):
                 self.places_at_teleport = s.places
+                self.teleported_at = rospy.Time.now().to_sec()  # before the call: its effects may come first
                 res = teleport(Pose2D(5.0, 1.0, t[2]))
                 self.assertTrue(res.success, res.message)
-                self.teleported_at = rospy.Time.now().to_sec()
                 rospy.loginfo('teleported from (%.2f, %.2f) to (5.0, 1.0) at %.1f s', t[0], t[1], self.teleported_at)
             if os.path.exists(path):
                 time.sleep(0.5)

@@ -29,6 +29,7 @@
 #include <map>
 #include <set>
 
+#include "laser_features/tf_lookup.h"
 #include "exploration/passive_places.h"
 
 namespace exploration {
@@ -134,15 +135,11 @@ class ReplayPlacesNode {
   }
 
   bool lookupOdom(const ros::Time& stamp, Pose2D* out) {
-    try {
-      const auto t = tf_buffer_.lookupTransform(odom_frame_, base_frame_, stamp, ros::Duration(0.1));
-      *out = Pose2D{t.transform.translation.x, t.transform.translation.y, tf2::getYaw(t.transform.rotation)};
-      return true;
-    } catch (const tf2::TransformException& e) {
-      ROS_WARN_THROTTLE(10.0, "replay_places: no odometry (%s -> %s) at a scan's time: %s", odom_frame_.c_str(),
-                        base_frame_.c_str(), e.what());
-      return false;
-    }
+    std::string why;
+    if (laser_features::lookupPose2D(tf_buffer_, odom_frame_, base_frame_, stamp, 0.1, out, &why)) return true;
+    ROS_WARN_THROTTLE(10.0, "replay_places: no odometry (%s -> %s) at a scan's time: %s", odom_frame_.c_str(),
+                      base_frame_.c_str(), why.c_str());
+    return false;
   }
 
   // --- places -----------------------------------------------------------------------------------
