@@ -48,7 +48,8 @@ class ExplorationEvaluator:
         self.kinds = {r['name']: r['kind'] for r in self.regions}
         self.start = self.world['robot']['start']
         self.doors = self.world.get('doors', [])
-        closing = [c.strip() for c in rospy.get_param('~closed_doors', '').split(',') if c.strip()]
+        # The simulator's ~closed_doors syntax: 'a/b' (either order) or a region name, spaces ignored.
+        closing = [c.replace(' ', '') for c in rospy.get_param('~closed_doors', '').split(',') if c.strip()]
         self.open_doors = [d for d in self.doors if not d.get('closed', False) and not any(
             (set(c.split('/')) == set(d['between']) if '/' in c else c in d['between']) for c in closing)]
         self.reachable = self.reachable_regions()

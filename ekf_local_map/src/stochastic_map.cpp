@@ -354,7 +354,7 @@ void StochasticMap::ensureLineCapacity(size_t lines) {
   x_.swap(x);
   P_.swap(P);
   robot_columns_.resize(dim, 3);
-  W_.setZero(dim + kRowPadding, std::max<Eigen::Index>(W_.cols(), 2));  // padding rows stay zero
+  W_.setZero(dim + kRowPadding, std::max<Eigen::Index>(W_.cols(), 2));  // rows below the state: see applyStackedUpdate
   line_capacity_ = capacity;
   extents_.reserve(capacity);
   predictions_.reserve(capacity);
@@ -729,6 +729,9 @@ void StochasticMap::applyStackedUpdate() {
   const Eigen::Index n = Eigen::Index(stateSize());
   const Eigen::Index m = Eigen::Index(2 * batch_size_);
   const UpdateKernels& kernels = *activeKernels().load(std::memory_order_relaxed);
+  // The kernels' last row block runs into the rows below n: keep them zero (an earlier, larger
+  // state or an earlier solve may have left values there that would grow with every update).
+  W_.block(n, 0, kRowPadding, m).setZero();
   // V = W L^-T in place, so K = V L^-1 (eq. 15); eq. 16: x + K nu = x + V (L^-1 nu).
   kernels.solve_and_shift(W_.data(), W_.rows(), S_.data(), S_.rows(), inv_diag_.data(), nu_.data(), x_.data(), n, m);
   // eq. 17: P - K S K^T = P - V V^T, on the lower triangle (symmetric by construction, and the

@@ -204,11 +204,13 @@ class ReplayPlacesNode {
     link.request.explored = true;
     link.request.place_id = place_id;
     link.request.door_in_place = door.request.door_in_robot;
-    if (call(topo_node_ + "/update_opening", &link) && !link.response.success)
+    if (!call(topo_node_ + "/update_opening", &link)) return;  // call() said why
+    if (!link.response.success) {
       ROS_WARN("replay_places: door node %d not linked to place %d: %s", a.door_node, place_id,
                link.response.message.c_str());
-    else
-      ++doors_linked_;
+      return;
+    }
+    ++doors_linked_;
   }
 
   void leave() {
