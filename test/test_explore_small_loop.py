@@ -10,6 +10,7 @@ import os
 import time
 import unittest
 
+from exploration_result import read_result
 import rosnode
 import rospy
 import rostest
@@ -30,13 +31,7 @@ class ExploreSmallLoop(unittest.TestCase):
                 self.assertEqual(failed, [], 'could not kill the coordinator')
                 killed = True
                 rospy.loginfo('killed the coordinator at %.1f s', rospy.Time.now().to_sec())
-            if os.path.exists(path):
-                time.sleep(0.5)
-                with open(path) as f:
-                    try:
-                        result = json.load(f)
-                    except ValueError:
-                        result = None
+            result = read_result(path)
             time.sleep(1.0)
         self.assertIsNotNone(result, 'no evaluation written: the exploration did not end')
         if kill_at > 0:

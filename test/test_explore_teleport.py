@@ -16,6 +16,7 @@ import unittest
 
 import rospy
 import rostest
+from exploration_result import read_result
 from hybrid_slam_msgs.msg import ExplorationStatus
 from hybrid_slam_msgs.srv import Teleport
 from geometry_msgs.msg import Pose2D
@@ -77,13 +78,7 @@ class ExploreTeleport(unittest.TestCase):
                 res = teleport(Pose2D(5.0, 1.0, t[2]))
                 self.assertTrue(res.success, res.message)
                 rospy.loginfo('teleported from (%.2f, %.2f) to (5.0, 1.0) at %.1f s', t[0], t[1], self.teleported_at)
-            if os.path.exists(path):
-                time.sleep(0.5)
-                with open(path) as f:
-                    try:
-                        result = json.load(f)
-                    except ValueError:
-                        result = None
+            result = read_result(path)
             time.sleep(0.05)
         self.assertIsNotNone(self.teleported_at, 'the robot never drove east past room_east\'s door after mapping it')
         self.assertIsNotNone(self.unconfident_at, 'the belief never became unconfident after the teleport')

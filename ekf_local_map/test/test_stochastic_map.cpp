@@ -106,12 +106,18 @@ struct DenseUpdate {
   Eigen::MatrixXd P;
   double joint_nis = 0.0;
 };
-DenseUpdate denseJosephUpdate(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
-                              const std::vector<LineSegment>& observations, const std::vector<LineMatch>& matches,
-                              const Pose2D& mount) {
+/// H, R, nu (eqs. 12-13) and S, K (eqs. 14-15) of a stacked update on dense matrices.
+struct DenseTerms {
+  Eigen::MatrixXd H, R, S, K;
+  Eigen::VectorXd nu;
+};
+DenseTerms denseTerms(const Eigen::VectorXd& x, const Eigen::MatrixXd& P, const std::vector<LineSegment>& observations,
+                      const std::vector<LineMatch>& matches, const Pose2D& mount) {
   const Eigen::Index n = x.size(), k = Eigen::Index(matches.size());
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(2 * k, n), R = Eigen::MatrixXd::Zero(2 * k, 2 * k);
-  Eigen::VectorXd nu(2 * k);
+  DenseTerms t;
+  t.H = Eigen::MatrixXd::Zero(2 * k, n);
+  t.R = Eigen::MatrixXd::Zero(2 * k, 2 * k);
+  t.nu.resize(2 * k);
   for (Eigen::Index a = 0; a < k; ++a) {
     const LineMatch& match = matches[size_t(a)];
     const Eigen::Index l = 3 + 2 * Eigen::Index(match.line);
@@ -119,18 +125,25 @@ DenseUpdate denseJosephUpdate(const Eigen::VectorXd& x, const Eigen::MatrixXd& P
     Matrix23d J_robot;
     const Line h = predictLineInSensor({x(l), x(l + 1), {}}, {x(0), x(1), x(2)}, mount, &J_line, &J_robot);  // eq. 12
     const LineInnovation innovation = lineInnovation(observations[match.observation].line, h);              // eq. 13
-    H.block(2 * a, 0, 2, 3) = innovation.jacobianSign() * J_robot;
-    H.block(2 * a, l, 2, 2) = innovation.jacobianSign() * J_line;
-    R.block(2 * a, 2 * a, 2, 2) = observations[match.observation].line.cov;
-    nu.segment(2 * a, 2) = innovation.nu;
+    t.H.block(2 * a, 0, 2, 3) = innovation.jacobianSign() * J_robot;
+    t.H.block(2 * a, l, 2, 2) = innovation.jacobianSign() * J_line;
+    t.R.block(2 * a, 2 * a, 2, 2) = observations[match.observation].line.cov;
+    t.nu.segment(2 * a, 2) = innovation.nu;
   }
-  const Eigen::MatrixXd S = H * P * H.transpose() + R;        // eq. 14
-  const Eigen::MatrixXd K = P * H.transpose() * S.inverse();  // eq. 15
+  t.S = t.H * P * t.H.transpose() + t.R;        // eq. 14
+  t.K = P * t.H.transpose() * t.S.inverse();    // eq. 15
+  return t;
+}
+
+DenseUpdate denseJosephUpdate(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
+                              const std::vector<LineSegment>& observations, const std::vector<LineMatch>& matches,
+                              const Pose2D& mount) {
+  const DenseTerms t = denseTerms(x, P, observations, matches, mount);
   DenseUpdate result;
-  result.x = x + K * nu;                                      // eq. 16
-  const Eigen::MatrixXd I_KH = Eigen::MatrixXd::Identity(n, n) - K * H;
-  result.P = I_KH * P * I_KH.transpose() + K * R * K.transpose();  // eq. 17, Joseph form
-  result.joint_nis = nu.dot(S.ldlt().solve(nu));
+  result.x = x + t.K * t.nu;                                                   // eq. 16
+  const Eigen::MatrixXd I_KH = Eigen::MatrixXd::Identity(x.size(), x.size()) - t.K * t.H;
+  result.P = I_KH * P * I_KH.transpose() + t.K * t.R * t.K.transpose();        // eq. 17, Joseph form
+  result.joint_nis = t.nu.dot(t.S.ldlt().solve(t.nu));
   return result;
 }
 
@@ -165,27 +178,11 @@ TEST(Update, EqualsTheDenseJosephFormEkf) {
 DenseUpdate denseTextbookUpdate(const Eigen::VectorXd& x, const Eigen::MatrixXd& P,
                                 const std::vector<LineSegment>& observations, const std::vector<LineMatch>& matches,
                                 const Pose2D& mount) {
-  const Eigen::Index n = x.size(), k = Eigen::Index(matches.size());
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(2 * k, n), R = Eigen::MatrixXd::Zero(2 * k, 2 * k);
-  Eigen::VectorXd nu(2 * k);
-  for (Eigen::Index a = 0; a < k; ++a) {
-    const LineMatch& match = matches[size_t(a)];
-    const Eigen::Index l = 3 + 2 * Eigen::Index(match.line);
-    Eigen::Matrix2d J_line;
-    Matrix23d J_robot;
-    const Line h = predictLineInSensor({x(l), x(l + 1), {}}, {x(0), x(1), x(2)}, mount, &J_line, &J_robot);  // eq. 12
-    const LineInnovation innovation = lineInnovation(observations[match.observation].line, h);              // eq. 13
-    H.block(2 * a, 0, 2, 3) = innovation.jacobianSign() * J_robot;
-    H.block(2 * a, l, 2, 2) = innovation.jacobianSign() * J_line;
-    R.block(2 * a, 2 * a, 2, 2) = observations[match.observation].line.cov;
-    nu.segment(2 * a, 2) = innovation.nu;
-  }
-  const Eigen::MatrixXd S = H * P * H.transpose() + R;                   // eq. 14
-  const Eigen::MatrixXd K = P * H.transpose() * S.inverse();             // eq. 15
+  const DenseTerms t = denseTerms(x, P, observations, matches, mount);
   DenseUpdate result;
-  result.x = x + K * nu;                                                 // eq. 16
-  result.P = P - K * S * K.transpose();                                  // eq. 17
-  result.joint_nis = nu.dot(S.inverse() * nu);
+  result.x = x + t.K * t.nu;                            // eq. 16
+  result.P = P - t.K * t.S * t.K.transpose();           // eq. 17
+  result.joint_nis = t.nu.dot(t.S.inverse() * t.nu);
   return result;
 }
 
