@@ -597,20 +597,23 @@ void MapBuilder::processLocalized(const Scan& scan) {
   if (ml < 0) return;
   const bool sure = localizer_->confident();
   travel_since_localized_ = sure ? 0.0 : travel_since_localized_ + std::abs(travelled);
-  if (sure && relocation_pending_) {
-    // Relocalized after an odometry jump: the map's position of the most likely state.
+  // Relocalized after an odometry jump: the map's position of the most likely state, once it
+  // holds at least half the belief (a merely low entropy over a few states is not enough to move
+  // the map builder's position).
+  if (sure && relocation_pending_ && localizer_->belief()[size_t(ml)] >= 0.5) {
     const PomdpLocalizer::State st = localizer_->state(size_t(ml));
-    const TopoNode* a = map_->node(st.kind == PomdpLocalizer::State::Node ? st.id : map_->edge(st.id)->source);
-    Eigen::Vector2d p(a->pose.x, a->pose.y);
-    if (st.kind == PomdpLocalizer::State::Edge) {
-      const TopoEdge* e = map_->edge(st.id);
-      const TopoNode* b = map_->node(e->target);
-      if (e->length > 0.0) p += (Eigen::Vector2d(b->pose.x, b->pose.y) - p) * std::clamp(st.offset / e->length, 0.0, 1.0);
+    const TopoEdge* e = st.kind == PomdpLocalizer::State::Edge ? map_->edge(st.id) : nullptr;
+    const TopoNode* a = map_->node(e != nullptr ? e->source : st.id);
+    const TopoNode* b = e != nullptr ? map_->node(e->target) : nullptr;
+    if (a != nullptr && (e == nullptr || b != nullptr)) {
+      Eigen::Vector2d p(a->pose.x, a->pose.y);
+      if (b != nullptr && e->length > 0.0)
+        p += (Eigen::Vector2d(b->pose.x, b->pose.y) - p) * std::clamp(st.offset / e->length, 0.0, 1.0);
+      relocation_pending_ = false;
+      relocated_ = true;
+      relocated_position_ = p;
+      event("relocalized after the odometry jump");
     }
-    relocation_pending_ = false;
-    relocated_ = true;
-    relocated_position_ = p;
-    event("relocalized after the odometry jump");
   }
   if (sure && params_.mapping && beyond_ == 0.0) updateKnownEdge(scan);
 }

@@ -147,8 +147,10 @@ class TopoNodeRos {
     }
     if (first) builder_.start(front_end_);
     // A scan the odometry does not explain: the robot was moved (kidnapped) and its place is unknown.
-    if (!first && !paused_ && kidnap_consistency_ > 0.0 && msg->odometry_consistency >= 0.0 &&
-        msg->odometry_consistency < kidnap_consistency_) {
+    // Not before the map has two nodes: a belief over one node is 'confident' at once, and a false
+    // alarm there would move the whole map.
+    if (!first && !paused_ && kidnap_consistency_ > 0.0 && map_.nodeCount() >= 2 &&
+        msg->odometry_consistency >= 0.0 && msg->odometry_consistency < kidnap_consistency_) {
       ROS_WARN("pomdp_topo: odometry consistency %.2f < %.2f: the robot was moved; belief reset to uniform",
                msg->odometry_consistency, kidnap_consistency_);
       front_end_.clearTracks();
