@@ -140,6 +140,15 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
     case State::StopForDoor:
       d.stop = true;
       mode_ = CoordinatorMode::Switching;
+      if (now_ - state_since_ >= params_.settle_time && enter_node_ < 0 && topo.mode == "loop_check") {
+        // pomdp_topo made the door's node and took it for a known one (a loop hypothesis): the room
+        // may be mapped already. Go on along the hallway; the check merges the node (the door is
+        // explored) or rejects it (its opening stays unexplored and the door is come back to).
+        mode_ = CoordinatorMode::Topological;
+        ++stats_.doors_passed;
+        setState(State::Follow, "door passed: pomdp_topo checks whether it is a known one");
+        break;
+      }
       if (now_ - state_since_ >= params_.settle_time) {
         // The door's node exists now (passed); the topological map stands still from here on.
         mode_ = CoordinatorMode::Metric;

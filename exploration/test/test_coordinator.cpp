@@ -105,6 +105,27 @@ TEST(Coordinator, ADoorPassedOnANewStretchIsEntered) {
   EXPECT_LE(r.x_at_switch, 5.0 + 1.0);
 }
 
+TEST(Coordinator, ADoorTakenForAKnownOneIsNotEntered) {
+  // pomdp_topo makes the door's node as the robot stops and takes it for a known node (small_loop
+  // with one room: the ring's corners all look alike, the door tells them apart): no place is
+  // created and the robot goes on along the hallway while the loop is checked.
+  Coordinator c;
+  Hallway h;
+  bool place_requested = false, stopped = false;
+  double x = 0.0, t = 0.0;
+  for (int i = 0; i < 400 && x < 8.0; ++i, t += 0.1) {
+    // The door's node (and the hypothesis) comes once the coordinator has decided to stop there.
+    const Decision d = c.update(h.perceive(x, t), view(stopped ? "loop_check" : "frontier", true), false, false);
+    stopped |= d.mode == CoordinatorMode::Switching;
+    for (const Request& q : d.requests) place_requested |= q.kind == Request::CreatePlace;
+    if (!d.stop && d.has_goal && d.x > x) x += 0.05;
+  }
+  EXPECT_FALSE(place_requested);
+  EXPECT_GE(x, 8.0) << "the robot did not go on along the hallway";
+  EXPECT_EQ(c.stats().doors_entered, 0);
+  EXPECT_EQ(c.stats().doors_passed, 1);
+}
+
 TEST(Coordinator, NeverMetricWhileTheBeliefIsUnconfident) {
   Coordinator c;
   const DriveResult r = drive(&c, 0.0, 8.0, [](double) { return view("localized", false); });
