@@ -264,7 +264,9 @@ void MapBuilder::frontierTurn(int k, const Scan& scan, const FrontEnd& fe) {
   }
   uint32_t n = from_node_;
   if (s_ > params_.node_radius) {
+    departure_bin_ = new_bin;  // a loop hypothesis is verified along the way the robot turned to
     n = createNode(NodeType::Junction, s_, scan, fe, {branch});
+    departure_bin_ = -1;
     if (mode_ == Mode::LoopCheck) return;
   } else {
     TopoNode* node = map_->node(n);
@@ -370,7 +372,13 @@ double MapBuilder::fingerprintSimilarity(const Fingerprint& a, const Fingerprint
 
 bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const Scan& scan) {
   const TopoNode* fresh = map_->node(new_node);
-  const double h = binHeading(frontier_bin_);
+  const double h = binHeading(frontier_bin_);  // the way the robot came
+  // The way it goes on: straight past a door; the branch it turned to at a junction. The old node
+  // must have that way too, and the path beyond it is what the hypotheses are verified against
+  // (a corner has no way straight on: verifying along the arrival heading never saw a ring close
+  // at a corner, only at a door, with a duplicate of every corner in between).
+  const int go_bin = departure_bin_ >= 0 ? departure_bin_ : frontier_bin_;
+  const double go = binHeading(go_bin);
   const double gate = params_.loop_gate_base + params_.loop_gate_per_m * travel_since_localized_;
   const double sigma = 0.5 * gate;
   candidates_.clear();
@@ -402,7 +410,7 @@ bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const
       continue;
     }
     EdgeExit exit;
-    if (!map_->exitWithHeading(m.id, h, 0.25 * kPi, &exit)) continue;  // nothing to verify against
+    if (!map_->exitWithHeading(m.id, go, 0.25 * kPi, &exit)) continue;  // nothing to verify against
     Candidate c;
     c.node = m.id;
     c.score = std::log(1.0 - params_.loop_new_place_prior) - d * d / (2.0 * sigma * sigma);
@@ -411,7 +419,7 @@ bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const
     uint32_t at = m.id;
     for (int hops = 0; hops < 64 && base < params_.loop_verify_distance + 2.0; ++hops) {
       EdgeExit x;
-      if (!map_->exitWithHeading(at, h, 0.25 * kPi, &x)) break;
+      if (!map_->exitWithHeading(at, go, 0.25 * kPi, &x)) break;
       const TopoEdge* e = map_->edge(x.edge);
       for (const EdgeLandmark& l : e->landmarks) {
         EdgeLandmark r = l;
@@ -426,7 +434,7 @@ bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const
       at = x.other;
       c.expected_nodes.push_back(base);
       for (const NodeOpening& o : map_->node(at)->openings) {
-        const double s = std::sin(normalizeAngle(o.bearing - h));
+        const double s = std::sin(normalizeAngle(o.bearing - go));
         if (std::abs(s) < 0.7) continue;  // along the hallway: not a side opening
         EdgeLandmark r;
         r.type = LandmarkType::Opening;
@@ -444,7 +452,7 @@ bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const
   mode_ = Mode::LoopCheck;
   loop_new_node_ = new_node;
   loop_prev_node_ = previous_node;
-  loop_bin_ = frontier_bin_;
+  loop_bin_ = go_bin;
   loop_new_score_ = std::log(params_.loop_new_place_prior);
   loop_travel0_ = scan.travel - s_;  // the travel when the robot was at the new node
   buffer_.clear();
@@ -557,7 +565,12 @@ void MapBuilder::decideLoop(bool old_wins, const FrontEnd& fe) {
   event("loop hypothesis rejected: node " + std::to_string(loop_new_node_) + " is a new place (log odds " +
         std::to_string(loopLogOdds()) + ")");
   candidates_.clear();
-  mode_ = Mode::Frontier;
+  if (loop_bin_ != frontier_bin_) {
+    // Turned at the new junction: the new stretch starts there, along the branch taken.
+    startFrontier(loop_new_node_, loop_bin_, 0.0, loop_travel0_);
+  } else {
+    mode_ = Mode::Frontier;
+  }
   for (const Scan& s : scans) dispatch(s, fe);
 }
 

@@ -197,6 +197,27 @@ TEST(MapBuilder, RingLoopIsClosedOnceAndTheSecondLapIsLocalized) {
       << drive.right << " of " << drive.localized;
 }
 
+// The same ring with one door (small_loop with a door closed): the four corners look alike and
+// only the door tells them apart. Coming back to the first corner is a loop at a hallway end (no
+// way straight on to verify against): closed there by position and the turn, not one door later
+// with a duplicate of every corner in between.
+TEST(MapBuilder, RingWithOneDoorIsClosedAtTheFirstCornerItComesBackTo) {
+  SyntheticFloor floor;
+  floor.doors.push_back({{4.0, 9.9}, -0.5 * kPi, 1.0});  // on the left of the north stretch
+  Drive drive;
+  const std::vector<Eigen::Vector2d> lap = {{15, 1}, {15, 11}, {1, 11}, {1, 1}};
+  std::vector<Eigen::Vector2d> path = {{8, 1}};
+  for (int k = 0; k < 2; ++k) path.insert(path.end(), lap.begin(), lap.end());
+  path.push_back({6, 1});
+  drive.run(&floor, path, 0.0);
+  EXPECT_EQ(drive.builder.loopsClosed().size(), 1u);
+  EXPECT_EQ(drive.count(NodeType::Door), 1u);
+  EXPECT_EQ(drive.count(NodeType::Junction), 4u);
+  EXPECT_EQ(drive.map.nodeCount(), 6u);  // and the start
+  EXPECT_GE(double(drive.right) / std::max<size_t>(1, drive.localized), 0.9)
+      << drive.right << " of " << drive.localized;
+}
+
 // Localization only: nothing is ever added to an empty map, and nothing crashes.
 TEST(MapBuilder, LocalizationOnlyNeverChangesTheMap) {
   SyntheticFloor floor;

@@ -161,7 +161,8 @@ class MapBuilder {
   // LoopCheck.
   uint32_t loop_new_node_ = 0;
   uint32_t loop_prev_node_ = 0;
-  int loop_bin_ = 0;
+  int loop_bin_ = 0;          // the heading bin the hypotheses are verified along (the robot's way on)
+  int departure_bin_ = -1;    // frontierTurn: the bin the robot leaves the junction it creates along
   double loop_travel0_ = 0.0; // FrontEnd::travel() at the new node
   double loop_new_score_ = 0.0;
   std::vector<Candidate> candidates_;
