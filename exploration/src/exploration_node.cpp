@@ -25,7 +25,6 @@
 #include <mutex>
 
 #include "exploration/params_visit.h"
-#include "laser_features/tf_lookup.h"
 #include "ros_conversions.h"
 
 namespace exploration {
@@ -76,10 +75,14 @@ class ExplorationNode {
 
  private:
   bool lookup(const std::string& target, const std::string& source, const ros::Time& stamp, Pose2D* out) {
-    std::string why;
-    if (laser_features::lookupPose2D(tf_buffer_, target, source, stamp, 0.1, out, &why)) return true;
-    ROS_WARN_THROTTLE(5.0, "exploration: no transform %s <- %s: %s", target.c_str(), source.c_str(), why.c_str());
-    return false;
+    try {
+      const auto t = tf_buffer_.lookupTransform(target, source, stamp, ros::Duration(0.1));
+      *out = Pose2D{t.transform.translation.x, t.transform.translation.y, tf2::getYaw(t.transform.rotation)};
+      return true;
+    } catch (const tf2::TransformException& e) {
+      ROS_WARN_THROTTLE(5.0, "exploration: no transform %s <- %s: %s", target.c_str(), source.c_str(), e.what());
+      return false;
+    }
   }
 
   void onScan(const sensor_msgs::LaserScan::ConstPtr& msg) {

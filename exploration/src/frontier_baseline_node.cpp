@@ -63,7 +63,6 @@
 
 #include "exploration/baseline_params.h"
 #include "exploration/motion_controller.h"
-#include "laser_features/tf_lookup.h"
 #include "ros_conversions.h"
 
 namespace exploration {
@@ -135,10 +134,14 @@ class FrontierBaselineNode {
  private:
   bool lookup(const std::string& target, const std::string& source, const ros::Time& stamp, Pose2D* out,
               double timeout = 0.1) {
-    std::string why;
-    if (laser_features::lookupPose2D(tf_buffer_, target, source, stamp, timeout, out, &why)) return true;
-    ROS_WARN_THROTTLE(5.0, "frontier_baseline: no transform %s <- %s: %s", target.c_str(), source.c_str(), why.c_str());
-    return false;
+    try {
+      const auto t = tf_buffer_.lookupTransform(target, source, stamp, ros::Duration(timeout));
+      *out = Pose2D{t.transform.translation.x, t.transform.translation.y, tf2::getYaw(t.transform.rotation)};
+      return true;
+    } catch (const tf2::TransformException& e) {
+      ROS_WARN_THROTTLE(5.0, "frontier_baseline: no transform %s <- %s: %s", target.c_str(), source.c_str(), e.what());
+      return false;
+    }
   }
 
   static bool wellFormed(const sensor_msgs::LaserScan& msg) {
