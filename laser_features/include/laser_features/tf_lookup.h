@@ -24,12 +24,13 @@ inline bool lookupTransform(const tf2_ros::Buffer& tf, const std::string& target
                             std::string* why = nullptr) {
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(std::max(0.0, timeout));
   std::string error;
-  while (!tf.canTransform(target, source, stamp, &error)) {
+  while (!tf.canTransform(target, source, stamp, &error)) {  // (canTransform appends to error)
     if (!ros::ok() || ros::WallTime::now() >= deadline) {
       if (why != nullptr) *why = error;
       return false;
     }
     ros::WallDuration(0.002).sleep();
+    error.clear();
   }
   try {
     *out = tf.lookupTransform(target, source, stamp);
