@@ -73,6 +73,7 @@ void MapBuilder::start(const FrontEnd& fe) {
   buffer_.clear();
   relocation_pending_ = false;
   relocated_ = false;
+  end_beyond_.clear();
   localizer_->clearOpenWays();
   if (map_->empty()) {
     if (!params_.mapping) {
@@ -236,7 +237,12 @@ void MapBuilder::frontierTurn(int k, const Scan& scan, const FrontEnd& fe) {
   const int new_bin = ((frontier_bin_ + k) % bins + bins) % bins;
   if (2 * std::abs(k) == bins) {  // U-turn: a hallway end (or back at the node)
     uint32_t n = from_node_;
-    if (s_ > params_.node_radius) n = createNode(NodeType::HallwayEnd, s_, scan, fe, {});
+    if (s_ > params_.node_radius) {
+      n = createNode(NodeType::HallwayEnd, s_, scan, fe, {});
+    } else {
+      double& end = end_beyond_[{n, frontier_bin_}];
+      end = std::max(end, s_);
+    }
     if (mode_ == Mode::LoopCheck) return;
     becomeLocalizedAt(n, new_bin);
     return;
@@ -576,6 +582,17 @@ void MapBuilder::decideLoop(bool old_wins, const FrontEnd& fe) {
 
 // ---- Localized ---------------------------------------------------------------------------------
 
+bool MapBuilder::statePosition(const PomdpLocalizer::State& st, Eigen::Vector2d* p) const {
+  const TopoEdge* e = st.kind == PomdpLocalizer::State::Edge ? map_->edge(st.id) : nullptr;
+  const TopoNode* a = map_->node(e != nullptr ? e->source : st.id);
+  const TopoNode* b = e != nullptr ? map_->node(e->target) : nullptr;
+  if (a == nullptr || (e != nullptr && b == nullptr)) return false;
+  *p = Eigen::Vector2d(a->pose.x, a->pose.y);
+  if (b != nullptr && e->length > 0.0)
+    *p += (Eigen::Vector2d(b->pose.x, b->pose.y) - *p) * std::clamp(st.offset / e->length, 0.0, 1.0);
+  return true;
+}
+
 void MapBuilder::processLocalized(const Scan& scan) {
   double travelled = 0.0;
   for (const Action& a : scan.actions) {
@@ -593,7 +610,23 @@ void MapBuilder::processLocalized(const Scan& scan) {
           localizer_->belief()[size_t(ml)] > 0.5) {
         if (a.kind == Action::Travel) {
           beyond_ = std::max(0.0, beyond_ + a.distance);
-          if (beyond_ >= params_.leave_graph_distance) {
+          const auto end = end_beyond_.find({st.id, binOf(st.heading)});
+          if (beyond_ >= params_.leave_graph_distance + (end != end_beyond_.end() ? end->second : 0.0)) {
+            // Past a hallway's end (a hallway-end node, or a node the robot turned round just past)
+            // and no opening that way: through a wall. The belief is wrong, not the map (institute:
+            // a door node made as the robot reached hall_north's end, later 'left' eastwards, grew
+            // a copy of the hallway and its rooms).
+            const TopoNode* at = map_->node(st.id);
+            const bool opening = std::any_of(at->openings.begin(), at->openings.end(), [&](const NodeOpening& o) {
+              return std::abs(normalizeAngle(o.bearing - st.heading)) < kSameBearing;
+            });
+            if (!opening && (at->type == NodeType::HallwayEnd || end != end_beyond_.end())) {
+              event("the belief puts the robot past the end of the hallway at node " + std::to_string(st.id) +
+                    ": it is wrong; reset to uniform");
+              localizer_->setUniform();
+              beyond_ = 0.0;
+              continue;
+            }
             event("leaving the known graph at node " + std::to_string(st.id) + ": new stretch");
             startFrontier(st.id, binOf(st.heading), beyond_, scan.travel);
             beyond_ = 0.0;
@@ -614,14 +647,8 @@ void MapBuilder::processLocalized(const Scan& scan) {
   // holds at least half the belief (a merely low entropy over a few states is not enough to move
   // the map builder's position).
   if (sure && relocation_pending_ && localizer_->belief()[size_t(ml)] >= 0.5) {
-    const PomdpLocalizer::State st = localizer_->state(size_t(ml));
-    const TopoEdge* e = st.kind == PomdpLocalizer::State::Edge ? map_->edge(st.id) : nullptr;
-    const TopoNode* a = map_->node(e != nullptr ? e->source : st.id);
-    const TopoNode* b = e != nullptr ? map_->node(e->target) : nullptr;
-    if (a != nullptr && (e == nullptr || b != nullptr)) {
-      Eigen::Vector2d p(a->pose.x, a->pose.y);
-      if (b != nullptr && e->length > 0.0)
-        p += (Eigen::Vector2d(b->pose.x, b->pose.y) - p) * std::clamp(st.offset / e->length, 0.0, 1.0);
+    Eigen::Vector2d p;
+    if (statePosition(localizer_->state(size_t(ml)), &p)) {
       relocation_pending_ = false;
       relocated_ = true;
       relocated_position_ = p;

@@ -218,6 +218,40 @@ TEST(MapBuilder, RingWithOneDoorIsClosedAtTheFirstCornerItComesBackTo) {
       << drive.right << " of " << drive.localized;
 }
 
+// A door 0.9 m before a hallway's end: the U-turn there makes no node of its own (the door's
+// node is within node_radius), so the door's node has no way on. Coming back to the end is no new
+// stretch (institute's hall_north: a second node beside the door, and a hallway that never ended).
+TEST(MapBuilder, AHallwayEndJustPastADoorIsNoNewStretchWhenComeBackTo) {
+  SyntheticFloor floor;
+  floor.doors.push_back({{6.0, 1.1}, 0.5 * kPi, 0.9});
+  floor.doors.push_back({{19.1, 1.1}, 0.5 * kPi, 0.9});
+  Drive drive;
+  drive.run(&floor, {{1.5, 0}, {20.0, 0}, {8.0, 0}, {20.0, 0}, {8.0, 0}, {20.0, 0}, {8.0, 0}}, 0.0);
+  EXPECT_EQ(drive.count(NodeType::Door), 2u);
+  EXPECT_EQ(drive.map.nodeCount(), 3u);  // the start and the two doors
+  EXPECT_GE(double(drive.right) / std::max<size_t>(1, drive.localized), 0.9) << drive.right << " of " << drive.localized;
+}
+
+// A belief that puts the robot at a hallway's end, heading on, while it is really mid-hallway: the
+// map cannot be extended through a wall, so the belief is reset, and no stretch is added.
+TEST(MapBuilder, ABeliefPastAHallwayEndIsResetNotANewStretch) {
+  SyntheticFloor floor;
+  floor.doors.push_back({{6.0, 1.1}, 0.5 * kPi, 0.9});
+  floor.doors.push_back({{12.0, -1.1}, -0.5 * kPi, 0.9});
+  Drive drive;
+  drive.run(&floor, {{1.5, 0}, {20.0, 0}, {3.0, 0}, {4.0, 0}}, 0.0);  // ends heading east
+  ASSERT_EQ(drive.count(NodeType::HallwayEnd), 1u);
+  const size_t nodes = drive.map.nodeCount();
+  uint32_t end = 0;
+  for (const auto& kv : drive.map.nodes()) {
+    if (kv.second.type == NodeType::HallwayEnd) end = kv.first;
+  }
+  ASSERT_TRUE(drive.localizer.resetToNode(end, 0.0));  // at the east end heading east: wrong
+  drive.run(&floor, {{4.0, 0}, {9.0, 0}}, 0.0);
+  EXPECT_EQ(drive.map.nodeCount(), nodes);
+  EXPECT_EQ(drive.builder.mode(), MapBuilder::Mode::Localized);
+}
+
 // Localization only: nothing is ever added to an empty map, and nothing crashes.
 TEST(MapBuilder, LocalizationOnlyNeverChangesTheMap) {
   SyntheticFloor floor;

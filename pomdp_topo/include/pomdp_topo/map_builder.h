@@ -19,6 +19,7 @@
 #include "pomdp_topo/pomdp_localizer.h"
 #include "pomdp_topo/topological_map.h"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -123,6 +124,8 @@ class MapBuilder {
   void startFrontier(uint32_t node, int bin, double s, double travel);
   void becomeLocalizedAt(uint32_t node, int bin);
   bool startLoopCheck(uint32_t new_node, uint32_t previous_node, const Scan& scan);
+  /// The map position of a belief state (a node, or along an edge between its nodes' poses).
+  bool statePosition(const PomdpLocalizer::State& st, Eigen::Vector2d* p) const;
   void decideLoop(bool old_wins, const FrontEnd& fe);
   void updateKnownEdge(const Scan& scan);
   void splitEdgeWithDoor(uint32_t edge, double distance, const ObservedLandmark& opening, double heading);
@@ -153,6 +156,10 @@ class MapBuilder {
 
   // Localized.
   double beyond_ = 0.0;     // travel while the most likely state is a node with no exit that way
+  // A hallway that ended (U-turn) less than node_radius past a node made no node of its own: how
+  // far past that node (node, heading bin) the robot went before turning. Travel that far beyond
+  // it is no new stretch. In memory only (a U-turn made after a restart records it again).
+  std::map<std::pair<uint32_t, int>, double> end_beyond_;
   int last_edge_ = -1;      // most likely edge and offset at the previous step (eq. 5 misses)
   bool last_forward_ = true;
   double last_offset_ = 0.0;
