@@ -91,7 +91,8 @@ bool TopologicalMap::recordOpening(uint32_t id, const NodeOpening& opening, doub
   TopoNode* n = node(id);
   if (n == nullptr || !std::isfinite(opening.bearing)) return false;
   auto it = std::find_if(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {
-    return std::abs(normalizeAngle(k.bearing - opening.bearing)) < same_bearing;
+    const bool other_width = k.width > 0.0 && opening.width > 0.0 && std::abs(k.width - opening.width) > kDifferentWidth;
+    return std::abs(normalizeAngle(k.bearing - opening.bearing)) < same_bearing && !other_width;
   });
   if (it == n->openings.end()) {
     NodeOpening o = opening;

@@ -48,6 +48,31 @@ TEST(TopologicalMap, RecordOpeningAddsOrUpdatesAndKeepsExplored) {
   EXPECT_FALSE(map.recordOpening(a, o));
 }
 
+TEST(TopologicalMap, ADoorBesideAJunctionsBranchIsAnotherOpening) {
+  // Institute: the coordinator entered a door 3 m past hall_link's junction, which pomdp_topo had
+  // not made a node of; recorded at the junction (the robot's node), it marked the branch on the
+  // same side explored and the north half of the building was never visited.
+  TopologicalMap map;
+  const uint32_t j = map.addNode(nodeAt(NodeType::Junction, 0, 0));
+  NodeOpening branch;
+  branch.bearing = 0.5 * kPi;
+  branch.width = 2.18;
+  ASSERT_TRUE(map.recordOpening(j, branch));
+  NodeOpening door;
+  door.bearing = 0.5 * kPi + 0.05;
+  door.width = 0.9;
+  door.explored = true;
+  ASSERT_TRUE(map.recordOpening(j, door));
+  ASSERT_EQ(map.node(j)->openings.size(), 2u);
+  EXPECT_FALSE(map.node(j)->openings[0].explored) << "the branch was marked explored by the door";
+  EXPECT_TRUE(map.node(j)->openings[1].explored);
+  EXPECT_FALSE(map.node(j)->explored);
+  NodeOpening unmeasured;  // no width: the same opening as before
+  unmeasured.bearing = 0.5 * kPi;
+  ASSERT_TRUE(map.recordOpening(j, unmeasured));
+  EXPECT_EQ(map.node(j)->openings.size(), 2u);
+}
+
 TEST(TopologicalMap, MergingKeepsAnOpeningExploredFromEitherCopy) {
   TopologicalMap map;
   const uint32_t a = map.addNode(nodeAt(NodeType::Door, 0, 0));

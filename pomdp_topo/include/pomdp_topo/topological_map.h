@@ -111,9 +111,12 @@ class TopologicalMap {
 
   /// Records an opening of node `id` (the exploration's bookkeeping): the opening within
   /// `same_bearing` (rad) of `opening.bearing` is updated (explored stays once set; offset and
-  /// width are taken when it had no width), else `opening` is added; the node's `explored` flag
+  /// width are taken when it had no width), else `opening` is added; two measured widths more than
+  /// kDifferentWidth apart are two openings (a door beside a junction's branch on the same side
+  /// must not mark the branch explored); the node's `explored` flag
   /// becomes "every opening explored". No structural change: the revision is not bumped (the
   /// localizer's states stay). False for an unknown node or a non-finite bearing.
+  static constexpr double kDifferentWidth = 0.6;  // m
   bool recordOpening(uint32_t id, const NodeOpening& opening, double same_bearing = 0.4);
 
   const TopoNode* node(uint32_t id) const;
