@@ -210,7 +210,11 @@ IoResult decodePlaces(const std::string& bytes, const std::string& name, PlaceMa
     return failure(name, "format version " + std::to_string(version) + " is newer than this build reads (" +
                              std::to_string(kPlacesFormatVersion) + "); update the software");
   }
-  if (version < 1) return failure(name, "unknown format version " + std::to_string(version));
+  if (version < kPlacesFormatVersion) {
+    // Version 1 is the first format; an older number was never written by hybrid_slam.
+    return failure(name, "format version " + std::to_string(version) + " is older than this build reads (" +
+                             std::to_string(kPlacesFormatVersion) + ") and has no migration; build the map again");
+  }
   const size_t body = version_end + 1;
   if (bytes.size() < body + 4) return failure(name, "the file ends early (truncated?) before the checksum");
   const size_t checksum_at = bytes.size() - 4;

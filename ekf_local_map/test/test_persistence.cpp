@@ -184,12 +184,15 @@ TEST_F(RefusedFile, BadMagic) {
   expectRefused("", "not a places file");
 }
 
-TEST_F(RefusedFile, NewerVersion) {
+TEST_F(RefusedFile, NewerOrOlderVersion) {
   std::string newer = good_;
   const size_t at = newer.find("version 1\n");
   ASSERT_NE(at, std::string::npos);
   newer[at + 8] = '2';
   expectRefused(newer, "newer");
+  std::string older = good_;
+  older[at + 8] = '0';
+  expectRefused(older, "format version 0 is older than this build reads (1) and has no migration");
   std::string garbage = good_;
   garbage[at + 8] = 'x';
   expectRefused(garbage, "version");

@@ -248,7 +248,11 @@ std::string decode(const std::string& bytes, Decoded* out) {
     return "format version " + std::to_string(version) + " is newer than this build reads (" +
            std::to_string(kTopoMapFormatVersion) + "); update the software";
   }
-  if (version != kTopoMapFormatVersion) return "unknown format version " + std::to_string(version);
+  if (version != kTopoMapFormatVersion) {
+    // Version 1 is the first format; an older number was never written by hybrid_slam.
+    return "format version " + std::to_string(version) + " is older than this build reads (" +
+           std::to_string(kTopoMapFormatVersion) + ") and has no migration; build the map again";
+  }
   const size_t body = version_end + 1;
   if (bytes.size() < body + 4) return "the file ends early (truncated?) before the checksum";
   const size_t checksum_at = bytes.size() - 4;

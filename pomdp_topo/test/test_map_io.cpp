@@ -314,7 +314,7 @@ TEST_F(RefusedFile, NewerOrUnknownVersion) {
   expectRefused(newer, "format version 2 is newer than this build reads (1); update the software");
   std::string older = good_;
   older[at + 8] = '0';
-  expectRefused(older, "unknown format version 0");
+  expectRefused(older, "format version 0 is older than this build reads (1) and has no migration");
   std::string garbage = good_;
   garbage[at + 8] = 'x';
   expectRefused(garbage, "malformed version line");
