@@ -599,40 +599,45 @@ void MapBuilder::processLocalized(const Scan& scan) {
     const bool was_sure = localizer_->confident();
     localizer_->predict(a);
     if (a.kind == Action::Travel) travelled += a.distance;
-    // Predicted to be at a node heading where no edge leads (an unexplored branch, or past a
-    // hallway's known end): the map cannot predict what the robot sees, so the observation is not
-    // used; past leave_graph_distance a new stretch starts there.
+    // Predicted to be at a node heading where no edge leads: an unexplored branch (the map cannot
+    // predict what the robot sees, so the observation is not used; past leave_graph_distance a new
+    // stretch starts there), or a hallway's end (a hallway-end node, a node the robot turned round
+    // just past, the start with start_node_closed; no opening that way). At an end the map predicts
+    // the wall: the observation is used, and travel through the wall means the belief is wrong.
+    // (Institute: not using it there let a belief at the start, 25 m from the robot at the east
+    // end, stand through 400 s of U-turns between the route and the wall.)
     const int ml = localizer_->mostLikely();
     if (ml >= 0 && params_.mapping && was_sure) {
       const PomdpLocalizer::State st = localizer_->state(size_t(ml));
       EdgeExit x;
       if (st.kind == PomdpLocalizer::State::Node && !map_->exitWithHeading(st.id, st.heading, 0.25 * kPi, &x) &&
           localizer_->belief()[size_t(ml)] > 0.5) {
-        if (a.kind == Action::Travel) {
-          beyond_ = std::max(0.0, beyond_ + a.distance);
-          const auto end = end_beyond_.find({st.id, binOf(st.heading)});
-          if (beyond_ >= params_.leave_graph_distance + (end != end_beyond_.end() ? end->second : 0.0)) {
-            // Past a hallway's end (a hallway-end node, or a node the robot turned round just past)
-            // and no opening that way: through a wall. The belief is wrong, not the map (institute:
-            // a door node made as the robot reached hall_north's end, later 'left' eastwards, grew
-            // a copy of the hallway and its rooms).
-            const TopoNode* at = map_->node(st.id);
-            const bool opening = std::any_of(at->openings.begin(), at->openings.end(), [&](const NodeOpening& o) {
-              return std::abs(normalizeAngle(o.bearing - st.heading)) < kSameBearing;
-            });
-            if (!opening && (at->type == NodeType::HallwayEnd || end != end_beyond_.end())) {
-              event("the belief puts the robot past the end of the hallway at node " + std::to_string(st.id) +
-                    ": it is wrong; reset to uniform");
-              localizer_->setUniform();
-              beyond_ = 0.0;
-              continue;
-            }
+        const TopoNode* at = map_->node(st.id);
+        const auto end = end_beyond_.find({st.id, binOf(st.heading)});
+        const bool opening = std::any_of(at->openings.begin(), at->openings.end(), [&](const NodeOpening& o) {
+          return std::abs(normalizeAngle(o.bearing - st.heading)) < kSameBearing;
+        });
+        const bool closed = !opening && (at->type == NodeType::HallwayEnd || end != end_beyond_.end() ||
+                                         (at->type == NodeType::Start && params_.start_node_closed));
+        if (a.kind == Action::Travel) beyond_ = std::max(0.0, beyond_ + a.distance);
+        const double limit = params_.leave_graph_distance + (end != end_beyond_.end() ? end->second : 0.0);
+        if (closed && beyond_ >= limit) {
+          event("the belief puts the robot past the end of the hallway at node " + std::to_string(st.id) +
+                ": it is wrong; reset to uniform");
+          localizer_->setUniform();
+          beyond_ = 0.0;
+          continue;
+        }
+        if (!closed) {
+          if (beyond_ >= limit) {
             event("leaving the known graph at node " + std::to_string(st.id) + ": new stretch");
             startFrontier(st.id, binOf(st.heading), beyond_, scan.travel);
             beyond_ = 0.0;
             return;
           }
+          continue;
         }
+        localizer_->update(scan.observation);  // at an end: beyond_ keeps counting
         continue;
       }
     }

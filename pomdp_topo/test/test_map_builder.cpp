@@ -78,7 +78,7 @@ struct Drive {
   Eigen::Vector2d shift = Eigen::Vector2d::Zero();   // true position - odometry (a kidnapping sets it)
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> relocations;  // (map's position, truth)
 
-  Drive() : builder(&map, &localizer) {}
+  explicit Drive(const MapBuilderParams& params = MapBuilderParams()) : builder(&map, &localizer, params) {}
 
   // Drives the path (straight segments, turns on the spot) and checks the belief against the
   // true position after every localized scan.
@@ -250,6 +250,32 @@ TEST(MapBuilder, ABeliefPastAHallwayEndIsResetNotANewStretch) {
   drive.run(&floor, {{4.0, 0}, {9.0, 0}}, 0.0);
   EXPECT_EQ(drive.map.nodeCount(), nodes);
   EXPECT_EQ(drive.builder.mode(), MapBuilder::Mode::Localized);
+}
+
+// The start node with start_node_closed (explore.launch: the coordinator records the way behind the
+// robot when there is one): a belief that leaves it backwards while the robot is elsewhere is reset,
+// like one past a hallway end (institute: after the U-turn at hall_south's east end the belief
+// settled on the start, 25 m away, and a copy of the hallway grew from it). Without the parameter
+// (replay: nobody knows what is behind the start) that is a new stretch.
+TEST(MapBuilder, AClosedStartNodeIsNotLeftWhereItHasNoWay) {
+  for (const bool closed : {true, false}) {
+    SyntheticFloor floor;
+    floor.doors.push_back({{6.0, 1.1}, 0.5 * kPi, 0.9});
+    floor.doors.push_back({{12.0, -1.1}, -0.5 * kPi, 0.9});
+    MapBuilderParams params;
+    params.start_node_closed = closed;
+    Drive drive(params);
+    drive.run(&floor, {{1.5, 0}, {20.0, 0}, {8.0, 0}}, 0.0);  // ends heading west, mid-hallway
+    const size_t nodes = drive.map.nodeCount();
+    ASSERT_TRUE(drive.localizer.resetToNode(0, kPi));  // at the start heading west: wrong
+    drive.run(&floor, {{8.0, 0}, {4.0, 0}}, kPi);
+    if (closed) {
+      EXPECT_EQ(drive.map.nodeCount(), nodes);
+      EXPECT_EQ(drive.builder.mode(), MapBuilder::Mode::Localized);
+    } else {
+      EXPECT_GT(drive.map.nodeCount() + (drive.builder.mode() == MapBuilder::Mode::Frontier ? 1 : 0), nodes);
+    }
+  }
 }
 
 // Localization only: nothing is ever added to an empty map, and nothing crashes.

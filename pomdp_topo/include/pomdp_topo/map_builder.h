@@ -46,6 +46,9 @@ struct MapBuilderParams {
   double loop_false_landmark_probability = 0.05;  // -, likelihood of a landmark the old place does not explain
   double loop_decision_log_odds = 3.0; // -, a hypothesis wins when ahead by this (log odds, about 20:1)
   double loop_verify_distance = 6.0;   // m, past this the better hypothesis wins
+  bool start_node_closed = false;      // -, the start node has no way but its edges and recorded openings (the
+                                       // exploration records an open way behind the robot): a belief leaving it
+                                       // elsewhere is wrong, as past a hallway end; false when nobody records them
 };
 
 class MapBuilder {

@@ -97,6 +97,7 @@ void visitParams(TopoParams* p, Visitor&& visit) {
   visit("loop_false_landmark_probability", &p->builder.loop_false_landmark_probability);
   visit("loop_decision_log_odds", &p->builder.loop_decision_log_odds);
   visit("loop_verify_distance", &p->builder.loop_verify_distance);
+  visit("start_node_closed", &p->builder.start_node_closed);
 }
 
 }  // namespace pomdp_topo
