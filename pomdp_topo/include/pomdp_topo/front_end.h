@@ -36,7 +36,7 @@ struct FrontEndParams {
   double side_max_lateral = 2.0;     // m, side openings farther from the travel line are not passed
   double track_max_rotation = 0.05;  // rad, scans during which the robot turned more are not tracked
                                      // (the heading estimate lags in fast turns)
-  double max_odometry_step = 1.0;    // m, a larger odometry jump between scans is refused
+  double max_odometry_step = 3.0;    // m, a larger odometry jump between scans is refused (a reset), not travelled
 };
 
 /// A landmark the robot has just passed (abeam and `pass_lag` behind), in the travel frame at
