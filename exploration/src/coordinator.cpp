@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <set>
 #include <sstream>
 
 namespace exploration {
@@ -54,6 +56,9 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
   if (!(p.jump_tolerance >= 0.0 && p.jump_hold_distance >= 0.0)) return fail("jump_tolerance and jump_hold_distance must be >= 0");
   if (!(p.branch_record_distance >= 0.0 && p.u_turn_cost >= 0.0 && p.goal_refresh_distance > 0.0))
     return fail("branch_record_distance and u_turn_cost must be >= 0, goal_refresh_distance > 0");
+  if (!(p.relocation_timeout > 0.0 && p.mission_time_limit > 0.0 && p.mission_stall_time > 0.0))
+    return fail("relocation_timeout, mission_time_limit and mission_stall_time must be > 0");
+  if (p.max_relocation_failures < 0) return fail("max_relocation_failures must be >= 0");
   return RoomExplorer::validate(p.room, error);
 }
 
@@ -100,14 +105,21 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
   have_last_odom_ = true;
   stats_.travel = travel_;
 
-  if (state_ != State::Done && params_.max_time > 0.0 && now_ - start_time_ > params_.max_time) {
+  if (!idle() && !mission_active_ && params_.max_time > 0.0 && now_ - start_time_ > params_.max_time) {
     finish(false, "time limit reached before the exploration was complete", &d);
+  }
+  if (mission_active_ && now_ - mission_start_time_ > params_.mission_time_limit) {
+    endMission(false, "the mission's time limit (" + std::to_string(int(params_.mission_time_limit)) + " s) was reached", &d);
   }
   switch (state_) {
     case State::Init:
       d.stop = true;
       if (topo.valid && topo.heading_valid && !topo.mode.empty()) {
         bin_ = binOf(p.odom.theta + topo.heading_offset);
+        if (!params_.explore) {
+          setState(State::Idle, "waiting for a mission");
+          break;
+        }
         const double back = normalizeAngle(odomHeadingOfBin(bin_ + params_.heading_bins / 2, topo) - p.odom.theta);
         const double free_back = freeDistance(p.points, back, params_.hallway.ahead_sector, 15.0);
         if (topo.mode == "frontier" && free_back > params_.end_distance + 1.0) {
@@ -140,6 +152,10 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
     case State::StopForDoor:
       d.stop = true;
       mode_ = CoordinatorMode::Switching;
+      if (mission_active_) {
+        if (now_ - state_since_ >= params_.settle_time) relocate(p, topo, &d);
+        break;
+      }
       if (now_ - state_since_ >= params_.settle_time && enter_node_ < 0 && topo.mode == "loop_check") {
         // pomdp_topo made the door's node and took it for a known one (a loop hypothesis): the room
         // may be mapped already. Go on along the hallway; the check merges the node (the door is
@@ -186,6 +202,7 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
       // The place's origin is the robot's pose now (it stood still): the door in the robot frame is
       // the door in the place.
       place_origin_odom_ = p.odom;
+      hallway_in_place_ = Eigen::Vector2d::Zero();
       const Pose2D robot_inv = inverse(p.odom);
       const Eigen::Vector2d c = apply(robot_inv, door_.centre_odom);
       door_in_place_ = Pose2D{c.x(), c.y(), normalizeAngle(door_.into_odom - p.odom.theta)};
@@ -203,8 +220,12 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
       setState(State::ApproachDoor, "entering the room of place " + std::to_string(place_id_));
       break;
     }
+    case State::Relocate:
+      relocate(p, topo, &d);
+      break;
     case State::ApproachDoor:
     case State::Room:
+    case State::GoToGoal:
     case State::ExitPath:
     case State::ExitDoor:
       reached_ = motion_reached;
@@ -217,6 +238,10 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
       break;
     case State::Done:
       d.stop = true;
+      break;
+    case State::Idle:
+      d.stop = true;
+      mode_ = in_room_ ? CoordinatorMode::Metric : CoordinatorMode::Topological;
       break;
   }
   d.mode = mode_;
@@ -249,11 +274,20 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
 
   RouteStep route;
   if (localized && sure) {
-    if (graph_.nodes().size() > 1 && graph_.unexploredCount() == 0 && pending_branches_.empty()) {
+    if (!mission_active_ && graph_.nodes().size() > 1 && graph_.unexploredCount() == 0 && pending_branches_.empty()) {
       finish(true, "no unexplored opening is left", d);
       return;
     }
-    route = graph_.route(topo.position, params_.u_turn_cost);
+    route = plan(topo.position);
+    if (mission_active_) {
+      if (!route.found) {
+        endMission(false, "no route on the topological map to the door of place " + std::to_string(mission_place_), d);
+        return;
+      }
+      const Eigen::Vector2d goal(mission_goal_.x, mission_goal_.y);
+      const Eigen::Vector2d door(mission_door_.door_in_place[0], mission_door_.door_in_place[1]);
+      mission_distance_left_ = route.distance + (goal - door).norm();
+    }
     // At the goal node with its opening to a side that never opens (a door the laser does not show
     // again, a wide door taken for a branch): give it up once the robot has gone past, instead of
     // turning round for it again and again (each U-turn on a hallway weakens the belief).
@@ -261,7 +295,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     // Doors only: a hallway branch is never given up this way (the north half of institute lies
     // behind one); the robot turns into it when its side opens (below).
     const bool door_goal = route.goal_width > 0.0 && route.goal_width <= params_.door_max_width;
-    if (route.found && door_goal && near >= 0 && uint32_t(near) == route.goal_node) {
+    if (!mission_active_ && route.found && door_goal && near >= 0 && uint32_t(near) == route.goal_node) {
       if (goal_pass_node_ != near) {
         goal_pass_node_ = near;
         goal_pass_travel_ = travel_;
@@ -289,7 +323,13 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
         route_behind_ticks_ = 0;
         // An opening the robot keeps turning round for (it passes its node without taking it:
         // the door is not seen, or the belief flickers) is given up after max_route_attempts.
-        if (++route_attempts_[route.goal_node] > params_.max_route_attempts) {
+        if (++route_attempts_[route.goal_node] > params_.max_route_attempts && mission_active_) {
+          endMission(false, "the door of place " + std::to_string(mission_place_) + " was not found at node " +
+                                std::to_string(route.goal_node) + " after " + std::to_string(params_.max_route_attempts) +
+                                " turns towards it", d);
+          return;
+        }
+        if (route_attempts_[route.goal_node] > params_.max_route_attempts) {
           Request give_up;
           give_up.kind = Request::RecordOpening;
           give_up.node = int(route.goal_node);
@@ -388,7 +428,7 @@ void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const H
   }
   int choice = open.front();  // left first (depth-first, one fixed order)
   if (localized && topo.confident && travel_ >= distrust_until_) {
-    const RouteStep r = graph_.route(topo.position, params_.u_turn_cost);
+    const RouteStep r = plan(topo.position);
     if (r.found) {
       const int near = graph_.nearestNode(topo.position);
       const int rb = binOf(near >= 0 && uint32_t(near) == r.next_node ? r.next_heading : r.heading);
@@ -396,7 +436,7 @@ void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const H
     }
   }
   std::vector<int> not_taken;
-  if (sure && topo.mode == "frontier") {
+  if (sure && topo.mode == "frontier" && !mission_active_) {
     for (int b : open) {
       if (b != choice) not_taken.push_back(b);
     }
@@ -502,6 +542,16 @@ bool Coordinator::beliefPlausible(const TopoView& topo) {
 bool Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) {
   enter_node_ = -1;
   enter_bearing_ = normalizeAngle(door.into_odom + topo.heading_offset);
+  if (mission_active_) {
+    // Only the mission's door, at its node as a confident belief says, on its side.
+    if (topo.mode != "localized" || !topo.confident || travel_ < distrust_until_) return false;
+    const int n = graph_.nearestNode(topo.position);
+    if (n < 0 || uint32_t(n) != mission_door_.node) return false;
+    if (std::abs(normalizeAngle(mission_door_.opening.bearing - enter_bearing_)) > 0.5) return false;
+    enter_node_ = n;
+    enter_bearing_ = mission_door_.opening.bearing;
+    return true;
+  }
   if (topo.mode == "frontier") return true;  // a door on a new stretch is new: its node is pomdp_topo's current one
   if (topo.mode != "localized" || !topo.confident || travel_ < distrust_until_) return false;
   const int n = graph_.nearestNode(topo.position);
@@ -562,7 +612,20 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
     // In front of the door on its axis, facing in, before going through.
     const Eigen::Vector2d a = door - 0.6 * into;
     goalInPlace(p, a, door_in_place_.theta, d);
-    if ((robot - a).norm() < 0.15 || now_ - state_since_ > 30.0) setState(State::Room, "exploring the room");
+    if ((robot - a).norm() < 0.15 || now_ - state_since_ > 30.0) {
+      if (mission_active_) {
+        setState(State::GoToGoal, "driving to the mission's goal in place " + std::to_string(place_id_));
+        mission_goal_odom_valid_ = false;
+        mission_best_ = std::numeric_limits<double>::infinity();
+        mission_best_time_ = now_;
+      }
+      else setState(State::Room, "exploring the room");
+    }
+    return;
+  }
+  last_room_position_ = robot;
+  if (state_ == State::GoToGoal) {
+    missionGoal(p, d);
     return;
   }
   if (state_ == State::Room) {
@@ -625,9 +688,20 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
       return;
     }
   }
-  goalInPlace(p, Eigen::Vector2d::Zero(), exit_theta_place_, d);
+  goalInPlace(p, hallway_in_place_, exit_theta_place_, d);
   const double err = std::abs(normalizeAngle(exit_theta_place_ - p.room_pose.theta));
-  const bool back = (robot.norm() < 0.2 && err < 0.15) || (reached_ && err < 0.2);
+  const bool back = ((robot - hallway_in_place_).norm() < 0.2 && err < 0.15) || (reached_ && err < 0.2);
+  if ((back || step_timeout || now_ - state_since_ > params_.exit_time_limit) && mission_active_) {
+    // A mission leaving a room: back on the hallway, on to the goal's door.
+    bin_ = hallway_bin_;
+    have_goal_ = false;
+    mode_ = CoordinatorMode::Topological;
+    last_turn_travel_ = travel_;
+    place_id_ = -1;
+    in_room_ = false;
+    setState(State::Follow, "mission to place " + std::to_string(mission_place_) + ": following the hallway");
+    return;
+  }
   if (back || step_timeout || now_ - state_since_ > params_.exit_time_limit) {
     Request rec;
     rec.kind = Request::RecordOpening;
@@ -643,6 +717,206 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
     mode_ = CoordinatorMode::Topological;
     last_turn_travel_ = travel_;
     setState(State::Follow, back ? "following the hallway" : "following the hallway (the way back was not reached exactly)");
+  }
+}
+
+RouteStep Coordinator::plan(const GraphPosition& pos) const {
+  if (mission_active_) return graph_.routeTo(pos, mission_door_.node, mission_door_.opening, params_.u_turn_cost);
+  return graph_.route(pos, params_.u_turn_cost);
+}
+
+bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* why) {
+  auto refuse = [&](const std::string& text) {
+    if (why) *why = text;
+    return false;
+  };
+  if (mission_active_) return refuse("a mission is running (to place " + std::to_string(mission_place_) + ")");
+  if (!idle()) return refuse("the exploration is running: missions start once it is done");
+  if (!finite(goal)) return refuse("the goal is not finite");
+  const std::optional<PlaceDoor> door = graph_.placeDoor(place_id, params_.door_max_width);
+  if (!door) {
+    std::ostringstream known;
+    std::set<int> ids;
+    for (const auto& n : graph_.nodes()) {
+      if (n.second.place_id >= 0) ids.insert(n.second.place_id);
+    }
+    for (int id : ids) known << (known.tellp() > 0 ? ", " : "") << id;
+    return refuse("place " + std::to_string(place_id) + " is unknown: no node of the topological map links it (known places: " +
+                  (ids.empty() ? std::string("none") : known.str()) + ")");
+  }
+  mission_active_ = true;
+  mission_place_ = place_id;
+  mission_goal_ = goal;
+  mission_door_ = *door;
+  mission_start_travel_ = travel_;
+  mission_start_time_ = now_;
+  mission_outcome_ = MissionOutcome();
+  mission_distance_left_ = 0.0;
+  relocation_failures_ = 0;
+  route_attempts_.clear();
+  const std::string to = "mission to place " + std::to_string(place_id);
+  if (in_room_ && place_id_ == place_id) {
+    setState(State::GoToGoal, to + ": driving to the goal in the room");
+    mission_goal_odom_valid_ = false;
+    mission_best_ = std::numeric_limits<double>::infinity();
+    mission_best_time_ = now_;
+    mode_ = CoordinatorMode::Metric;
+  } else if (in_room_) {
+    // Out of this room by its door first. The hallway heading to leave by: towards the goal's door.
+    GraphPosition at_door;
+    at_door.valid = true;
+    at_door.at_node = true;
+    at_door.id = uint32_t(std::max(0, door_node_));
+    at_door.heading = binHeading(hallway_bin_);
+    const RouteStep r = graph_.routeTo(at_door, mission_door_.node, mission_door_.opening, params_.u_turn_cost);
+    const int n = params_.heading_bins;
+    if (r.found && door_node_ >= 0 && uint32_t(door_node_) != mission_door_.node) {
+      const int rb = binOf(r.heading);
+      if (rb == (hallway_bin_ + n / 2) % n) {
+        exit_theta_place_ = normalizeAngle(exit_theta_place_ + kPi);
+        hallway_bin_ = rb;
+      }
+    }
+    exit_path_.clear();
+    exit_index_ = 0;
+    if (auto path = room_.pathToExit(last_room_position_)) exit_path_ = path->waypoints;
+    setState(State::ExitPath, to + ": leaving place " + std::to_string(place_id_) + " by its door");
+    mode_ = CoordinatorMode::Metric;
+  } else {
+    have_goal_ = false;
+    last_turn_travel_ = travel_ - 3.0;  // the route may turn the robot round at once
+    setState(State::Follow, to + ": following the hallway");
+    mode_ = CoordinatorMode::Topological;
+  }
+  return true;
+}
+
+void Coordinator::cancelMission(const std::string& why) {
+  if (!mission_active_) return;
+  Decision ignored;
+  endMission(false, why, &ignored);
+}
+
+void Coordinator::endMission(bool success, const std::string& why, Decision* d) {
+  mission_outcome_.finished = true;
+  mission_outcome_.success = success;
+  mission_outcome_.message = why;
+  mission_outcome_.path_length = travel_ - mission_start_travel_;
+  mission_outcome_.relocation_failures = relocation_failures_;
+  mission_active_ = false;
+  // In a room when the place is active and the robot is past the hallway stop (metric states).
+  in_room_ = place_id_ >= 0 && (state_ == State::GoToGoal || state_ == State::ApproachDoor ||
+                                state_ == State::ExitPath || state_ == State::ExitDoor);
+  if (!in_room_ && place_id_ >= 0) {
+    d->requests.push_back(Request{Request::ClosePlace});
+    place_id_ = -1;
+  }
+  mode_ = in_room_ ? CoordinatorMode::Metric : CoordinatorMode::Topological;
+  setState(State::Idle, std::string(success ? "mission done: " : "mission failed: ") + why);
+  d->stop = true;
+  d->has_goal = false;
+}
+
+void Coordinator::relocationResult(int place_id, bool success, const std::string& verdict) {
+  if (state_ != State::Relocate || place_id != place_id_) return;
+  relocation_pending_ = false;
+  relocation_ok_ = success;
+  relocation_verdict_ = verdict;
+}
+
+void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* d) {
+  d->stop = true;
+  mode_ = CoordinatorMode::Metric;
+  if (state_ == State::StopForDoor) {
+    // Stopped past the mission's door (Tomatis et al. 2001, section 3.2): the place's map is
+    // matched from here, the robot's pose given by the door as the laser sees it.
+    hallway_pose_odom_ = p.odom;
+    hallway_bin_ = bin_;
+    place_id_ = mission_place_;
+    door_node_ = int(mission_door_.node);
+    const Pose2D door_in_robot = compose(inverse(p.odom), Pose2D{door_.centre_odom.x(), door_.centre_odom.y(), door_.into_odom});
+    Request r;
+    r.kind = Request::Relocate;
+    r.place_id = mission_place_;
+    r.door_id = int(mission_door_.node);
+    r.pose = inverse(door_in_robot);
+    d->requests.push_back(r);
+    relocation_pending_ = true;
+    relocation_ok_ = false;
+    relocation_verdict_.clear();
+    setState(State::Relocate, "relocating in place " + std::to_string(mission_place_) + " at its door");
+    return;
+  }
+  const bool timeout = now_ - state_since_ > params_.relocation_timeout;
+  if (relocation_pending_ && !timeout) return;
+  const bool pose = p.room_pose_valid && finite(p.room_pose);
+  if (relocation_ok_ && pose) {
+    hallway_in_place_ = Eigen::Vector2d(p.room_pose.x, p.room_pose.y);
+    exit_theta_place_ = normalizeAngle(p.room_pose.theta + odomHeadingOfBin(hallway_bin_, topo) - p.odom.theta);
+    place_origin_odom_ = compose(p.odom, inverse(p.room_pose));  // stands in for missing EKF poses
+    door_in_place_ = Pose2D{mission_door_.door_in_place[0], mission_door_.door_in_place[1], mission_door_.door_in_place[2]};
+    room_.start(door_in_place_, mission_door_.opening.width > 0.0 ? mission_door_.opening.width : door_.width);
+    setState(State::ApproachDoor, "relocated in place " + std::to_string(place_id_) + ": entering");
+    return;
+  }
+  if (relocation_ok_ && !timeout) return;  // the verdict came, the EKF's pose not yet
+  // Not the goal's room (or no verdict): the belief was wrong. Back to the hallway with a uniform
+  // belief (global localization) rather than going on lost.
+  ++relocation_failures_;
+  const std::string verdict = relocation_pending_ ? "no verdict in " + std::to_string(int(params_.relocation_timeout)) + " s"
+                                                  : relocation_verdict_;
+  d->requests.push_back(Request{Request::ClosePlace});
+  place_id_ = -1;
+  if (relocation_failures_ > params_.max_relocation_failures) {
+    endMission(false, "relocation at the door of place " + std::to_string(mission_place_) + " failed " +
+                          std::to_string(relocation_failures_) + " times (last: " + verdict + ")", d);
+    return;
+  }
+  Request reset;
+  reset.kind = Request::ResetBelief;
+  d->requests.push_back(reset);
+  mode_ = CoordinatorMode::Topological;
+  have_goal_ = false;
+  setState(State::Follow, "not the room of place " + std::to_string(mission_place_) + " (relocation: " + verdict +
+                              "): the belief is reset, following the hallway");
+}
+
+void Coordinator::missionGoal(const Perception& p, Decision* d) {
+  const Eigen::Vector2d robot(p.room_pose.x, p.room_pose.y);
+  const Eigen::Vector2d goal(mission_goal_.x, mission_goal_.y);
+  const double dist = (goal - robot).norm();
+  const double herr = std::abs(normalizeAngle(mission_goal_.theta - p.room_pose.theta));
+  mission_distance_left_ = dist;
+  if (dist < mission_best_ - 0.05) {
+    mission_best_ = dist;
+    mission_best_time_ = now_;
+  }
+  // The goal in the odometry frame moves with every EKF correction; it is re-sent only when it
+  // moved by more than a centimetre or so, so that the controller's own progress watch (blocked)
+  // is not restarted on every scan.
+  Decision g;
+  goalInPlace(p, goal, mission_goal_.theta, &g);
+  if (!mission_goal_odom_valid_ || std::hypot(g.x - mission_goal_odom_.x, g.y - mission_goal_odom_.y) > 0.01 ||
+      std::abs(normalizeAngle(*g.theta - mission_goal_odom_.theta)) > 0.01) {
+    mission_goal_odom_ = Pose2D{g.x, g.y, *g.theta};
+    mission_goal_odom_valid_ = true;
+  }
+  d->has_goal = true;
+  d->x = mission_goal_odom_.x;
+  d->y = mission_goal_odom_.y;
+  d->theta = mission_goal_odom_.theta;
+  char at[96];
+  std::snprintf(at, sizeof(at), " (estimate %.3f m, %.3f rad from the goal)", dist, herr);
+  if ((reached_ && now_ - state_since_ > 0.5) || (dist < 0.02 && herr < 0.03)) {
+    endMission(true, "goal reached in place " + std::to_string(place_id_) + at, d);
+    return;
+  }
+  if ((blocked_ && now_ - state_since_ > 1.0) || now_ - mission_best_time_ > params_.mission_stall_time) {
+    endMission(false, "the goal is not reachable: stopped at the closest reachable pose" + std::string(at), d);
+    return;
+  }
+  if (now_ - state_since_ > params_.room_time_limit) {
+    endMission(false, "the goal was not reached in " + std::to_string(int(params_.room_time_limit)) + " s" + at, d);
   }
 }
 

@@ -1,11 +1,18 @@
 // exploration_node: the coordinator that explores a building by itself (see coordinator.h), with
 // the local motion controller driving cmd_vel. Thin: it converts messages, calls the core, and
-// carries out the core's requests as service calls to pomdp_topo and ekf_local_map.
+// carries out the core's requests as service calls to pomdp_topo and ekf_local_map. Missions
+// (GoToPlace) are an actionlib server on `go_to_place` once the exploration is done (or with
+// explore false, on a loaded map).
+#include <actionlib/server/simple_action_server.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <hybrid_slam_msgs/AddDoor.h>
 #include <hybrid_slam_msgs/CreatePlace.h>
 #include <hybrid_slam_msgs/ExplorationStatus.h>
+#include <hybrid_slam_msgs/GoToPlaceAction.h>
+#include <hybrid_slam_msgs/RelocateAtDoor.h>
+#include <hybrid_slam_msgs/RelocationResult.h>
+#include <hybrid_slam_msgs/ResetBelief.h>
 #include <hybrid_slam_msgs/SaveMap.h>
 #include <hybrid_slam_msgs/UpdateOpening.h>
 #include <ros/callback_queue.h>
@@ -50,6 +57,10 @@ class ExplorationNode {
     pnh_.param("control_rate", control_rate_, 20.0);
     pnh_.param("progress_period", progress_period_, 30.0);
     pnh_.param("shutdown_when_done", shutdown_when_done_, true);
+    pnh_.param("serve_missions", serve_missions_, false);
+    pnh_.param("relocation_sigma_xy", relocation_sigma_xy_, 0.05);
+    pnh_.param("relocation_sigma_theta", relocation_sigma_theta_, 0.05);
+    if (!params_.coordinator.explore) serve_missions_ = true;
     pnh_.param<std::string>("summary_file", summary_file_, "");
 
     cmd_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 10);
@@ -67,6 +78,13 @@ class ExplorationNode {
     mode_sub_ = nh_.subscribe("topo_mode", 10, &ExplorationNode::onMode, this);
     pose_sub_ = nh_.subscribe("local_pose", 10, &ExplorationNode::onLocalPose, this);
     bumper_sub_ = control_nh_.subscribe("bumper", 10, &ExplorationNode::onBumper, this);
+    relocation_sub_ = nh_.subscribe("relocation", 10, &ExplorationNode::onRelocation, this);
+    if (serve_missions_) {
+      mission_server_ = std::make_unique<MissionServer>(nh_, "go_to_place", false);
+      mission_server_->registerGoalCallback([this] { onMissionGoal(); });
+      mission_server_->registerPreemptCallback([this] { onMissionPreempt(); });
+      mission_server_->start();
+    }
     timer_ = control_nh_.createTimer(ros::Duration(1.0 / control_rate_), &ExplorationNode::onTimer, this);
     control_spinner_.start();
     wall_start_ = std::chrono::steady_clock::now();
@@ -140,6 +158,7 @@ class ExplorationNode {
     lock.unlock();
     const Decision d = coordinator_->update(p, topo_, reached, blocked);
     for (const Request& r : d.requests) execute(r);
+    serviceMission();
     lock.lock();
     if (d.has_goal) {
       const bool same = has_goal_ && std::abs(d.x - goal_x_) < 1e-6 && std::abs(d.y - goal_y_) < 1e-6 &&
@@ -176,6 +195,67 @@ class ExplorationNode {
       m.markers.push_back(modeMarker(coordinator_->mode(), coordinator_->state(), base_frame_, msg->header.stamp));
       markers_pub_.publish(m);
     }
+  }
+
+  using MissionServer = actionlib::SimpleActionServer<hybrid_slam_msgs::GoToPlaceAction>;
+
+  void onMissionGoal() {
+    const auto goal = mission_server_->acceptNewGoal();
+    const Pose2D g{goal->goal.x, goal->goal.y, goal->goal.theta};
+    std::string why;
+    if (!coordinator_->startMission(goal->place_id, g, &why)) {
+      ROS_WARN("exploration: mission to place %d refused: %s", goal->place_id, why.c_str());
+      hybrid_slam_msgs::GoToPlaceResult r;
+      r.success = false;
+      r.message = "refused: " + why;
+      mission_server_->setAborted(r, r.message);
+      return;
+    }
+    ROS_INFO("exploration: mission to (%.2f, %.2f, %.2f) in place %d", g.x, g.y, g.theta, goal->place_id);
+  }
+
+  void onMissionPreempt() {
+    coordinator_->cancelMission("cancelled by the client");
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      motion_->cancel();
+      has_goal_ = false;
+    }
+    hybrid_slam_msgs::GoToPlaceResult r;
+    missionResult(&r);
+    mission_server_->setPreempted(r, r.message);
+  }
+
+  void missionResult(hybrid_slam_msgs::GoToPlaceResult* r) const {
+    const MissionOutcome& o = coordinator_->missionOutcome();
+    r->success = o.success;
+    r->message = o.message;
+    r->path_length = o.path_length;
+    if (coordinator_->currentPlace() >= 0 && last_local_place_ == coordinator_->currentPlace()) r->final_pose = last_local_msg_.pose;
+  }
+
+  /// After each coordinator step: the mission's feedback, and its result once it ended.
+  void serviceMission() {
+    if (!mission_server_ || !mission_server_->isActive()) return;
+    if (coordinator_->missionActive()) {
+      hybrid_slam_msgs::GoToPlaceFeedback f;
+      f.mode = static_cast<uint8_t>(coordinator_->mode());
+      f.current_node = topo_.confident ? coordinator_->graph().nearestNode(topo_.position) : -1;
+      f.current_place = coordinator_->mode() == CoordinatorMode::Metric ? coordinator_->currentPlace() : -1;
+      f.entropy = entropy_;
+      f.distance_left = coordinator_->missionDistanceLeft();
+      mission_server_->publishFeedback(f);
+      return;
+    }
+    hybrid_slam_msgs::GoToPlaceResult r;
+    missionResult(&r);
+    ROS_INFO("exploration: mission %s: %s (%.1f m)", r.success ? "succeeded" : "failed", r.message.c_str(), r.path_length);
+    if (r.success) mission_server_->setSucceeded(r, r.message);
+    else mission_server_->setAborted(r, r.message);
+  }
+
+  void onRelocation(const hybrid_slam_msgs::RelocationResult::ConstPtr& msg) {
+    coordinator_->relocationResult(msg->place_id, msg->success, msg->verdict);
   }
 
   template <typename Srv>
@@ -244,6 +324,29 @@ class ExplorationNode {
       case Request::Finish:
         finish(r);
         break;
+      case Request::Relocate: {
+        hybrid_slam_msgs::RelocateAtDoor srv;
+        srv.request.place_id = r.place_id;
+        srv.request.door_id = r.door_id;
+        srv.request.robot_from_door.x = r.pose.x;
+        srv.request.robot_from_door.y = r.pose.y;
+        srv.request.robot_from_door.theta = r.pose.theta;
+        // The door as the laser saw it from the hallway: a few centimetres and degrees.
+        srv.request.covariance = {relocation_sigma_xy_ * relocation_sigma_xy_, 0, 0, 0, relocation_sigma_xy_ * relocation_sigma_xy_, 0,
+                                  0, 0, relocation_sigma_theta_ * relocation_sigma_theta_};
+        const bool ok = call(local_map_node_ + "/relocate_at_door", &srv) && srv.response.success;
+        if (!ok) {
+          ROS_WARN("exploration: relocation not started: %s", srv.response.message.c_str());
+          coordinator_->relocationResult(r.place_id, false, "not started: " + srv.response.message);
+        }
+        break;
+      }
+      case Request::ResetBelief: {
+        hybrid_slam_msgs::ResetBelief srv;
+        srv.request.uniform = true;
+        if (call(topo_node_ + "/reset_belief", &srv)) ROS_INFO("exploration: %s", srv.response.message.c_str());
+        break;
+      }
     }
   }
 
@@ -266,8 +369,12 @@ class ExplorationNode {
         << ", \"rooms_left_early\": " << s.rooms_left_early << ", \"openings_given_up\": " << s.openings_given_up << ", \"belief_jumps\": " << s.belief_jumps << ", \"room_free_area_m2\": " << s.room_free_area
         << ", \"peak_room_grid_bytes\": " << s.peak_room_bytes << ", \"text\": \"" << r.text << "\"}\n";
     }
-    done_ = true;
     exit_code_ = r.success ? 0 : 1;
+    if (serve_missions_) {
+      ROS_INFO("exploration: serving missions on %s", mission_server_ ? "go_to_place" : "?");
+      return;  // the robot stays under control for missions
+    }
+    done_ = true;
     if (shutdown_when_done_) {
       ros::WallDuration(1.0).sleep();  // the final status reaches its subscribers (the evaluator) first
       ros::requestShutdown();
@@ -304,6 +411,7 @@ class ExplorationNode {
     coordinator_->setGraph(g);
   }
   void onBelief(const hybrid_slam_msgs::TopologicalBelief::ConstPtr& msg) {
+    entropy_ = msg->entropy;
     topo_.position = fromMsg(*msg);
     topo_.valid = true;
   }
@@ -334,6 +442,7 @@ class ExplorationNode {
     last_local_place_ = id;
     last_local_pose_ = pose;
     last_local_stamp_ = msg->header.stamp;
+    last_local_msg_ = *msg;
   }
   void onBumper(const std_msgs::Bool::ConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -385,6 +494,12 @@ class ExplorationNode {
   std::string odom_frame_, base_frame_, topo_node_, local_map_node_, summary_file_;
   double control_rate_ = 20.0, progress_period_ = 30.0;
   bool shutdown_when_done_ = true;
+  bool serve_missions_ = false;
+  double relocation_sigma_xy_ = 0.05, relocation_sigma_theta_ = 0.05;
+  std::unique_ptr<MissionServer> mission_server_;
+  ros::Subscriber relocation_sub_;
+  double entropy_ = 0.0;
+  geometry_msgs::PoseWithCovarianceStamped last_local_msg_;
   ros::Publisher cmd_pub_, status_pub_, markers_pub_;
   ros::Subscriber scan_sub_, features_sub_, map_sub_, belief_sub_, confident_sub_, heading_sub_, mode_sub_, pose_sub_,
       bumper_sub_;

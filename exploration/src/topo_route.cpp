@@ -122,6 +122,44 @@ int TopoGraph::nearestNode(const GraphPosition& pos) const {
 }
 
 RouteStep TopoGraph::route(const GraphPosition& pos, double u_turn_cost) const {
+  return search(pos, u_turn_cost, [this](uint32_t n) {
+    const std::vector<GraphOpening> open = unexplored(n);
+    return open.empty() ? std::optional<GraphOpening>() : std::optional<GraphOpening>(open.front());
+  });
+}
+
+RouteStep TopoGraph::routeTo(const GraphPosition& pos, uint32_t goal_node, const GraphOpening& opening,
+                             double u_turn_cost) const {
+  return search(pos, u_turn_cost, [&](uint32_t n) {
+    return n == goal_node ? std::optional<GraphOpening>(opening) : std::optional<GraphOpening>();
+  });
+}
+
+std::optional<PlaceDoor> TopoGraph::placeDoor(int place_id, double door_max_width) const {
+  if (place_id < 0) return std::nullopt;
+  for (const auto& entry : nodes_) {
+    const GraphNode& n = entry.second;
+    if (n.place_id != place_id) continue;
+    // The place's door: the node's explored opening of a door's width (the coordinator marks it
+    // explored when it links the place); a node with no such opening keeps its first one.
+    PlaceDoor door;
+    door.node = n.id;
+    door.door_in_place[0] = n.door_x;
+    door.door_in_place[1] = n.door_y;
+    door.door_in_place[2] = n.door_theta;
+    bool found = false;
+    for (const GraphOpening& o : n.openings) {
+      if (o.width > door_max_width) continue;
+      if (!found || (o.explored && !door.opening.explored)) door.opening = o;
+      found = true;
+    }
+    if (found) return door;
+  }
+  return std::nullopt;
+}
+
+RouteStep TopoGraph::search(const GraphPosition& pos, double u_turn_cost,
+                            const std::function<std::optional<GraphOpening>(uint32_t)>& goal_at) const {
   RouteStep step;
   if (!pos.valid) return step;
   // Dijkstra from the robot's position. prev[n]: the node before n on the best route and the
@@ -155,12 +193,12 @@ RouteStep TopoGraph::route(const GraphPosition& pos, double u_turn_cost) const {
     queue.pop();
     if (top.first > dist[top.second]) continue;
     const uint32_t n = top.second;
-    const std::vector<GraphOpening> open = unexplored(n);
-    if (!open.empty()) {
+    const std::optional<GraphOpening> goal = goal_at(n);
+    if (goal) {
       step.found = true;
       step.goal_node = n;
-      step.goal_bearing = open.front().bearing;
-      step.goal_width = open.front().width;
+      step.goal_bearing = goal->bearing;
+      step.goal_width = goal->width;
       step.distance = top.first;
       // Back along the route to its first node: that node's heading is the one to travel now; the
       // heading leaving it is the next step's (or the opening's, at the goal).

@@ -178,3 +178,160 @@ TEST(Coordinator, AKnownUnexploredDoorIsEnteredButNotRightAfterTheBeliefJumped) 
     EXPECT_GE(c.stats().belief_jumps, 1);
   }
 }
+
+namespace {
+
+// The graph of the hallway above, explored: start node 0 at x = 0, door node 2 at x = 5 whose
+// north door (explored) leads to place 4, a hallway end 1 at x = 10.
+TopoGraph exploredHallway() {
+  TopoGraph g;
+  g.addNode(GraphNode{0, 4, 0.0, 0.0, -1, {}});
+  GraphNode door{2, 0, 5.0, 0.0, 4, {GraphOpening{0.5 * kPi, 0.9, true}}};
+  door.door_x = 5.0;  // the place's frame is the odometry frame here
+  door.door_y = 1.0;
+  door.door_theta = 0.5 * kPi;
+  g.addNode(door);
+  g.addNode(GraphNode{1, 2, 10.0, 0.0, -1, {}});
+  g.addEdge(GraphEdge{0, 0, 2, 0.0, 5.0});
+  g.addEdge(GraphEdge{1, 2, 1, 0.0, 5.0});
+  return g;
+}
+
+TopoView onHallway(double x) {
+  TopoView v = view("localized", true);
+  v.position.valid = true;
+  v.position.id = x < 5.0 ? 0 : 1;
+  v.position.offset = x < 5.0 ? x : x - 5.0;
+  v.position.heading = 0.0;
+  return v;
+}
+
+struct MissionRun {
+  std::vector<Request> requests;
+  Pose2D robot;
+  int ticks = 0;
+};
+
+// An ideal robot (0.05 m or 0.1 rad per 0.1 s tick towards the goal) on the mission; the place
+// frame is the odometry frame. `relocation(k)` is ekf_local_map's verdict on the k-th relocation.
+template <typename Verdict>
+MissionRun runMission(Coordinator* c, Verdict relocation, int max_ticks = 3000) {
+  Hallway h;
+  MissionRun run;
+  double t = 0.0;
+  int relocations = 0;
+  for (; run.ticks < max_ticks && c->missionActive(); ++run.ticks, t += 0.1) {
+    Perception p = h.perceive(run.robot.x, t);
+    p.odom = run.robot;
+    p.room_pose_valid = c->currentPlace() >= 0;
+    p.room_pose = run.robot;
+    const Decision d = c->update(p, onHallway(run.robot.x), false, false);
+    for (const Request& q : d.requests) {
+      run.requests.push_back(q);
+      if (q.kind == Request::Relocate) c->relocationResult(q.place_id, relocation(relocations++), "test");
+    }
+    if (d.stop || !d.has_goal) continue;
+    const Eigen::Vector2d to(d.x - run.robot.x, d.y - run.robot.y);
+    if (to.norm() > 0.01) {
+      const Eigen::Vector2d step = to.norm() > 0.05 ? Eigen::Vector2d(0.05 * to.normalized()) : to;
+      run.robot.x += step.x();
+      run.robot.y += step.y();
+    } else if (d.theta) {
+      const double e = laser_features::normalizeAngle(*d.theta - run.robot.theta);
+      run.robot.theta += std::max(-0.1, std::min(0.1, e));
+    }
+  }
+  return run;
+}
+
+int count(const std::vector<Request>& requests, Request::Kind kind) {
+  int n = 0;
+  for (const Request& r : requests) n += r.kind == kind;
+  return n;
+}
+
+exploration::CoordinatorParams missionParams() {
+  exploration::CoordinatorParams params;
+  params.explore = false;
+  return params;
+}
+
+// Until the coordinator is idle (waiting for a mission) at the start of the hallway.
+void startIdle(Coordinator* c) {
+  Hallway h;
+  for (int i = 0; i < 5 && !c->idle(); ++i) c->update(h.perceive(0.0, 0.1 * i), onHallway(0.0), false, false);
+}
+
+}  // namespace
+
+TEST(CoordinatorMission, AnUnknownPlaceOrARunningExplorationIsRefusedWithTheReason) {
+  Coordinator exploring;
+  exploring.setGraph(exploredHallway());
+  std::string why;
+  EXPECT_FALSE(exploring.startMission(4, Pose2D{5.0, 3.0, 0.0}, &why));
+  EXPECT_NE(why.find("exploration is running"), std::string::npos) << why;
+
+  Coordinator c(missionParams());
+  c.setGraph(exploredHallway());
+  startIdle(&c);
+  ASSERT_TRUE(c.idle());
+  EXPECT_FALSE(c.startMission(7, Pose2D{0.0, 0.0, 0.0}, &why));
+  EXPECT_NE(why.find("place 7 is unknown"), std::string::npos) << why;
+  EXPECT_NE(why.find("known places: 4"), std::string::npos) << why;
+  EXPECT_FALSE(c.startMission(4, Pose2D{NAN, 0.0, 0.0}, &why));
+  EXPECT_FALSE(c.missionActive());
+}
+
+TEST(CoordinatorMission, GoesAlongTheHallwayRelocatesAtTheDoorAndReachesTheGoal) {
+  Coordinator c(missionParams());
+  c.setGraph(exploredHallway());
+  startIdle(&c);
+  std::string why;
+  ASSERT_TRUE(c.startMission(4, Pose2D{5.0, 3.0, 0.5 * kPi}, &why)) << why;
+  const MissionRun run = runMission(&c, [](int) { return true; });
+  ASSERT_TRUE(c.missionOutcome().finished);
+  EXPECT_TRUE(c.missionOutcome().success) << c.missionOutcome().message;
+  EXPECT_NEAR(run.robot.x, 5.0, 0.03);
+  EXPECT_NEAR(run.robot.y, 3.0, 0.03);
+  ASSERT_EQ(count(run.requests, Request::Relocate), 1);
+  for (const Request& r : run.requests) {
+    if (r.kind != Request::Relocate) continue;
+    EXPECT_EQ(r.place_id, 4);
+    EXPECT_EQ(r.door_id, 2);
+    // The robot stopped just past the door (x in 5.3 .. 6.3, on the mid-line): in the door's
+    // frame (x into the room, y to its left) it is 1 m before it and 0.3 .. 1.3 m to the right.
+    EXPECT_NEAR(r.pose.x, -1.0, 0.05);
+    EXPECT_LT(r.pose.y, -0.25);
+    EXPECT_GT(r.pose.y, -1.35);
+  }
+  EXPECT_EQ(count(run.requests, Request::CreatePlace), 0) << "a mission maps nothing new";
+  EXPECT_EQ(count(run.requests, Request::RecordOpening), 0);
+  EXPECT_GT(c.missionOutcome().path_length, 5.0);
+  EXPECT_EQ(c.mode(), CoordinatorMode::Metric) << "idle in the goal's room";
+
+  // A second mission to the same place: straight to the new goal, no relocation.
+  ASSERT_TRUE(c.startMission(4, Pose2D{4.0, 2.5, 0.0}, &why)) << why;
+  const MissionRun again = runMission(&c, [](int) { return true; });
+  EXPECT_TRUE(c.missionOutcome().success) << c.missionOutcome().message;
+  EXPECT_EQ(count(again.requests, Request::Relocate), 0);
+}
+
+TEST(CoordinatorMission, AFailedRelocationResetsTheBeliefAndIsGivenUpAfterTheLimit) {
+  // Every relocation fails (the wrong room each time): the belief is reset and the robot goes
+  // back to the hallway; after max_relocation_failures + 1 failures the mission fails.
+  exploration::CoordinatorParams params = missionParams();
+  params.max_relocation_failures = 0;
+  Coordinator c(params);
+  c.setGraph(exploredHallway());
+  startIdle(&c);
+  std::string why;
+  ASSERT_TRUE(c.startMission(4, Pose2D{5.0, 3.0, 0.0}, &why)) << why;
+  const MissionRun run = runMission(&c, [](int) { return false; });
+  ASSERT_TRUE(c.missionOutcome().finished);
+  EXPECT_FALSE(c.missionOutcome().success);
+  EXPECT_NE(c.missionOutcome().message.find("relocation"), std::string::npos) << c.missionOutcome().message;
+  EXPECT_EQ(c.missionOutcome().relocation_failures, 1);
+  EXPECT_EQ(count(run.requests, Request::ClosePlace), 1);
+  EXPECT_LT(run.robot.y, 0.5) << "the robot must not enter a room it could not relocate in";
+  EXPECT_EQ(c.mode(), CoordinatorMode::Topological);
+}

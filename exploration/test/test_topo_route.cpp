@@ -148,3 +148,34 @@ TEST(TopoRoute, NearestNodeOfAnEdgePosition) {
   EXPECT_EQ(g.nearestNode(onEdge(1, 3.0, 0.0)), 2);   // half-way: the one ahead
   EXPECT_EQ(g.nearestNode(onEdge(1, 3.0, kPi)), 1);
 }
+
+TEST(TopoRoute, RouteToAMissionsDoorGoesPastNearerUnexploredOpenings) {
+  TopoGraph g = hallway(false, false);
+  GraphNode door{4, 0, 12.0, 0.0, 9, {GraphOpening{-0.5 * kPi, 0.8, true}, GraphOpening{0.5 * kPi, 1.8, false}}};
+  door.door_x = 1.0;
+  door.door_y = 2.0;
+  door.door_theta = 0.3;
+  // Node 4 sits on the edge 2 -- 3 in this test's eyes; only its links matter here.
+  g.addNode(door);
+  g.addEdge(GraphEdge{3, 3, 4, 0.0, 2.0});
+  const auto pd = g.placeDoor(9, 1.3);
+  ASSERT_TRUE(pd.has_value());
+  EXPECT_EQ(pd->node, 4u);
+  EXPECT_NEAR(pd->opening.bearing, -0.5 * kPi, 1e-12) << "the door, not the wide branch";
+  EXPECT_NEAR(pd->door_in_place[0], 1.0, 1e-12);
+  EXPECT_NEAR(pd->door_in_place[2], 0.3, 1e-12);
+  EXPECT_FALSE(g.placeDoor(8, 1.3).has_value());
+  EXPECT_FALSE(g.placeDoor(-1, 1.3).has_value());
+
+  // From the start going east: the unexplored door of node 1 is nearer, the mission's is node 4's.
+  const auto r = g.routeTo(onEdge(0, 1.0, 0.0), 4, pd->opening);
+  ASSERT_TRUE(r.found);
+  EXPECT_EQ(r.goal_node, 4u);
+  EXPECT_NEAR(r.distance, 3.0 + 6.0 + 3.0 + 2.0, 1e-9);
+  EXPECT_NEAR(r.goal_bearing, -0.5 * kPi, 1e-12);
+  EXPECT_EQ(g.route(onEdge(0, 1.0, 0.0)).goal_node, 1u);
+  // Facing west: turning round costs the U-turn.
+  EXPECT_NEAR(g.routeTo(onEdge(0, 1.0, kPi), 4, pd->opening, 2.0).distance, 14.0 + 2.0, 1e-9);
+  // An unknown goal node: no route.
+  EXPECT_FALSE(g.routeTo(onEdge(0, 1.0, 0.0), 77, pd->opening).found);
+}

@@ -69,6 +69,11 @@ struct CoordinatorParams {
                                      // its opening before the opening is given up
   double goal_refresh_distance = 0.25;  // m, the hallway goal is re-sent when it moved this much
   double max_time = 0.0;             // s, the exploration gives up after this (sim time); 0: no limit
+  bool explore = true;               // -, explore from the start; false: wait for missions (a loaded map)
+  double relocation_timeout = 20.0;  // s, a mission's relocation at a door gives no verdict in this: failed
+  int max_relocation_failures = 2;   // -, relocations that fail (wrong room) before a mission is given up
+  double mission_time_limit = 1200.0;  // s, a mission ends unsuccessful after this (sim time)
+  double mission_stall_time = 20.0;  // s, no 5 cm of progress to a mission's goal in a room for this: unreachable
 };
 
 enum class CoordinatorMode : uint8_t { Topological = 0, Metric = 1, Switching = 2, Done = 3 };
@@ -100,16 +105,17 @@ struct TopoView {
 
 /// A request to another node.
 struct Request {
-  enum Kind { CreatePlace, AddDoor, RecordOpening, ClosePlace, SaveMaps, Finish };
+  enum Kind { CreatePlace, AddDoor, RecordOpening, ClosePlace, SaveMaps, Finish, Relocate, ResetBelief };
   Kind kind = SaveMaps;
   int node = -1;             // RecordOpening: -1 = pomdp_topo's current node
   double bearing = 0.0;      // RecordOpening: rad, map frame
   double width = 0.0;        // RecordOpening: m
   double offset = 0.0;       // RecordOpening: m
   bool explored = false;     // RecordOpening
-  int place_id = -1;         // RecordOpening (link), AddDoor
-  int door_id = -1;          // AddDoor
-  laser_features::Pose2D pose;  // AddDoor: door in the robot frame; RecordOpening: door in the place
+  int place_id = -1;         // RecordOpening (link), AddDoor, Relocate
+  int door_id = -1;          // AddDoor, Relocate
+  laser_features::Pose2D pose;  // AddDoor: door in the robot frame; RecordOpening: door in the place;
+                                // Relocate: the robot in the door's frame
   bool success = true;       // Finish: complete exploration
   std::string text;          // Finish: summary
 };
@@ -121,6 +127,15 @@ struct Decision {
   bool stop = false;         // stand still (no goal)
   CoordinatorMode mode = CoordinatorMode::Topological;
   std::vector<Request> requests;
+};
+
+/// A mission (Tomatis et al. 2001, section 4): from wherever the robot is to a goal pose in a place.
+struct MissionOutcome {
+  bool finished = false;
+  bool success = false;
+  std::string message;
+  double path_length = 0.0;  // m, odometric
+  int relocation_failures = 0;
 };
 
 struct CoordinatorStats {
@@ -153,6 +168,23 @@ class Coordinator {
   /// Answers to the requests of the last update().
   void placeCreated(bool ok, int place_id);
   void openingRecorded(bool ok, int node);
+  /// ekf_local_map's verdict on a relocation at a door (its `relocation` topic).
+  void relocationResult(int place_id, bool success, const std::string& verdict);
+
+  /// Starts a mission to `goal` (m, m, rad) in the frame of place `place_id`: metric out of the
+  /// room the robot is in, topological along the graph to the place's door, relocation there,
+  /// metric to the goal. Only when no exploration and no other mission runs; false and the reason
+  /// when it cannot be run (an unknown place, a place no node links).
+  bool startMission(int place_id, const laser_features::Pose2D& goal, std::string* why);
+  /// Ends the running mission where the robot is (unsuccessful, `why`).
+  void cancelMission(const std::string& why);
+  bool missionActive() const { return mission_active_; }
+  /// The last mission's outcome (finished once it ended).
+  const MissionOutcome& missionOutcome() const { return mission_outcome_; }
+  /// m, the mission's expected distance left (along the graph, then straight to the goal).
+  double missionDistanceLeft() const { return mission_distance_left_; }
+  /// Idle: no exploration and no mission runs (the robot stands, in a room or in a hallway).
+  bool idle() const { return state_ == State::Idle || state_ == State::Done; }
 
   CoordinatorMode mode() const { return mode_; }
   const std::string& state() const { return state_text_; }
@@ -162,7 +194,8 @@ class Coordinator {
   bool done() const { return state_ == State::Done; }
 
  private:
-  enum class State { Init, Follow, Turn, StopForDoor, EnterRoom, ApproachDoor, Room, ExitPath, ExitDoor, Done };
+  enum class State { Init, Follow, Turn, StopForDoor, EnterRoom, ApproachDoor, Room, ExitPath, ExitDoor, Done,
+                     Idle, Relocate, GoToGoal };
   /// A door seen beside the hallway, tracked over scans in the odometry frame (hallway-local: the
   /// tracks are dropped once far behind).
   struct DoorTrack {
@@ -190,6 +223,11 @@ class Coordinator {
   void roomStep(const Perception& p, Decision* d);  // with the robot's pose in the place
   void goalInPlace(const Perception& p, const Eigen::Vector2d& g, std::optional<double> theta, Decision* d) const;
   void finish(bool success, const std::string& why, Decision* d);
+  /// The route the robot follows: to the mission's door, or to the nearest unexplored opening.
+  RouteStep plan(const GraphPosition& pos) const;
+  void endMission(bool success, const std::string& why, Decision* d);
+  void relocate(const Perception& p, const TopoView& topo, Decision* d);
+  void missionGoal(const Perception& p, Decision* d);
 
   CoordinatorParams params_;
   TopoGraph graph_;
@@ -244,6 +282,26 @@ class Coordinator {
   double last_room_plan_ = -1e9;
   std::optional<Eigen::Vector2d> room_goal_;
   bool exit_retried_ = false;
+  Eigen::Vector2d hallway_in_place_ = Eigen::Vector2d::Zero();  // where the robot left the hallway, place frame
+  Eigen::Vector2d last_room_position_ = Eigen::Vector2d::Zero();  // the robot in the place, last tick
+  bool in_room_ = false;            // Idle: the robot stands in place place_id_ (after a mission)
+  // Mission.
+  bool mission_active_ = false;
+  int mission_place_ = -1;
+  laser_features::Pose2D mission_goal_;
+  PlaceDoor mission_door_;
+  double mission_start_travel_ = 0.0;
+  double mission_start_time_ = 0.0;
+  double mission_distance_left_ = 0.0;
+  MissionOutcome mission_outcome_;
+  bool relocation_pending_ = false;   // Relocate: no verdict yet
+  bool relocation_ok_ = false;
+  std::string relocation_verdict_;
+  int relocation_failures_ = 0;
+  laser_features::Pose2D mission_goal_odom_;  // GoToGoal: the goal as last sent, odometry frame
+  bool mission_goal_odom_valid_ = false;
+  double mission_best_ = 0.0;       // m, GoToGoal: the closest the robot came to the goal ...
+  double mission_best_time_ = 0.0;  // s, ... when it got 5 cm closer last
 };
 
 }  // namespace exploration

@@ -62,6 +62,11 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("jump_hold_distance", &c.jump_hold_distance);
   visit("goal_refresh_distance", &c.goal_refresh_distance);
   visit("max_time", &c.max_time);
+  visit("explore", &c.explore);
+  visit("relocation_timeout", &c.relocation_timeout);
+  visit("max_relocation_failures", &c.max_relocation_failures);
+  visit("mission_time_limit", &c.mission_time_limit);
+  visit("mission_stall_time", &c.mission_stall_time);
   HallwayViewParams& h = c.hallway;
   visit("hallway/ahead_sector", &h.ahead_sector);
   visit("hallway/side_sector", &h.side_sector);

@@ -10,7 +10,9 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <map>
+#include <optional>
 #include <vector>
 
 namespace exploration {
@@ -27,6 +29,7 @@ struct GraphNode {
   double x = 0.0, y = 0.0;  // m, display pose (for messages only)
   int place_id = -1;
   std::vector<GraphOpening> openings;
+  double door_x = 0.0, door_y = 0.0, door_theta = 0.0;  // with place_id >= 0: the door in place_<place_id>
 };
 
 struct GraphEdge {
@@ -35,6 +38,13 @@ struct GraphEdge {
   uint32_t target = 0;
   double heading = 0.0;  // rad, map frame, travel source -> target
   double length = 0.0;   // m
+};
+
+/// The door of a place, as the graph links it: the door node, the opening, the door's pose in the place.
+struct PlaceDoor {
+  uint32_t node = 0;
+  GraphOpening opening;
+  double door_in_place[3] = {0.0, 0.0, 0.0};  // m, m, rad
 };
 
 /// Where the belief puts the robot: at a node, or on an edge at an offset from its source.
@@ -92,8 +102,18 @@ class TopoGraph {
   /// The route from `pos` to the nearest unexplored opening (distance along the edges; a U-turn on
   /// an edge costs `u_turn_cost` m).
   RouteStep route(const GraphPosition& pos, double u_turn_cost = 2.0) const;
+  /// The route from `pos` to one opening of one node (a mission's door).
+  RouteStep routeTo(const GraphPosition& pos, uint32_t goal_node, const GraphOpening& opening,
+                    double u_turn_cost = 2.0) const;
+  /// The door node linked to a place and the door's opening on it (openings wider than
+  /// `door_max_width` are hallway branches); nothing if no node links the place.
+  std::optional<PlaceDoor> placeDoor(int place_id, double door_max_width) const;
 
  private:
+  /// Dijkstra from `pos` to the nearest node where `goal_at` names an opening.
+  RouteStep search(const GraphPosition& pos, double u_turn_cost,
+                   const std::function<std::optional<GraphOpening>(uint32_t)>& goal_at) const;
+
   std::map<uint32_t, GraphNode> nodes_;
   std::map<uint32_t, GraphEdge> edges_;
 };
