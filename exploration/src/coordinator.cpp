@@ -56,8 +56,9 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
   if (!(p.jump_tolerance >= 0.0 && p.jump_hold_distance >= 0.0)) return fail("jump_tolerance and jump_hold_distance must be >= 0");
   if (!(p.branch_record_distance >= 0.0 && p.u_turn_cost >= 0.0 && p.goal_refresh_distance > 0.0))
     return fail("branch_record_distance and u_turn_cost must be >= 0, goal_refresh_distance > 0");
-  if (!(p.relocation_timeout > 0.0 && p.mission_time_limit > 0.0 && p.mission_stall_time > 0.0))
-    return fail("relocation_timeout, mission_time_limit and mission_stall_time must be > 0");
+  if (!(p.relocation_timeout > 0.0 && p.mission_time_limit > 0.0 && p.mission_stall_time > 0.0 &&
+        p.mission_goal_tolerance > 0.0 && p.mission_heading_tolerance > 0.0))
+    return fail("relocation_timeout, mission_time_limit, mission_stall_time and the mission tolerances must be > 0");
   if (p.max_relocation_failures < 0) return fail("max_relocation_failures must be >= 0");
   return RoomExplorer::validate(p.room, error);
 }
@@ -369,7 +370,9 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
 
   // A side branch the route takes at the node the robot is at now (the side must be open: the
   // branch's mouth is beside the robot).
-  if (route.found && sure) {
+  // A mission's goal is a door: entered once passed (above), never turned into like a branch.
+  const bool door_next = mission_active_ && route.next_node == route.goal_node;
+  if (route.found && sure && !door_next) {
     const int route_bin = binOf(route.next_heading);
     const int n = params_.heading_bins;
     const bool left = route_bin == (bin_ + n / 4) % n, right = route_bin == (bin_ + 3 * n / 4) % n;
@@ -891,28 +894,59 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
     mission_best_ = dist;
     mission_best_time_ = now_;
   }
-  // The goal in the odometry frame moves with every EKF correction; it is re-sent only when it
-  // moved by more than a centimetre or so, so that the controller's own progress watch (blocked)
-  // is not restarted on every scan.
-  Decision g;
-  goalInPlace(p, goal, mission_goal_.theta, &g);
-  if (!mission_goal_odom_valid_ || std::hypot(g.x - mission_goal_odom_.x, g.y - mission_goal_odom_.y) > 0.01 ||
-      std::abs(normalizeAngle(*g.theta - mission_goal_odom_.theta)) > 0.01) {
-    mission_goal_odom_ = Pose2D{g.x, g.y, *g.theta};
-    mission_goal_odom_valid_ = true;
+  // Far from the goal: along a grid path in the room as seen (furniture between the door and
+  // the goal); near it, or with no path, straight to it.
+  if (now_ - last_room_plan_ >= params_.room_replan_period || mission_path_.empty()) {
+    last_room_plan_ = now_;
+    mission_path_.clear();
+    mission_path_index_ = 0;
+    if (auto path = room_.pathTo(robot, goal)) mission_path_ = path->waypoints;
   }
-  d->has_goal = true;
-  d->x = mission_goal_odom_.x;
-  d->y = mission_goal_odom_.y;
-  d->theta = mission_goal_odom_.theta;
+  while (mission_path_index_ < mission_path_.size() && (mission_path_[mission_path_index_] - robot).norm() < 0.3)
+    ++mission_path_index_;
   char at[96];
   std::snprintf(at, sizeof(at), " (estimate %.3f m, %.3f rad from the goal)", dist, herr);
-  if ((reached_ && now_ - state_since_ > 0.5) || (dist < 0.02 && herr < 0.03)) {
-    endMission(true, "goal reached in place " + std::to_string(place_id_) + at, d);
-    return;
+  // Through the door on its axis first: the room's grid has a virtual wall across the door, so
+  // no grid path leads in from the hallway, and a straight line from there meets the door's jamb.
+  const Eigen::Vector2d door(door_in_place_.x, door_in_place_.y);
+  const Eigen::Vector2d into = unit(door_in_place_.theta);
+  const bool entering = (robot - door).dot(into) < params_.room.entry_depth && (goal - door).dot(into) > 0.0;
+  if (entering) {
+    goalInPlace(p, door + (params_.room.entry_depth + params_.room.entry_goal_extra) * into, door_in_place_.theta, d);
+    mission_goal_odom_valid_ = false;
+  } else if (dist > 0.6 && mission_path_index_ + 1 < mission_path_.size()) {
+    goalInPlace(p, mission_path_[mission_path_index_], std::nullopt, d);
+    mission_goal_odom_valid_ = false;
+  } else {
+    // The final goal. In the odometry frame it moves with every EKF correction; it is re-sent only
+    // when it moved by a centimetre or more, so that the controller's reached and blocked (its own
+    // progress watch) are about this goal and not restarted on every scan.
+    const bool sent = mission_goal_odom_valid_;
+    Decision g;
+    goalInPlace(p, goal, mission_goal_.theta, &g);
+    if (!sent || std::hypot(g.x - mission_goal_odom_.x, g.y - mission_goal_odom_.y) > 0.01 ||
+        std::abs(normalizeAngle(*g.theta - mission_goal_odom_.theta)) > 0.01) {
+      mission_goal_odom_ = Pose2D{g.x, g.y, *g.theta};
+      mission_goal_odom_valid_ = true;
+    }
+    d->has_goal = true;
+    d->x = mission_goal_odom_.x;
+    d->y = mission_goal_odom_.y;
+    d->theta = mission_goal_odom_.theta;
+    d->tolerance = std::make_pair(params_.mission_goal_tolerance, params_.mission_heading_tolerance);
+    if ((sent && reached_) || (dist < params_.mission_goal_tolerance && herr < params_.mission_heading_tolerance)) {
+      endMission(true, "goal reached in place " + std::to_string(place_id_) + at, d);
+      return;
+    }
+    if (sent && blocked_) {
+      endMission(false, "the goal is not reachable: stopped at the closest reachable pose" + std::string(at), d);
+      return;
+    }
   }
-  if ((blocked_ && now_ - state_since_ > 1.0) || now_ - mission_best_time_ > params_.mission_stall_time) {
-    endMission(false, "the goal is not reachable: stopped at the closest reachable pose" + std::string(at), d);
+  if (now_ - mission_best_time_ > params_.mission_stall_time) {
+    endMission(false, "the goal is not reachable: no progress for " + std::to_string(int(params_.mission_stall_time)) +
+                          " s, stopped at the closest reachable pose" + at + " (grid path of " +
+                          std::to_string(mission_path_.size()) + " waypoints, at " + std::to_string(mission_path_index_) + ")", d);
     return;
   }
   if (now_ - state_since_ > params_.room_time_limit) {

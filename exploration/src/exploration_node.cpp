@@ -165,7 +165,7 @@ class ExplorationNode {
                         d.theta.has_value() == goal_theta_.has_value() &&
                         (!d.theta || std::abs(*d.theta - *goal_theta_) < 1e-6);
       if (!same) {
-        motion_->setGoal(d.x, d.y, d.theta);
+        motion_->setGoal(d.x, d.y, d.theta, d.tolerance);
         goal_x_ = d.x;
         goal_y_ = d.y;
         goal_theta_ = d.theta;

@@ -105,13 +105,16 @@ void MotionController::finish(MotionStatus status, const char* format, ...) {
   final_text_ = text_;
 }
 
-bool MotionController::setGoal(double x, double y, std::optional<double> theta) {
+bool MotionController::setGoal(double x, double y, std::optional<double> theta,
+                               std::optional<std::pair<double, double>> tolerance) {
   has_goal_ = false;
   if (!std::isfinite(x) || !std::isfinite(y) || (theta && !std::isfinite(*theta))) {
     finish(MotionStatus::Invalid, "goal refused: non-finite coordinates; stopping");
     return false;
   }
   has_goal_ = true;
+  goal_tolerance_ = tolerance && tolerance->first > 0.0 ? tolerance->first : params_.goal_tolerance;
+  heading_tolerance_ = tolerance && tolerance->second > 0.0 ? tolerance->second : params_.heading_tolerance;
   goal_x_ = x;
   goal_y_ = y;
   goal_theta_ = theta;
@@ -258,7 +261,7 @@ Command MotionController::update(const Pose2D& pose, double now, double dt, bool
 Command MotionController::drive(const Pose2D& pose, double dt) {
   const double dx = goal_x_ - pose.x, dy = goal_y_ - pose.y;
   const double distance = std::hypot(dx, dy);
-  if (phase_ == Phase::Position && distance <= params_.goal_tolerance) {
+  if (phase_ == Phase::Position && distance <= goal_tolerance_) {
     if (!goal_theta_) {
       has_goal_ = false;
       finish(MotionStatus::Reached, "reached: %.3f m from the goal", distance);
@@ -271,7 +274,7 @@ Command MotionController::drive(const Pose2D& pose, double dt) {
 
   if (phase_ == Phase::Heading) {  // in place: a circular robot cannot hit anything turning
     const double error = normalizeAngle(*goal_theta_ - pose.theta);
-    if (std::abs(error) <= params_.heading_tolerance) {
+    if (std::abs(error) <= heading_tolerance_) {
       has_goal_ = false;
       finish(MotionStatus::Reached, "reached: heading %.3f rad off", error);
       return stop(dt);

@@ -279,6 +279,13 @@ std::optional<Path> RoomExplorer::pathToExit(const Eigen::Vector2d& robot) {
   return planner.plan(robot, target);
 }
 
+std::optional<Path> RoomExplorer::pathTo(const Eigen::Vector2d& robot, const Eigen::Vector2d& goal) {
+  if (status_ == RoomStatus::Invalid || !finite(robot) || !finite(goal)) return std::nullopt;
+  GridPlanner& planner = explorer_.planner();
+  planner.setMap(grid_);
+  return planner.plan(robot, goal);
+}
+
 double RoomExplorer::freeArea() const {
   if (status_ == RoomStatus::Invalid || grid_.cellCount() == 0) return 0.0;
   // The seed: the exit point's cell, or the Free cell nearest to it within 1 m inside the room.

@@ -73,6 +73,8 @@ struct CoordinatorParams {
   double relocation_timeout = 20.0;  // s, a mission's relocation at a door gives no verdict in this: failed
   int max_relocation_failures = 2;   // -, relocations that fail (wrong room) before a mission is given up
   double mission_time_limit = 1200.0;  // s, a mission ends unsuccessful after this (sim time)
+  double mission_goal_tolerance = 0.01;   // m, a mission's goal is reached within this (the EKF's estimate)
+  double mission_heading_tolerance = 0.02;  // rad, and its heading within this
   double mission_stall_time = 20.0;  // s, no 5 cm of progress to a mission's goal in a room for this: unreachable
 };
 
@@ -124,6 +126,7 @@ struct Decision {
   bool has_goal = false;     // drive to (x, y[, theta]) in the odometry frame
   double x = 0.0, y = 0.0;
   std::optional<double> theta;
+  std::optional<std::pair<double, double>> tolerance;  // m, rad: the goal's, if not the controller's own
   bool stop = false;         // stand still (no goal)
   CoordinatorMode mode = CoordinatorMode::Topological;
   std::vector<Request> requests;
@@ -300,6 +303,8 @@ class Coordinator {
   int relocation_failures_ = 0;
   laser_features::Pose2D mission_goal_odom_;  // GoToGoal: the goal as last sent, odometry frame
   bool mission_goal_odom_valid_ = false;
+  std::vector<Eigen::Vector2d> mission_path_;  // GoToGoal: grid path to the goal (place frame)
+  size_t mission_path_index_ = 0;
   double mission_best_ = 0.0;       // m, GoToGoal: the closest the robot came to the goal ...
   double mission_best_time_ = 0.0;  // s, ... when it got 5 cm closer last
 };

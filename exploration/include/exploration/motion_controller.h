@@ -79,7 +79,10 @@ class MotionController {
 
   /// A new goal in the frame of the poses given to update(); cancels the previous goal. A
   /// non-finite goal is refused (false, status Invalid, no goal).
-  bool setGoal(double x, double y, std::optional<double> theta = std::nullopt);
+  /// `tolerance` (m, rad): this goal's position and heading tolerances instead of the parameters'
+  /// (a mission's goal is approached closer than a room's frontier).
+  bool setGoal(double x, double y, std::optional<double> theta = std::nullopt,
+               std::optional<std::pair<double, double>> tolerance = std::nullopt);
   /// Drops the goal (status Idle); the command ramps down to zero.
   void cancel();
 
@@ -136,6 +139,7 @@ class MotionController {
 
   bool has_goal_ = false;
   double goal_x_ = 0.0, goal_y_ = 0.0;
+  double goal_tolerance_ = 0.05, heading_tolerance_ = 0.05;  // m, rad: this goal's
   std::optional<double> goal_theta_;
   Phase phase_ = Phase::Position;
   bool turning_in_place_ = false;

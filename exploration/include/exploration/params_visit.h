@@ -67,6 +67,8 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("max_relocation_failures", &c.max_relocation_failures);
   visit("mission_time_limit", &c.mission_time_limit);
   visit("mission_stall_time", &c.mission_stall_time);
+  visit("mission_goal_tolerance", &c.mission_goal_tolerance);
+  visit("mission_heading_tolerance", &c.mission_heading_tolerance);
   HallwayViewParams& h = c.hallway;
   visit("hallway/ahead_sector", &h.ahead_sector);
   visit("hallway/side_sector", &h.side_sector);

@@ -1,0 +1,315 @@
+#!/usr/bin/python3
+"""Random missions between the places of a hybrid map (Tomatis et al. 2001, section 4, Table 1).
+
+Waits until the exploration node is idle (the exploration done, or explore false on a loaded map),
+then sends ~missions GoToPlace goals (seeded): each to a random place other than the one the robot
+is in, at a random free pose of that place's room (from the world file's ground truth). Prints the
+paper's Table 1 for them and writes it as JSON to ~output.
+
+The goal error is measured against the simulator's ground truth: a place's frame in the world is
+taken from the first EKF pose of the place (its origin is the robot's pose when it was created)
+and the ground-truth pose at the same stamp. Those frames are written to ~truth_file (when
+missions run right after an exploration) and read from it (missions on a loaded map); places
+without a known frame are not used.
+
+~unknown_place_check and ~wall_goal_check add two missions that must fail cleanly: one to a place
+id no node links (refused), one to a goal inside a wall of the room the robot is in (ends at the
+closest reachable pose)."""
+import bisect
+import json
+import math
+import os
+import random
+import sys
+import time
+
+import actionlib
+import rospy
+import yaml
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from hybrid_slam_msgs.msg import (ExplorationStatus, GoToPlaceAction, GoToPlaceGoal, TopologicalBelief,
+                                  TopologicalMap)
+from nav_msgs.msg import Odometry
+
+DONE, TOPOLOGICAL = 3, 0
+
+
+def yaw_of(q):
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
+def compose(a, b):
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], math.atan2(math.sin(a[2] + b[2]), math.cos(a[2] + b[2])))
+
+
+def inverse(a):
+    c, s = math.cos(a[2]), math.sin(a[2])
+    return (-c * a[0] - s * a[1], s * a[0] - c * a[1], -a[2])
+
+
+def inside(polygon, x, y):
+    c = False
+    n = len(polygon)
+    for i in range(n):
+        (x1, y1), (x2, y2) = polygon[i], polygon[(i + 1) % n]
+        if (y1 > y) != (y2 > y) and x < (x2 - x1) * (y - y1) / (y2 - y1) + x1:
+            c = not c
+    return c
+
+
+def segment_distance(p, a, b):
+    ax, ay = b[0] - a[0], b[1] - a[1]
+    L = ax * ax + ay * ay
+    t = 0.0 if L == 0 else max(0.0, min(1.0, ((p[0] - a[0]) * ax + (p[1] - a[1]) * ay) / L))
+    return math.hypot(p[0] - a[0] - t * ax, p[1] - a[1] - t * ay)
+
+
+class World:
+    def __init__(self, path):
+        with open(path) as f:
+            w = yaml.safe_load(f)
+        self.name = w.get('name', os.path.basename(path))
+        self.segments = []
+        for wall in w.get('walls', []):
+            pts = wall['points']
+            self.segments += [(pts[i], pts[i + 1]) for i in range(len(pts) - 1)]
+        self.boxes = w.get('boxes', [])
+        self.cylinders = w.get('cylinders', [])
+        self.rooms = [r for r in w.get('regions', []) if r['kind'] == 'room']
+
+    def room_at(self, x, y):
+        for r in self.rooms:
+            if inside(r['polygon'], x, y):
+                return r
+        return None
+
+    def clearance(self, x, y):
+        d = min([segment_distance((x, y), a, b) for a, b in self.segments] or [1e9])
+        for b in self.boxes:
+            c, s = math.cos(-b.get('yaw', 0.0)), math.sin(-b.get('yaw', 0.0))
+            lx = c * (x - b['center'][0]) - s * (y - b['center'][1])
+            ly = s * (x - b['center'][0]) + c * (y - b['center'][1])
+            dx, dy = max(abs(lx) - b['size'][0] / 2, 0.0), max(abs(ly) - b['size'][1] / 2, 0.0)
+            d = min(d, math.hypot(dx, dy))
+        for cy in self.cylinders:
+            d = min(d, math.hypot(x - cy['center'][0], y - cy['center'][1]) - cy['radius'])
+        return d
+
+
+class MissionRunner:
+    def __init__(self):
+        self.world = World(rospy.get_param('~world_file'))
+        self.missions = int(rospy.get_param('~missions', 15))
+        self.rng = random.Random(int(rospy.get_param('~seed', 1)))
+        self.output = rospy.get_param('~output', '')
+        self.truth_file = rospy.get_param('~truth_file', '')
+        self.mission_timeout = float(rospy.get_param('~mission_timeout', 900.0))  # s, sim
+        self.clearance = float(rospy.get_param('~goal_clearance', 0.55))  # m, free space around a goal
+        self.truth = []  # (stamp, (x, y, theta))
+        self.frames = {}  # place id -> place frame in the world (x, y, theta)
+        if self.truth_file and os.path.exists(self.truth_file):
+            with open(self.truth_file) as f:
+                self.frames = {int(k): tuple(v) for k, v in json.load(f).items()}
+        self.map = None
+        self.status = None
+        self.local = None
+        self.beliefs = 0
+        self.unconfident = 0
+        self.counting = False
+        self.entropy = []  # (sim s, entropy, entropy_max) during missions
+        rospy.Subscriber('ground_truth', Odometry, self.on_truth, queue_size=200)
+        rospy.Subscriber('local_pose', PoseWithCovarianceStamped, self.on_local, queue_size=50)
+        rospy.Subscriber('topological_map', TopologicalMap, self.on_map, queue_size=2)
+        rospy.Subscriber('topological_belief', TopologicalBelief, self.on_belief, queue_size=50)
+        rospy.Subscriber('exploration_status', ExplorationStatus, self.on_status, queue_size=50)
+        self.client = actionlib.SimpleActionClient('go_to_place', GoToPlaceAction)
+
+    def on_truth(self, msg):
+        p = msg.pose.pose
+        self.truth.append((msg.header.stamp.to_sec(), (p.position.x, p.position.y, yaw_of(p.orientation))))
+        if len(self.truth) > 4000:
+            del self.truth[:1000]
+
+    def truth_at(self, stamp):
+        if not self.truth:
+            return None
+        stamps = [t for t, _ in self.truth]
+        i = bisect.bisect_left(stamps, stamp)
+        best = min((j for j in (i - 1, i) if 0 <= j < len(self.truth)), key=lambda j: abs(stamps[j] - stamp))
+        return self.truth[best][1] if abs(stamps[best] - stamp) < 0.05 else None
+
+    def on_local(self, msg):
+        f = msg.header.frame_id
+        if not f.startswith('place_'):
+            return
+        pid = int(f[len('place_'):])
+        p = msg.pose.pose
+        pose = (p.position.x, p.position.y, yaw_of(p.orientation))
+        self.local = (pid, pose, msg)
+        if pid not in self.frames:
+            # The place's first EKF pose: the robot is at (or within centimetres of) its origin.
+            t = self.truth_at(msg.header.stamp.to_sec())
+            if t is not None and math.hypot(pose[0], pose[1]) < 0.3:
+                self.frames[pid] = compose(t, inverse(pose))
+
+    def on_map(self, msg):
+        self.map = msg
+
+    def on_belief(self, msg):
+        if self.counting and self.status is not None and self.status.mode == TOPOLOGICAL:
+            self.beliefs += 1
+            self.unconfident += 0 if msg.confident else 1
+            self.entropy.append((msg.header.stamp.to_sec(), msg.entropy, msg.entropy_max))
+
+    def on_status(self, msg):
+        self.status = msg
+
+    def idle(self):
+        s = self.status
+        return s is not None and (s.mode == DONE or s.state.startswith('waiting for a mission') or
+                                  s.state.startswith('mission done') or s.state.startswith('mission failed'))
+
+    def places(self):
+        out = {}
+        for n in (self.map.nodes if self.map else []):
+            if n.place_id >= 0 and n.place_id in self.frames:
+                door = compose(self.frames[n.place_id], (n.door_in_place.x, n.door_in_place.y, n.door_in_place.theta))
+                # The room: the world's room 1 m through the door.
+                room = self.world.room_at(door[0] + math.cos(door[2]), door[1] + math.sin(door[2]))
+                if room is not None:
+                    out[n.place_id] = room
+        return out
+
+    def random_goal(self, place_id, room):
+        xs = [p[0] for p in room['polygon']]
+        ys = [p[1] for p in room['polygon']]
+        for _ in range(5000):
+            x, y = self.rng.uniform(min(xs), max(xs)), self.rng.uniform(min(ys), max(ys))
+            if inside(room['polygon'], x, y) and self.world.clearance(x, y) > self.clearance:
+                world = (x, y, self.rng.uniform(-math.pi, math.pi))
+                return world, compose(inverse(self.frames[place_id]), world)
+        return None, None
+
+    def wall_goal(self, place_id, room):
+        """A point on the room's wall farthest from the robot (inside the wall)."""
+        here = self.truth[-1][1]
+        poly = room['polygon']
+        mids = [((poly[i][0] + poly[(i + 1) % len(poly)][0]) / 2, (poly[i][1] + poly[(i + 1) % len(poly)][1]) / 2)
+                for i in range(len(poly))]
+        x, y = max(mids, key=lambda m: math.hypot(m[0] - here[0], m[1] - here[1]))
+        world = (x, y, 0.0)
+        return world, compose(inverse(self.frames[place_id]), world)
+
+    def send(self, place_id, goal_place):
+        g = GoToPlaceGoal()
+        g.place_id = place_id
+        g.goal.x, g.goal.y, g.goal.theta = goal_place
+        t0 = rospy.Time.now()
+        self.client.send_goal(g)
+        while not rospy.is_shutdown():
+            if self.client.wait_for_result(rospy.Duration(1.0)):
+                break
+            if (rospy.Time.now() - t0).to_sec() > self.mission_timeout:
+                self.client.cancel_goal()
+                self.client.wait_for_result(rospy.Duration(10.0))
+                break
+        return self.client.get_result(), (rospy.Time.now() - t0).to_sec()
+
+    def error(self, place_id, goal_place):
+        """Ground-truth pose in the place frame against the goal: (position m, heading rad)."""
+        if not self.truth:
+            return None, None
+        true_in_place = compose(inverse(self.frames[place_id]), self.truth[-1][1])
+        e = math.hypot(true_in_place[0] - goal_place[0], true_in_place[1] - goal_place[1])
+        h = abs(math.atan2(math.sin(true_in_place[2] - goal_place[2]), math.cos(true_in_place[2] - goal_place[2])))
+        return e, h
+
+    def run(self):
+        wall0 = time.time()
+        rospy.loginfo('missions: waiting for the exploration node to be idle and its go_to_place server')
+        while not rospy.is_shutdown() and not self.idle():
+            rospy.sleep(1.0)
+        if not self.client.wait_for_server(rospy.Duration(60.0)):
+            rospy.logfatal('missions: no go_to_place action server (exploration node with serve_missions)')
+            return 1
+        rospy.sleep(2.0)  # the last map message
+        places = self.places()
+        if self.truth_file:
+            with open(self.truth_file, 'w') as f:
+                json.dump({str(k): v for k, v in self.frames.items()}, f)
+        rospy.loginfo('missions: %d places with a known frame: %s', len(places), sorted(places))
+        rows = []
+        if len(places) < 2:
+            rospy.logerr('missions: fewer than two places with a known frame (%s)', sorted(places))
+        sim0 = rospy.Time.now().to_sec()
+        self.counting = True
+        current = self.status.current_place if self.status else -1
+        for k in range(self.missions if len(places) >= 2 else 0):
+            target = self.rng.choice([p for p in sorted(places) if p != current])
+            world, goal = self.random_goal(target, places[target])
+            if goal is None:
+                rospy.logerr('missions: no free goal found in place %d', target)
+                continue
+            rospy.loginfo('missions: %d/%d to place %d (%s) at world (%.2f, %.2f)', k + 1, self.missions, target,
+                          places[target]['name'], world[0], world[1])
+            res, sim = self.send(target, goal)
+            rospy.sleep(0.5)
+            e, h = self.error(target, goal)
+            row = {'place': target, 'room': places[target]['name'], 'goal_world': [round(v, 3) for v in world],
+                   'success': bool(res and res.success), 'message': res.message if res else 'no result',
+                   'path_m': res.path_length if res else 0.0, 'sim_s': sim,
+                   'goal_error_m': e, 'heading_error_rad': h}
+            if res:
+                p = res.final_pose.pose
+                est = (p.position.x, p.position.y)
+                row['estimate_error_m'] = math.hypot(est[0] - goal[0], est[1] - goal[1]) if res.success else None
+            rows.append(row)
+            rospy.loginfo('missions: %s', json.dumps(row))
+            current = target if row['success'] else -1
+        self.counting = False
+        checks = {}
+        if rospy.get_param('~unknown_place_check', False):
+            res, _ = self.send(max(list(places) + [0]) + 100, (0.0, 0.0, 0.0))
+            checks['unknown_place'] = {'success': bool(res and res.success), 'message': res.message if res else ''}
+        if rospy.get_param('~wall_goal_check', False) and current in places:
+            world, goal = self.wall_goal(current, places[current])
+            res, sim = self.send(current, goal)
+            e, _ = self.error(current, goal)
+            checks['wall_goal'] = {'success': bool(res and res.success), 'message': res.message if res else '',
+                                   'distance_to_wall_point_m': e, 'sim_s': sim}
+        ok = [r for r in rows if r['success']]
+        errs = [r['goal_error_m'] for r in ok if r['goal_error_m'] is not None]
+        report = {
+            'world': self.world.name, 'missions': len(rows), 'successes': len(ok),
+            'success_rate': len(ok) / len(rows) if rows else 0.0,
+            'state_estimates': self.beliefs, 'unconfident_states': self.unconfident,
+            'unconfident_rate': self.unconfident / self.beliefs if self.beliefs else 0.0,
+            'travel_m': sum(r['path_m'] for r in rows),
+            'mean_goal_error_m': sum(errs) / len(errs) if errs else None,
+            'max_goal_error_m': max(errs) if errs else None,
+            'sim_s': rospy.Time.now().to_sec() - sim0, 'wall_s': time.time() - wall0,
+            'rows': rows, 'checks': checks, 'entropy': self.entropy[::10],
+        }
+        print('\nTable 1 (Tomatis et al. 2001) for %s: %d missions' % (report['world'], len(rows)))
+        print('  success rate          %5.1f %% (%d of %d)' % (100 * report['success_rate'], len(ok), len(rows)))
+        print('  state estimates       %d' % report['state_estimates'])
+        print('  unconfident states    %5.1f %%' % (100 * report['unconfident_rate']))
+        print('  total travel          %.0f m' % report['travel_m'])
+        if errs:
+            print('  goal error            mean %.3f m, max %.3f m' % (report['mean_goal_error_m'], report['max_goal_error_m']))
+        print('  time                  %.0f s sim, %.0f s wall' % (report['sim_s'], report['wall_s']))
+        for name, c in checks.items():
+            print('  check %-15s %s' % (name, json.dumps(c)))
+        sys.stdout.flush()
+        if self.output:
+            with open(self.output, 'w') as f:
+                json.dump(report, f)
+        return 0
+
+
+if __name__ == '__main__':
+    rospy.init_node('run_missions')
+    code = MissionRunner().run()
+    rospy.signal_shutdown('missions done')
+    sys.exit(code)

@@ -1,0 +1,47 @@
+#!/usr/bin/python3
+"""rostest: three random missions on small_loop after its exploration (run_missions.py's report),
+each must reach its goal; a mission to an unknown place is refused with the reason, one to a goal
+inside a wall ends unsuccessful near the wall instead of running on."""
+import json
+import os
+import time
+import unittest
+
+import rospy
+import rostest
+
+
+class MissionsSmallLoop(unittest.TestCase):
+    def test_missions(self):
+        path = rospy.get_param('~result')
+        if os.path.exists(path):  # a result of an earlier run must not count
+            os.remove(path)
+        deadline = time.time() + 560.0
+        result = None
+        while time.time() < deadline and not rospy.is_shutdown() and result is None:
+            if os.path.exists(path):
+                time.sleep(0.5)
+                with open(path) as f:
+                    result = json.load(f)
+            time.sleep(1.0)
+        self.assertIsNotNone(result, 'no missions report written')
+        print(json.dumps({k: v for k, v in result.items() if k != 'entropy'}))
+        self.assertEqual(result['missions'], 3)
+        for row in result['rows']:
+            self.assertTrue(row['success'], row['message'])
+            self.assertLess(row['goal_error_m'], 0.10, row)
+            self.assertLess(row['heading_error_rad'], 0.10, row)
+        self.assertEqual(result['success_rate'], 1.0)
+        self.assertGreater(result['travel_m'], 5.0)
+        checks = result['checks']
+        self.assertFalse(checks['unknown_place']['success'])
+        self.assertIn('unknown', checks['unknown_place']['message'])
+        self.assertIn('wall_goal', checks, 'the wall check did not run (the robot was in no known place)')
+        self.assertFalse(checks['wall_goal']['success'])
+        self.assertIn('not reachable', checks['wall_goal']['message'])
+        self.assertLess(checks['wall_goal']['sim_s'], 120.0)
+
+
+if __name__ == '__main__':
+    rospy.init_node('test_missions_small_loop')
+    rostest.rosrun('hybrid_slam', 'missions_small_loop', MissionsSmallLoop)
