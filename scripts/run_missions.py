@@ -27,6 +27,7 @@ import actionlib
 import rospy
 import yaml
 from geometry_msgs.msg import PoseWithCovarianceStamped
+from visualization_msgs.msg import MarkerArray
 from hybrid_slam_msgs.msg import (ExplorationStatus, GoToPlaceAction, GoToPlaceGoal, TopologicalBelief,
                                   TopologicalMap)
 from nav_msgs.msg import Odometry
@@ -117,12 +118,17 @@ class MissionRunner:
         self.beliefs = 0
         self.unconfident = 0
         self.counting = False
-        self.entropy = []  # (sim s, entropy, entropy_max) during missions
+        self.entropy = []  # (sim s, entropy, entropy_max, confident): the whole run, every 5th belief
+        self.belief_count = 0
+        self.place_lines = {}  # place id -> [[x1, y1, x2, y2], ...] in the place frame
+        # The map, the places' frames and the entropy series for the report's plots.
+        self.dump = rospy.get_param('~map_dump', self.output + '.map.json' if self.output else '')
         rospy.Subscriber('ground_truth', Odometry, self.on_truth, queue_size=200)
         rospy.Subscriber('local_pose', PoseWithCovarianceStamped, self.on_local, queue_size=50)
         rospy.Subscriber('topological_map', TopologicalMap, self.on_map, queue_size=2)
         rospy.Subscriber('topological_belief', TopologicalBelief, self.on_belief, queue_size=50)
         rospy.Subscriber('exploration_status', ExplorationStatus, self.on_status, queue_size=50)
+        rospy.Subscriber('places_markers', MarkerArray, self.on_places, queue_size=2)
         self.client = actionlib.SimpleActionClient('go_to_place', GoToPlaceAction)
 
     def on_truth(self, msg):
@@ -157,10 +163,37 @@ class MissionRunner:
         self.map = msg
 
     def on_belief(self, msg):
+        self.belief_count += 1
+        if self.belief_count % 5 == 0:
+            self.entropy.append((round(msg.header.stamp.to_sec(), 2), round(msg.entropy, 4), msg.entropy_max,
+                                 bool(msg.confident)))
         if self.counting and self.status is not None and self.status.mode == TOPOLOGICAL:
             self.beliefs += 1
             self.unconfident += 0 if msg.confident else 1
-            self.entropy.append((msg.header.stamp.to_sec(), msg.entropy, msg.entropy_max))
+
+    def on_places(self, msg):
+        lines = {}
+        for m in msg.markers:
+            if not m.header.frame_id.startswith('place_') or len(m.points) < 2:
+                continue
+            pid = int(m.header.frame_id[len('place_'):])
+            pts = m.points
+            lines.setdefault(pid, []).extend(
+                [[pts[i].x, pts[i].y, pts[i + 1].x, pts[i + 1].y] for i in range(0, len(pts) - 1, 2)])
+        if lines:
+            self.place_lines = lines
+
+    def write_dump(self, mission_start):
+        """The hybrid map as the run left it, for scripts/plot_evaluation.py."""
+        if not self.dump:
+            return
+        nodes = [{'id': n.id, 'type': n.type, 'x': n.pose.x, 'y': n.pose.y, 'place_id': n.place_id}
+                 for n in (self.map.nodes if self.map else [])]
+        edges = [[e.source, e.target] for e in (self.map.edges if self.map else [])]
+        with open(self.dump, 'w') as f:
+            json.dump({'nodes': nodes, 'edges': edges, 'place_lines': {str(k): v for k, v in self.place_lines.items()},
+                       'place_frames': {str(k): v for k, v in self.frames.items()},
+                       'entropy': self.entropy, 'missions_start_s': mission_start}, f)
 
     def on_status(self, msg):
         self.status = msg
@@ -289,8 +322,9 @@ class MissionRunner:
             'mean_goal_error_m': sum(errs) / len(errs) if errs else None,
             'max_goal_error_m': max(errs) if errs else None,
             'sim_s': rospy.Time.now().to_sec() - sim0, 'wall_s': time.time() - wall0,
-            'rows': rows, 'checks': checks, 'entropy': self.entropy[::10],
+            'rows': rows, 'checks': checks,
         }
+        self.write_dump(sim0)
         print('\nTable 1 (Tomatis et al. 2001) for %s: %d missions' % (report['world'], len(rows)))
         print('  success rate          %5.1f %% (%d of %d)' % (100 * report['success_rate'], len(ok), len(rows)))
         print('  state estimates       %d' % report['state_estimates'])

@@ -91,6 +91,8 @@ double Coordinator::odomHeadingOfBin(int bin, const TopoView& topo) const {
 
 Decision Coordinator::update(const Perception& p, const TopoView& topo, bool motion_reached, bool motion_blocked) {
   Decision d;
+  d.requests = std::move(pending_requests_);
+  pending_requests_.clear();
   if (!finite(p.odom) || !std::isfinite(p.stamp)) {
     d.stop = true;
     d.mode = mode_;
@@ -796,8 +798,10 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
 
 void Coordinator::cancelMission(const std::string& why) {
   if (!mission_active_) return;
-  Decision ignored;
-  endMission(false, why, &ignored);
+  Decision d;
+  endMission(false, why, &d);
+  // Its requests (closing a place relocated in) go out with the next update.
+  pending_requests_.insert(pending_requests_.end(), d.requests.begin(), d.requests.end());
 }
 
 void Coordinator::endMission(bool success, const std::string& why, Decision* d) {

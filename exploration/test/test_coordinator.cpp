@@ -335,3 +335,29 @@ TEST(CoordinatorMission, AFailedRelocationResetsTheBeliefAndIsGivenUpAfterTheLim
   EXPECT_LT(run.robot.y, 0.5) << "the robot must not enter a room it could not relocate in";
   EXPECT_EQ(c.mode(), CoordinatorMode::Topological);
 }
+
+TEST(CoordinatorMission, ACancelledMissionEndsAtOnceAndClosesThePlaceItRelocatedIn) {
+  Coordinator c(missionParams());
+  c.setGraph(exploredHallway());
+  startIdle(&c);
+  std::string why;
+  ASSERT_TRUE(c.startMission(4, Pose2D{5.0, 3.0, 0.0}, &why)) << why;
+  // Drive until the relocation is asked for; no verdict comes.
+  Hallway h;
+  double x = 0.0, t = 0.0;
+  bool relocating = false;
+  for (int i = 0; i < 400 && !relocating; ++i, t += 0.1) {
+    const Decision d = c.update(h.perceive(x, t), onHallway(x), false, false);
+    for (const Request& q : d.requests) relocating |= q.kind == Request::Relocate;
+    if (!d.stop && d.has_goal && d.x > x) x += 0.05;
+  }
+  ASSERT_TRUE(relocating);
+  c.cancelMission("cancelled by the client");
+  EXPECT_FALSE(c.missionActive());
+  EXPECT_FALSE(c.missionOutcome().success);
+  EXPECT_EQ(c.missionOutcome().message, "cancelled by the client");
+  const Decision d = c.update(h.perceive(x, t), onHallway(x), false, false);
+  EXPECT_EQ(count(d.requests, Request::ClosePlace), 1);
+  EXPECT_TRUE(d.stop);
+  EXPECT_TRUE(c.idle());
+}

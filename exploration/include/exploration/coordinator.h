@@ -297,6 +297,7 @@ class Coordinator {
   double mission_start_time_ = 0.0;
   double mission_distance_left_ = 0.0;
   MissionOutcome mission_outcome_;
+  std::vector<Request> pending_requests_;  // to go out with the next update (from cancelMission)
   bool relocation_pending_ = false;   // Relocate: no verdict yet
   bool relocation_ok_ = false;
   std::string relocation_verdict_;
