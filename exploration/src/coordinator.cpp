@@ -57,8 +57,10 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
   if (!(p.branch_record_distance >= 0.0 && p.u_turn_cost >= 0.0 && p.goal_refresh_distance > 0.0))
     return fail("branch_record_distance and u_turn_cost must be >= 0, goal_refresh_distance > 0");
   if (!(p.relocation_timeout > 0.0 && p.mission_time_limit > 0.0 && p.mission_stall_time > 0.0 &&
-        p.mission_goal_tolerance > 0.0 && p.mission_heading_tolerance > 0.0))
-    return fail("relocation_timeout, mission_time_limit, mission_stall_time and the mission tolerances must be > 0");
+        p.mission_goal_tolerance > 0.0 && p.mission_heading_tolerance > 0.0 &&
+        p.mission_accept_distance >= p.mission_goal_tolerance && p.mission_accept_angle >= p.mission_heading_tolerance))
+    return fail("relocation_timeout, mission_time_limit, mission_stall_time and the mission tolerances must be > 0, "
+                "the accepted distance and angle at least the tolerances");
   if (p.max_relocation_failures < 0) return fail("max_relocation_failures must be >= 0");
   return RoomExplorer::validate(p.room, error);
 }
@@ -910,6 +912,8 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
     ++mission_path_index_;
   char at[96];
   std::snprintf(at, sizeof(at), " (estimate %.3f m, %.3f rad from the goal)", dist, herr);
+  // Where the controller stops (blocked) or stalls this close, the goal counts as reached.
+  const bool close = dist < params_.mission_accept_distance && herr < params_.mission_accept_angle;
   // Through the door on its axis first: the room's grid has a virtual wall across the door, so
   // no grid path leads in from the hallway, and a straight line from there meets the door's jamb.
   const Eigen::Vector2d door(door_in_place_.x, door_in_place_.y);
@@ -923,13 +927,14 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
     mission_goal_odom_valid_ = false;
   } else {
     // The final goal. In the odometry frame it moves with every EKF correction; it is re-sent only
-    // when it moved by a centimetre or more, so that the controller's reached and blocked (its own
-    // progress watch) are about this goal and not restarted on every scan.
+    // when it moved by more than mission_accept_distance (or mission_accept_angle), so that the controller's
+    // reached and blocked are about this goal, and a correction of a centimetre or two after the
+    // final turn does not send a differential drive round to face a point 2 cm behind it.
     const bool sent = mission_goal_odom_valid_;
     Decision g;
     goalInPlace(p, goal, mission_goal_.theta, &g);
-    if (!sent || std::hypot(g.x - mission_goal_odom_.x, g.y - mission_goal_odom_.y) > 0.01 ||
-        std::abs(normalizeAngle(*g.theta - mission_goal_odom_.theta)) > 0.01) {
+    if (!sent || std::hypot(g.x - mission_goal_odom_.x, g.y - mission_goal_odom_.y) > params_.mission_accept_distance ||
+        std::abs(normalizeAngle(*g.theta - mission_goal_odom_.theta)) > params_.mission_accept_angle) {
       mission_goal_odom_ = Pose2D{g.x, g.y, *g.theta};
       mission_goal_odom_valid_ = true;
     }
@@ -942,10 +947,18 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
       endMission(true, "goal reached in place " + std::to_string(place_id_) + at, d);
       return;
     }
+    if (sent && blocked_ && close) {
+      endMission(true, "goal reached in place " + std::to_string(place_id_) + " within the accepted distance" + at, d);
+      return;
+    }
     if (sent && blocked_) {
       endMission(false, "the goal is not reachable: stopped at the closest reachable pose" + std::string(at), d);
       return;
     }
+  }
+  if (now_ - mission_best_time_ > params_.mission_stall_time && close) {
+    endMission(true, "goal reached in place " + std::to_string(place_id_) + " within the accepted distance" + at, d);
+    return;
   }
   if (now_ - mission_best_time_ > params_.mission_stall_time) {
     endMission(false, "the goal is not reachable: no progress for " + std::to_string(int(params_.mission_stall_time)) +

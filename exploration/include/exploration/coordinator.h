@@ -75,6 +75,10 @@ struct CoordinatorParams {
   double mission_time_limit = 1200.0;  // s, a mission ends unsuccessful after this (sim time)
   double mission_goal_tolerance = 0.01;   // m, a mission's goal is reached within this (the EKF's estimate)
   double mission_heading_tolerance = 0.02;  // rad, and its heading within this
+  double mission_accept_distance = 0.03;  // m, the controller stopping (blocked, stalled) this close to a
+                                         // mission's goal ...
+  double mission_accept_angle = 0.05;    // rad, ... and its heading: reached (the last centimetres of a
+                                         // differential drive); the goal is not re-sent for corrections below
   double mission_stall_time = 20.0;  // s, no 5 cm of progress to a mission's goal in a room for this: unreachable
 };
 

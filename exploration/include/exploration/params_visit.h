@@ -69,6 +69,8 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("mission_stall_time", &c.mission_stall_time);
   visit("mission_goal_tolerance", &c.mission_goal_tolerance);
   visit("mission_heading_tolerance", &c.mission_heading_tolerance);
+  visit("mission_accept_distance", &c.mission_accept_distance);
+  visit("mission_accept_angle", &c.mission_accept_angle);
   HallwayViewParams& h = c.hallway;
   visit("hallway/ahead_sector", &h.ahead_sector);
   visit("hallway/side_sector", &h.side_sector);
