@@ -77,9 +77,9 @@ def plot_map(path, world, dump, missions):
         ax.plot(g[0], g[1], 'x' if not r['success'] else '*', color='tab:red' if not r['success'] else 'tab:green',
                 ms=8, zorder=6)
     ax.set_aspect('equal')
-    ax.set_title('hybrid map over the ground truth: room lines (blue, EKF, placed by each place\'s ground-truth '
-                 'frame), graph (nodes: green door, red junction, black end, orange start; odometric display '
-                 'poses), mission goals (green reached, red not)', fontsize=7)
+    ax.set_title('hybrid map over the ground truth (grey): room lines (blue; EKF, placed by each place\'s ground-truth frame)\n'
+                 'graph (orange; nodes: green door, red junction, black end, orange start; odometric display poses)\n'
+                 'mission goals (green * reached, red x not)', fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -622,6 +622,7 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
     if ((robot - a).norm() < 0.15 || now_ - state_since_ > 30.0) {
       if (mission_active_) {
         setState(State::GoToGoal, "driving to the mission's goal in place " + std::to_string(place_id_));
+        mission_entered_ = false;
         mission_goal_odom_valid_ = false;
         mission_best_ = std::numeric_limits<double>::infinity();
         mission_best_time_ = now_;
@@ -764,6 +765,7 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
   const std::string to = "mission to place " + std::to_string(place_id);
   if (in_room_ && place_id_ == place_id) {
     setState(State::GoToGoal, to + ": driving to the goal in the room");
+    mission_entered_ = true;
     mission_goal_odom_valid_ = false;
     mission_best_ = std::numeric_limits<double>::infinity();
     mission_best_time_ = now_;
@@ -918,7 +920,9 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
   // no grid path leads in from the hallway, and a straight line from there meets the door's jamb.
   const Eigen::Vector2d door(door_in_place_.x, door_in_place_.y);
   const Eigen::Vector2d into = unit(door_in_place_.theta);
-  const bool entering = (robot - door).dot(into) < params_.room.entry_depth && (goal - door).dot(into) > 0.0;
+  // Once inside, never again (a goal just inside the door lies within entry_depth).
+  if ((robot - door).dot(into) >= params_.room.entry_depth) mission_entered_ = true;
+  const bool entering = !mission_entered_ && (goal - door).dot(into) > 0.0;
   if (entering) {
     goalInPlace(p, door + (params_.room.entry_depth + params_.room.entry_goal_extra) * into, door_in_place_.theta, d);
     mission_goal_odom_valid_ = false;

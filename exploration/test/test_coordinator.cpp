@@ -361,3 +361,18 @@ TEST(CoordinatorMission, ACancelledMissionEndsAtOnceAndClosesThePlaceItRelocated
   EXPECT_TRUE(d.stop);
   EXPECT_TRUE(c.idle());
 }
+
+TEST(CoordinatorMission, AGoalJustInsideTheDoorIsReached) {
+  // The goal lies 0.4 m past the door line, within entry_depth (0.7 m): the robot goes through the
+  // door on its axis once, then back to the goal, and does not swing between the two.
+  Coordinator c(missionParams());
+  c.setGraph(exploredHallway());
+  startIdle(&c);
+  std::string why;
+  ASSERT_TRUE(c.startMission(4, Pose2D{5.3, 1.4, 0.0}, &why)) << why;
+  const MissionRun run = runMission(&c, [](int) { return true; });
+  ASSERT_TRUE(c.missionOutcome().finished);
+  EXPECT_TRUE(c.missionOutcome().success) << c.missionOutcome().message;
+  EXPECT_NEAR(run.robot.x, 5.3, 0.03);
+  EXPECT_NEAR(run.robot.y, 1.4, 0.03);
+}

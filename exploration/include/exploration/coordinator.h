@@ -308,6 +308,7 @@ class Coordinator {
   int relocation_failures_ = 0;
   laser_features::Pose2D mission_goal_odom_;  // GoToGoal: the goal as last sent, odometry frame
   bool mission_goal_odom_valid_ = false;
+  bool mission_entered_ = false;    // GoToGoal: the robot has been entry_depth inside the door
   std::vector<Eigen::Vector2d> mission_path_;  // GoToGoal: grid path to the goal (place frame)
   size_t mission_path_index_ = 0;
   double mission_best_ = 0.0;       // m, GoToGoal: the closest the robot came to the goal ...
