@@ -855,14 +855,16 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
     relocation_pending_ = true;
     relocation_ok_ = false;
     relocation_verdict_.clear();
+    relocate_step_ = 0;
     setState(State::Relocate, "relocating in place " + std::to_string(mission_place_) + " at its door");
     return;
   }
   const bool timeout = now_ - state_since_ > params_.relocation_timeout;
-  if (relocation_pending_ && !timeout) return;
   const bool pose = p.room_pose_valid && finite(p.room_pose);
   if (relocation_ok_ && pose) {
-    hallway_in_place_ = Eigen::Vector2d(p.room_pose.x, p.room_pose.y);
+    // Where the robot left the hallway, in the place (it may have moved to the door since).
+    const Pose2D stop = compose(p.room_pose, compose(inverse(p.odom), hallway_pose_odom_));
+    hallway_in_place_ = Eigen::Vector2d(stop.x, stop.y);
     exit_theta_place_ = normalizeAngle(p.room_pose.theta + odomHeadingOfBin(hallway_bin_, topo) - p.odom.theta);
     place_origin_odom_ = compose(p.odom, inverse(p.room_pose));  // stands in for missing EKF poses
     door_in_place_ = Pose2D{mission_door_.door_in_place[0], mission_door_.door_in_place[1], mission_door_.door_in_place[2]};
@@ -871,6 +873,34 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
     return;
   }
   if (relocation_ok_ && !timeout) return;  // the verdict came, the EKF's pose not yet
+  // From the hallway the room may show too little (lines all parallel, or too few): ekf_local_map
+  // keeps the relocation pending and tries again on every scan, so the robot moves in front of the
+  // door, facing in, where it sees the room. Only a jointly incompatible match (the wrong room) or
+  // no success from there too is a failure.
+  const bool wrong_room = relocation_verdict_ == "matches jointly incompatible";
+  if (!relocation_pending_ && !wrong_room && relocate_step_ == 0 && !timeout) {
+    relocate_step_ = 1;
+    relocate_step_since_ = now_;
+    state_text_ = "relocation from the hallway: " + relocation_verdict_ + "; trying again in front of the door";
+  }
+  if (relocate_step_ == 1) {
+    const Eigen::Vector2d a = door_.centre_odom - 0.6 * unit(door_.into_odom);
+    const bool there = (a - Eigen::Vector2d(p.odom.x, p.odom.y)).norm() < 0.1 &&
+                       std::abs(normalizeAngle(door_.into_odom - p.odom.theta)) < 0.1;
+    if (there || (reached_ && now_ - relocate_step_since_ > 1.0) || now_ - relocate_step_since_ > params_.relocation_timeout) {
+      relocate_step_ = 2;
+      relocate_step_since_ = now_;
+    } else {
+      d->stop = false;
+      d->has_goal = true;
+      d->x = a.x();
+      d->y = a.y();
+      d->theta = door_.into_odom;
+      return;
+    }
+  }
+  if (relocate_step_ == 2 && now_ - relocate_step_since_ < 3.0 && !wrong_room) return;  // a few scans from there
+  if (relocation_pending_ && !timeout) return;
   // Not the goal's room (or no verdict): the belief was wrong. Back to the hallway with a uniform
   // belief (global localization) rather than going on lost.
   ++relocation_failures_;
@@ -947,10 +977,14 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
     d->y = mission_goal_odom_.y;
     d->theta = mission_goal_odom_.theta;
     d->tolerance = std::make_pair(params_.mission_goal_tolerance, params_.mission_heading_tolerance);
-    if ((sent && reached_) || (dist < params_.mission_goal_tolerance && herr < params_.mission_heading_tolerance)) {
+    // Reached when the controller says so (it has stopped there; the EKF's estimate alone can pass
+    // through the goal while the robot still turns, and the robot would stop 0.5 rad further on at
+    // rate 10) and the EKF agrees; else the goal is sent again from the EKF's estimate.
+    if (sent && reached_ && close) {
       endMission(true, "goal reached in place " + std::to_string(place_id_) + at, d);
       return;
     }
+    if (sent && reached_) mission_goal_odom_valid_ = false;
     if (sent && blocked_ && close) {
       endMission(true, "goal reached in place " + std::to_string(place_id_) + " within the accepted distance" + at, d);
       return;

@@ -214,24 +214,30 @@ struct MissionRun {
 
 // An ideal robot (0.05 m or 0.1 rad per 0.1 s tick towards the goal) on the mission; the place
 // frame is the odometry frame. `relocation(k)` is ekf_local_map's verdict on the k-th relocation.
-template <typename Verdict>
-MissionRun runMission(Coordinator* c, Verdict relocation, int max_ticks = 3000) {
+template <typename Verdict, typename EachTick>
+MissionRun runMission(Coordinator* c, Verdict relocation, EachTick each_tick, const std::string& verdict = "test",
+                      int max_ticks = 3000) {
   Hallway h;
   MissionRun run;
   double t = 0.0;
   int relocations = 0;
+  bool reached = false;
   for (; run.ticks < max_ticks && c->missionActive(); ++run.ticks, t += 0.1) {
     Perception p = h.perceive(run.robot.x, t);
     p.odom = run.robot;
     p.room_pose_valid = c->currentPlace() >= 0;
     p.room_pose = run.robot;
-    const Decision d = c->update(p, onHallway(run.robot.x), false, false);
+    const Decision d = c->update(p, onHallway(run.robot.x), reached, false);
     for (const Request& q : d.requests) {
       run.requests.push_back(q);
-      if (q.kind == Request::Relocate) c->relocationResult(q.place_id, relocation(relocations++), "test");
+      if (q.kind == Request::Relocate) c->relocationResult(q.place_id, relocation(relocations++), verdict);
     }
+    each_tick(c, run.ticks);
+    reached = false;
     if (d.stop || !d.has_goal) continue;
     const Eigen::Vector2d to(d.x - run.robot.x, d.y - run.robot.y);
+    // The controller's "reached": at the goal's position and heading (as a real one, at rest).
+    reached = to.norm() < 0.005 && (!d.theta || std::abs(laser_features::normalizeAngle(*d.theta - run.robot.theta)) < 0.01);
     if (to.norm() > 0.01) {
       const Eigen::Vector2d step = to.norm() > 0.05 ? Eigen::Vector2d(0.05 * to.normalized()) : to;
       run.robot.x += step.x();
@@ -242,6 +248,11 @@ MissionRun runMission(Coordinator* c, Verdict relocation, int max_ticks = 3000) 
     }
   }
   return run;
+}
+
+template <typename Verdict>
+MissionRun runMission(Coordinator* c, Verdict relocation) {
+  return runMission(c, relocation, [](Coordinator*, int) {});
 }
 
 int count(const std::vector<Request>& requests, Request::Kind kind) {
@@ -375,4 +386,29 @@ TEST(CoordinatorMission, AGoalJustInsideTheDoorIsReached) {
   EXPECT_TRUE(c.missionOutcome().success) << c.missionOutcome().message;
   EXPECT_NEAR(run.robot.x, 5.3, 0.03);
   EXPECT_NEAR(run.robot.y, 1.4, 0.03);
+}
+
+TEST(CoordinatorMission, ARelocationThatSeesTooLittleFromTheHallwayIsTriedAgainInFrontOfTheDoor) {
+  // From the hallway the matched lines are all parallel (ekf_local_map keeps the relocation
+  // pending): the robot moves in front of the door, facing in, where the next verdict succeeds.
+  Coordinator c(missionParams());
+  c.setGraph(exploredHallway());
+  startIdle(&c);
+  std::string why;
+  ASSERT_TRUE(c.startMission(4, Pose2D{5.0, 3.0, 0.5 * kPi}, &why)) << why;
+  int relocation_tick = -1;
+  Pose2D at_success;
+  const MissionRun run = runMission(
+      &c, [&](int) { return false; },
+      [&](Coordinator* co, int tick) {
+        if (relocation_tick < 0 && c.state().find("trying again in front of the door") != std::string::npos)
+          relocation_tick = tick;
+        if (relocation_tick >= 0 && tick == relocation_tick + 40) co->relocationResult(4, true, "success");
+      },
+      "matched lines (nearly) parallel");
+  ASSERT_GE(relocation_tick, 0) << "no second try in front of the door";
+  EXPECT_TRUE(c.missionOutcome().success) << c.missionOutcome().message;
+  EXPECT_EQ(c.missionOutcome().relocation_failures, 0);
+  EXPECT_EQ(count(run.requests, Request::ResetBelief), 0);
+  EXPECT_NEAR(run.robot.y, 3.0, 0.03);
 }

@@ -306,6 +306,8 @@ class Coordinator {
   bool relocation_ok_ = false;
   std::string relocation_verdict_;
   int relocation_failures_ = 0;
+  int relocate_step_ = 0;             // Relocate: 0 from the hallway, 1 moving in front of the door, 2 from there
+  double relocate_step_since_ = 0.0;
   laser_features::Pose2D mission_goal_odom_;  // GoToGoal: the goal as last sent, odometry frame
   bool mission_goal_odom_valid_ = false;
   bool mission_entered_ = false;    // GoToGoal: the robot has been entry_depth inside the door
