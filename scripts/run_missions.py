@@ -28,8 +28,8 @@ import rospy
 import yaml
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from visualization_msgs.msg import MarkerArray
-from hybrid_slam_msgs.msg import (ExplorationStatus, GoToPlaceAction, GoToPlaceGoal, TopologicalBelief,
-                                  TopologicalMap)
+from hybrid_slam_msgs.msg import (ExplorationStatus, GoToPlaceAction, GoToPlaceGoal, RelocationResult,
+                                  TopologicalBelief, TopologicalMap)
 from nav_msgs.msg import Odometry
 
 DONE, TOPOLOGICAL = 3, 0
@@ -129,6 +129,8 @@ class MissionRunner:
         rospy.Subscriber('topological_belief', TopologicalBelief, self.on_belief, queue_size=50)
         rospy.Subscriber('exploration_status', ExplorationStatus, self.on_status, queue_size=50)
         rospy.Subscriber('places_markers', MarkerArray, self.on_places, queue_size=2)
+        rospy.Subscriber('relocation', RelocationResult, self.on_relocation, queue_size=50)
+        self.relocations = []  # of the running mission: the verdicts, first and last of each run of equal ones
         self.client = actionlib.SimpleActionClient('go_to_place', GoToPlaceAction)
 
     def on_truth(self, msg):
@@ -158,6 +160,12 @@ class MissionRunner:
             t = self.truth_at(msg.header.stamp.to_sec())
             if t is not None and math.hypot(pose[0], pose[1]) < 0.3:
                 self.frames[pid] = compose(t, inverse(pose))
+
+    def on_relocation(self, msg):
+        v = {'place': msg.place_id, 'success': msg.success, 'verdict': msg.verdict, 'matched': msg.matched,
+             'joint_nis': round(msg.joint_nis, 2), 'bound': round(msg.joint_nis_bound, 2)}
+        if len(self.relocations) < 40:
+            self.relocations.append(v)
 
     def on_map(self, msg):
         self.map = msg
@@ -286,13 +294,14 @@ class MissionRunner:
                 continue
             rospy.loginfo('missions: %d/%d to place %d (%s) at world (%.2f, %.2f)', k + 1, self.missions, target,
                           places[target]['name'], world[0], world[1])
+            self.relocations = []
             res, sim = self.send(target, goal)
             rospy.sleep(0.5)
             e, h = self.error(target, goal)
             row = {'place': target, 'room': places[target]['name'], 'goal_world': [round(v, 3) for v in world],
                    'success': bool(res and res.success), 'message': res.message if res else 'no result',
                    'path_m': res.path_length if res else 0.0, 'sim_s': sim,
-                   'goal_error_m': e, 'heading_error_rad': h}
+                   'goal_error_m': e, 'heading_error_rad': h, 'relocations': self.relocations[:]}
             if res:
                 p = res.final_pose.pose
                 est = (p.position.x, p.position.y)
