@@ -329,9 +329,20 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
         // An opening the robot keeps turning round for (it passes its node without taking it:
         // the door is not seen, or the belief flickers) is given up after max_route_attempts.
         if (++route_attempts_[route.goal_node] > params_.max_route_attempts && mission_active_) {
-          endMission(false, "the door of place " + std::to_string(mission_place_) + " was not found at node " +
-                                std::to_string(route.goal_node) + " after " + std::to_string(params_.max_route_attempts) +
-                                " turns towards it", d);
+          const std::string why = "the door of place " + std::to_string(mission_place_) + " was not found at node " +
+                                  std::to_string(route.goal_node) + " after " + std::to_string(params_.max_route_attempts) +
+                                  " turns towards it";
+          // A confident belief that keeps missing the door is likely wrong (a look-alike stretch):
+          // global localization again (a uniform belief) rather than giving up or going on lost.
+          if (++mission_door_misses_ > params_.max_relocation_failures) {
+            endMission(false, why + ", " + std::to_string(mission_door_misses_) + " times", d);
+            return;
+          }
+          route_attempts_.clear();
+          Request reset;
+          reset.kind = Request::ResetBelief;
+          d->requests.push_back(reset);
+          state_text_ = why + ": the belief is reset";
           return;
         }
         if (route_attempts_[route.goal_node] > params_.max_route_attempts) {
@@ -761,6 +772,7 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
   mission_outcome_ = MissionOutcome();
   mission_distance_left_ = 0.0;
   relocation_failures_ = 0;
+  mission_door_misses_ = 0;
   route_attempts_.clear();
   const std::string to = "mission to place " + std::to_string(place_id);
   if (in_room_ && place_id_ == place_id) {
@@ -814,6 +826,7 @@ void Coordinator::endMission(bool success, const std::string& why, Decision* d) 
   mission_outcome_.message = why;
   mission_outcome_.path_length = travel_ - mission_start_travel_;
   mission_outcome_.relocation_failures = relocation_failures_;
+  mission_outcome_.door_misses = mission_door_misses_;
   mission_active_ = false;
   // In a room when the place is active and the robot is past the hallway stop (metric states).
   in_room_ = place_id_ >= 0 && (state_ == State::GoToGoal || state_ == State::ApproachDoor ||

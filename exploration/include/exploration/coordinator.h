@@ -71,7 +71,8 @@ struct CoordinatorParams {
   double max_time = 0.0;             // s, the exploration gives up after this (sim time); 0: no limit
   bool explore = true;               // -, explore from the start; false: wait for missions (a loaded map)
   double relocation_timeout = 20.0;  // s, a mission's relocation at a door gives no verdict in this: failed
-  int max_relocation_failures = 2;   // -, relocations that fail (wrong room) before a mission is given up
+  int max_relocation_failures = 2;   // -, relocations that fail (wrong room), and separately misses of the
+                                     // goal's door, before a mission is given up (each resets the belief)
   double mission_time_limit = 1200.0;  // s, a mission ends unsuccessful after this (sim time)
   double mission_goal_tolerance = 0.01;   // m, a mission's goal is reached within this (the EKF's estimate)
   double mission_heading_tolerance = 0.02;  // rad, and its heading within this
@@ -142,7 +143,8 @@ struct MissionOutcome {
   bool success = false;
   std::string message;
   double path_length = 0.0;  // m, odometric
-  int relocation_failures = 0;
+  int relocation_failures = 0;  // relocations that failed (each reset the belief)
+  int door_misses = 0;          // times the goal's door was not found after max_route_attempts (each reset the belief)
 };
 
 struct CoordinatorStats {
@@ -306,6 +308,7 @@ class Coordinator {
   bool relocation_ok_ = false;
   std::string relocation_verdict_;
   int relocation_failures_ = 0;
+  int mission_door_misses_ = 0;
   int relocate_step_ = 0;             // Relocate: 0 from the hallway, 1 moving in front of the door, 2 from there
   double relocate_step_since_ = 0.0;
   laser_features::Pose2D mission_goal_odom_;  // GoToGoal: the goal as last sent, odometry frame
