@@ -989,7 +989,11 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
     d->x = mission_goal_odom_.x;
     d->y = mission_goal_odom_.y;
     d->theta = mission_goal_odom_.theta;
-    d->tolerance = std::make_pair(params_.mission_goal_tolerance, params_.mission_heading_tolerance);
+    // Sent again already within the accepted distance (only the heading was off): the controller
+    // turns on the spot instead of driving a differential drive a few millimetres.
+    d->tolerance = std::make_pair(dist < params_.mission_accept_distance ? params_.mission_accept_distance
+                                                                         : params_.mission_goal_tolerance,
+                                  params_.mission_heading_tolerance);
     // Reached when the controller says so (it has stopped there; the EKF's estimate alone can pass
     // through the goal while the robot still turns, and the robot would stop 0.5 rad further on at
     // rate 10) and the EKF agrees; else the goal is sent again from the EKF's estimate.
