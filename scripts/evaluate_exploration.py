@@ -19,18 +19,9 @@ import rospy
 import yaml
 from hybrid_slam_msgs.msg import ExplorationStatus, TopologicalMap
 from nav_msgs.msg import Odometry
+from world_geometry import inside
 
 METRIC, DONE = 1, 3
-
-
-def inside(polygon, x, y):
-    c = False
-    n = len(polygon)
-    for i in range(n):
-        (x1, y1), (x2, y2) = polygon[i], polygon[(i + 1) % n]
-        if (y1 > y) != (y2 > y) and x < (x2 - x1) * (y - y1) / (y2 - y1) + x1:
-            c = not c
-    return c
 
 
 def area(polygon):

@@ -18,6 +18,7 @@ import math
 
 import rospy
 import yaml
+from world_geometry import inside
 from geometry_msgs.msg import Pose2D
 from hybrid_slam_msgs.msg import TopologicalBelief, TopologicalMap
 from hybrid_slam_msgs.srv import Teleport
@@ -29,17 +30,6 @@ LOOK_ALIKE_DOORS = {'office_1', 'office_3'}
 
 def wrap(a):
     return math.atan2(math.sin(a), math.cos(a))
-
-
-def inside(polygon, x, y):
-    result = False
-    j = len(polygon) - 1
-    for i in range(len(polygon)):
-        (xi, yi), (xj, yj) = polygon[i], polygon[j]
-        if (yi > y) != (yj > y) and x < (xj - xi) * (y - yi) / (yj - yi) + xi:
-            result = not result
-        j = i
-    return result
 
 
 class TopoEvaluator:

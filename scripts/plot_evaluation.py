@@ -15,6 +15,7 @@ import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt  # noqa: E402
 import yaml  # noqa: E402
+from world_geometry import compose  # noqa: E402
 
 
 def load(path):
@@ -23,11 +24,6 @@ def load(path):
             return json.load(f)
     except (OSError, ValueError, TypeError):
         return None
-
-
-def compose(a, b):
-    c, s = math.cos(a[2]), math.sin(a[2])
-    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1])
 
 
 def draw_world(ax, world):

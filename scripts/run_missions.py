@@ -28,6 +28,7 @@ import rospy
 import yaml
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from visualization_msgs.msg import MarkerArray
+from world_geometry import compose, inside, inverse
 from hybrid_slam_msgs.msg import (ExplorationStatus, GoToPlaceAction, GoToPlaceGoal, RelocationResult,
                                   TopologicalBelief, TopologicalMap)
 from nav_msgs.msg import Odometry
@@ -37,26 +38,6 @@ DONE, TOPOLOGICAL = 3, 0
 
 def yaw_of(q):
     return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-
-
-def compose(a, b):
-    c, s = math.cos(a[2]), math.sin(a[2])
-    return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], math.atan2(math.sin(a[2] + b[2]), math.cos(a[2] + b[2])))
-
-
-def inverse(a):
-    c, s = math.cos(a[2]), math.sin(a[2])
-    return (-c * a[0] - s * a[1], s * a[0] - c * a[1], -a[2])
-
-
-def inside(polygon, x, y):
-    c = False
-    n = len(polygon)
-    for i in range(n):
-        (x1, y1), (x2, y2) = polygon[i], polygon[(i + 1) % n]
-        if (y1 > y) != (y2 > y) and x < (x2 - x1) * (y - y1) / (y2 - y1) + x1:
-            c = not c
-    return c
 
 
 def segment_distance(p, a, b):

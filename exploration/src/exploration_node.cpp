@@ -326,14 +326,8 @@ class ExplorationNode {
         break;
       case Request::Relocate: {
         hybrid_slam_msgs::RelocateAtDoor srv;
-        srv.request.place_id = r.place_id;
-        srv.request.door_id = r.door_id;
-        srv.request.robot_from_door.x = r.pose.x;
-        srv.request.robot_from_door.y = r.pose.y;
-        srv.request.robot_from_door.theta = r.pose.theta;
         // The door as the laser saw it from the hallway: a few centimetres and degrees.
-        srv.request.covariance = {relocation_sigma_xy_ * relocation_sigma_xy_, 0, 0, 0, relocation_sigma_xy_ * relocation_sigma_xy_, 0,
-                                  0, 0, relocation_sigma_theta_ * relocation_sigma_theta_};
+        srv.request = relocateRequest(r.place_id, r.door_id, r.pose, relocation_sigma_xy_, relocation_sigma_theta_);
         const bool ok = call(local_map_node_ + "/relocate_at_door", &srv) && srv.response.success;
         if (!ok) {
           ROS_WARN("exploration: relocation not started: %s", srv.response.message.c_str());

@@ -31,6 +31,7 @@
 
 #include "laser_features/tf_lookup.h"
 #include "exploration/passive_places.h"
+#include "ros_conversions.h"
 
 namespace exploration {
 namespace {
@@ -176,13 +177,8 @@ class ReplayPlacesNode {
 
   bool relocate(const PlaceAction& a) {
     hybrid_slam_msgs::RelocateAtDoor srv;
-    srv.request.place_id = a.known_place;
-    srv.request.door_id = a.door_node;
-    srv.request.robot_from_door.x = a.robot_from_door.x;
-    srv.request.robot_from_door.y = a.robot_from_door.y;
-    srv.request.robot_from_door.theta = a.robot_from_door.theta;
-    const double sxy = params_.relocation_sigma_xy, sth = params_.relocation_sigma_theta;
-    srv.request.covariance = {sxy * sxy, 0, 0, 0, sxy * sxy, 0, 0, 0, sth * sth};
+    srv.request = relocateRequest(a.known_place, a.door_node, a.robot_from_door, params_.relocation_sigma_xy,
+                                  params_.relocation_sigma_theta);
     if (call(local_map_node_ + "/relocate_at_door", &srv) && srv.response.success) return true;
     ROS_WARN("replay_places: cannot re-enter place %d at door %d (%s): a new place instead", a.known_place,
              a.door_node, srv.response.message.c_str());

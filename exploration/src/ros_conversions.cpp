@@ -76,6 +76,18 @@ void fromMsg(const hybrid_slam_msgs::TopologicalMap& msg, TopoGraph* graph) {
   for (const auto& e : msg.edges) graph->addEdge(GraphEdge{e.id, e.source, e.target, e.heading, e.length});
 }
 
+hybrid_slam_msgs::RelocateAtDoor::Request relocateRequest(int place_id, int door_id, const laser_features::Pose2D& robot_from_door,
+                                                          double sigma_xy, double sigma_theta) {
+  hybrid_slam_msgs::RelocateAtDoor::Request r;
+  r.place_id = place_id;
+  r.door_id = door_id;
+  r.robot_from_door.x = robot_from_door.x;
+  r.robot_from_door.y = robot_from_door.y;
+  r.robot_from_door.theta = robot_from_door.theta;
+  r.covariance = {sigma_xy * sigma_xy, 0, 0, 0, sigma_xy * sigma_xy, 0, 0, 0, sigma_theta * sigma_theta};
+  return r;
+}
+
 GraphPosition fromMsg(const hybrid_slam_msgs::TopologicalBelief& msg) {
   GraphPosition p;
   const int i = msg.most_likely;

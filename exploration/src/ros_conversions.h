@@ -1,6 +1,7 @@
 // Messages <-> the exploration core's types: the one place where ROS types meet the core.
 #pragma once
 
+#include <hybrid_slam_msgs/RelocateAtDoor.h>
 #include <hybrid_slam_msgs/ExplorationStatus.h>
 #include <hybrid_slam_msgs/LaserFeatures.h>
 #include <hybrid_slam_msgs/TopologicalBelief.h>
@@ -35,6 +36,11 @@ void featuresInRobot(const hybrid_slam_msgs::LaserFeatures& msg, const laser_fea
                      size_t* dropped);
 
 void fromMsg(const hybrid_slam_msgs::TopologicalMap& msg, TopoGraph* graph);
+
+/// ekf_local_map's relocate_at_door request: the robot's pose in the door's frame, with independent
+/// standard deviations of its position (m) and heading (rad).
+hybrid_slam_msgs::RelocateAtDoor::Request relocateRequest(int place_id, int door_id, const laser_features::Pose2D& robot_from_door,
+                                                          double sigma_xy, double sigma_theta);
 /// The belief's most likely state (invalid when lost or empty).
 GraphPosition fromMsg(const hybrid_slam_msgs::TopologicalBelief& msg);
 
