@@ -328,7 +328,8 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
         route_behind_ticks_ = 0;
         // An opening the robot keeps turning round for (it passes its node without taking it:
         // the door is not seen, or the belief flickers) is given up after max_route_attempts.
-        if (++route_attempts_[route.goal_node] > params_.max_route_attempts && mission_active_) {
+        const bool missed = ++route_attempts_[route.goal_node] > params_.max_route_attempts;
+        if (missed && mission_active_) {
           const std::string why = "the door of place " + std::to_string(mission_place_) + " was not found at node " +
                                   std::to_string(route.goal_node) + " after " + std::to_string(params_.max_route_attempts) +
                                   " turns towards it";
@@ -345,7 +346,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
           state_text_ = why + ": the belief is reset";
           return;
         }
-        if (route_attempts_[route.goal_node] > params_.max_route_attempts) {
+        if (missed) {
           Request give_up;
           give_up.kind = Request::RecordOpening;
           give_up.node = int(route.goal_node);
@@ -631,13 +632,7 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
     const Eigen::Vector2d a = door - 0.6 * into;
     goalInPlace(p, a, door_in_place_.theta, d);
     if ((robot - a).norm() < 0.15 || now_ - state_since_ > 30.0) {
-      if (mission_active_) {
-        setState(State::GoToGoal, "driving to the mission's goal in place " + std::to_string(place_id_));
-        mission_entered_ = false;
-        mission_goal_odom_valid_ = false;
-        mission_best_ = std::numeric_limits<double>::infinity();
-        mission_best_time_ = now_;
-      }
+      if (mission_active_) beginGoToGoal("driving to the mission's goal in place " + std::to_string(place_id_), false);
       else setState(State::Room, "exploring the room");
     }
     return;
@@ -710,33 +705,28 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
   goalInPlace(p, hallway_in_place_, exit_theta_place_, d);
   const double err = std::abs(normalizeAngle(exit_theta_place_ - p.room_pose.theta));
   const bool back = ((robot - hallway_in_place_).norm() < 0.2 && err < 0.15) || (reached_ && err < 0.2);
-  if ((back || step_timeout || now_ - state_since_ > params_.exit_time_limit) && mission_active_) {
-    // A mission leaving a room: back on the hallway, on to the goal's door.
-    bin_ = hallway_bin_;
-    have_goal_ = false;
-    mode_ = CoordinatorMode::Topological;
-    last_turn_travel_ = travel_;
+  if (!(back || step_timeout || now_ - state_since_ > params_.exit_time_limit)) return;
+  bin_ = hallway_bin_;
+  have_goal_ = false;
+  mode_ = CoordinatorMode::Topological;
+  last_turn_travel_ = travel_;
+  if (mission_active_) {
+    // A mission leaving a room: back on the hallway, on to the goal's door (nothing to record).
     place_id_ = -1;
     in_room_ = false;
     setState(State::Follow, "mission to place " + std::to_string(mission_place_) + ": following the hallway");
     return;
   }
-  if (back || step_timeout || now_ - state_since_ > params_.exit_time_limit) {
-    Request rec;
-    rec.kind = Request::RecordOpening;
-    rec.node = door_node_;
-    rec.bearing = door_bearing_map_;
-    rec.width = door_.width;
-    rec.explored = true;
-    rec.place_id = place_id_;
-    rec.pose = door_in_place_;
-    d->requests.push_back(rec);
-    bin_ = hallway_bin_;
-    have_goal_ = false;
-    mode_ = CoordinatorMode::Topological;
-    last_turn_travel_ = travel_;
-    setState(State::Follow, back ? "following the hallway" : "following the hallway (the way back was not reached exactly)");
-  }
+  Request rec;
+  rec.kind = Request::RecordOpening;
+  rec.node = door_node_;
+  rec.bearing = door_bearing_map_;
+  rec.width = door_.width;
+  rec.explored = true;
+  rec.place_id = place_id_;
+  rec.pose = door_in_place_;
+  d->requests.push_back(rec);
+  setState(State::Follow, back ? "following the hallway" : "following the hallway (the way back was not reached exactly)");
 }
 
 RouteStep Coordinator::plan(const GraphPosition& pos) const {
@@ -755,10 +745,7 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
   const std::optional<PlaceDoor> door = graph_.placeDoor(place_id, params_.door_max_width);
   if (!door) {
     std::ostringstream known;
-    std::set<int> ids;
-    for (const auto& n : graph_.nodes()) {
-      if (n.second.place_id >= 0) ids.insert(n.second.place_id);
-    }
+    const std::set<int> ids = graph_.placeIds();
     for (int id : ids) known << (known.tellp() > 0 ? ", " : "") << id;
     return refuse("place " + std::to_string(place_id) + " is unknown: no node of the topological map links it (known places: " +
                   (ids.empty() ? std::string("none") : known.str()) + ")");
@@ -776,11 +763,7 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
   route_attempts_.clear();
   const std::string to = "mission to place " + std::to_string(place_id);
   if (in_room_ && place_id_ == place_id) {
-    setState(State::GoToGoal, to + ": driving to the goal in the room");
-    mission_entered_ = true;
-    mission_goal_odom_valid_ = false;
-    mission_best_ = std::numeric_limits<double>::infinity();
-    mission_best_time_ = now_;
+    beginGoToGoal(to + ": driving to the goal in the room", true);
     mode_ = CoordinatorMode::Metric;
   } else if (in_room_) {
     // Out of this room by its door first. The hallway heading to leave by: towards the goal's door.
@@ -810,6 +793,15 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
     mode_ = CoordinatorMode::Topological;
   }
   return true;
+}
+
+void Coordinator::beginGoToGoal(const std::string& text, bool inside) {
+  setState(State::GoToGoal, text);
+  mission_entered_ = inside;
+  mission_goal_odom_valid_ = false;
+  mission_path_.clear();
+  mission_best_ = std::numeric_limits<double>::infinity();
+  mission_best_time_ = now_;
 }
 
 void Coordinator::cancelMission(const std::string& why) {
@@ -945,16 +937,6 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
     mission_best_ = dist;
     mission_best_time_ = now_;
   }
-  // Far from the goal: along a grid path in the room as seen (furniture between the door and
-  // the goal); near it, or with no path, straight to it.
-  if (now_ - last_room_plan_ >= params_.room_replan_period || mission_path_.empty()) {
-    last_room_plan_ = now_;
-    mission_path_.clear();
-    mission_path_index_ = 0;
-    if (auto path = room_.pathTo(robot, goal)) mission_path_ = path->waypoints;
-  }
-  while (mission_path_index_ < mission_path_.size() && (mission_path_[mission_path_index_] - robot).norm() < 0.3)
-    ++mission_path_index_;
   char at[96];
   std::snprintf(at, sizeof(at), " (estimate %.3f m, %.3f rad from the goal)", dist, herr);
   // Where the controller stops (blocked) or stalls this close, the goal counts as reached.
@@ -966,6 +948,18 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
   // Once inside, never again (a goal just inside the door lies within entry_depth).
   if ((robot - door).dot(into) >= params_.room.entry_depth) mission_entered_ = true;
   const bool entering = !mission_entered_ && (goal - door).dot(into) > 0.0;
+  // Once inside, far from the goal: along a grid path in the room as seen (furniture between the
+  // door and the goal); near it, or with no path, straight to it.
+  if (!entering && (now_ - last_room_plan_ >= params_.room_replan_period || mission_path_.empty())) {
+    last_room_plan_ = now_;
+    mission_path_.clear();
+    mission_path_index_ = 0;
+    if (auto path = room_.pathTo(robot, goal)) mission_path_ = path->waypoints;
+  }
+  while (mission_path_index_ < mission_path_.size() && (mission_path_[mission_path_index_] - robot).norm() < 0.3)
+    ++mission_path_index_;
+  const bool stalled = now_ - mission_best_time_ > params_.mission_stall_time;
+  bool blocked_at_goal = false;  // the controller gave up on the final goal (sent before this tick)
   if (entering) {
     goalInPlace(p, door + (params_.room.entry_depth + params_.room.entry_goal_extra) * into, door_in_place_.theta, d);
     mission_goal_odom_valid_ = false;
@@ -1002,20 +996,18 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
       return;
     }
     if (sent && reached_) mission_goal_odom_valid_ = false;
-    if (sent && blocked_ && close) {
-      endMission(true, "goal reached in place " + std::to_string(place_id_) + " within the accepted distance" + at, d);
-      return;
-    }
-    if (sent && blocked_) {
+    blocked_at_goal = sent && blocked_;
+    if (blocked_at_goal && !close) {
       endMission(false, "the goal is not reachable: stopped at the closest reachable pose" + std::string(at), d);
       return;
     }
   }
-  if (now_ - mission_best_time_ > params_.mission_stall_time && close) {
+  // The controller stopped (blocked) or the robot stalls this close: reached.
+  if (close && (stalled || blocked_at_goal)) {
     endMission(true, "goal reached in place " + std::to_string(place_id_) + " within the accepted distance" + at, d);
     return;
   }
-  if (now_ - mission_best_time_ > params_.mission_stall_time) {
+  if (stalled) {
     endMission(false, "the goal is not reachable: no progress for " + std::to_string(int(params_.mission_stall_time)) +
                           " s, stopped at the closest reachable pose" + at + " (grid path of " +
                           std::to_string(mission_path_.size()) + " waypoints, at " + std::to_string(mission_path_index_) + ")", d);

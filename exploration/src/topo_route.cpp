@@ -102,12 +102,12 @@ double TopoGraph::distance(uint32_t a, uint32_t b) const {
   return std::numeric_limits<double>::infinity();
 }
 
-size_t TopoGraph::placeCount() const {
+std::set<int> TopoGraph::placeIds() const {
   std::set<int> ids;
   for (const auto& entry : nodes_) {
     if (entry.second.place_id >= 0) ids.insert(entry.second.place_id);
   }
-  return ids.size();
+  return ids;
 }
 
 int TopoGraph::nearestNode(const GraphPosition& pos) const {

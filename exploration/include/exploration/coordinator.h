@@ -237,6 +237,8 @@ class Coordinator {
   void endMission(bool success, const std::string& why, Decision* d);
   void relocate(const Perception& p, const TopoView& topo, Decision* d);
   void missionGoal(const Perception& p, Decision* d);
+  /// Into GoToGoal; `inside`: the robot is in the room already (not at its door).
+  void beginGoToGoal(const std::string& text, bool inside);
 
   CoordinatorParams params_;
   TopoGraph graph_;

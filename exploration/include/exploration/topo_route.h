@@ -13,6 +13,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <set>
 #include <vector>
 
 namespace exploration {
@@ -88,7 +89,8 @@ class TopoGraph {
   size_t unexploredCount() const;
   size_t exploredCount() const;
   /// Places linked to the graph's nodes (distinct place ids).
-  size_t placeCount() const;
+  size_t placeCount() const { return placeIds().size(); }
+  std::set<int> placeIds() const;
 
   /// Whether an edge joins the two nodes.
   bool adjacent(uint32_t a, uint32_t b) const;
