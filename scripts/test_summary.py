@@ -2,7 +2,8 @@
 """Counts the test cases in catkin's JUnit results and prints 'N passed, N failed, N skipped'.
 
 Usage: test_summary.py RESULTS_DIR [EXPECTED_FILES]
-Each test case is counted once: a rostest's summary ('rostest-*.xml') holds one case per test
+A failed case is listed with the end of its failure message (the reason, for CI logs that show
+only the tail). Each test case is counted once: a rostest's summary ('rostest-*.xml') holds one case per test
 node, whose own cases are in 'rosunit-<name>.xml'; those are counted (and the summary's failure
 when the node died before writing them). An unreadable result file counts as a failure. Exits 1
 when anything failed or nothing ran.
@@ -19,8 +20,12 @@ def cases(path):
     for suite in suites:
         for case in suite.iter('testcase'):
             name = '%s.%s' % (case.get('classname', suite.get('name', '?')), case.get('name', '?'))
-            if case.find('failure') is not None or case.find('error') is not None:
-                yield name, 'failed'
+            bad = case.find('failure')
+            if bad is None:
+                bad = case.find('error')
+            if bad is not None:
+                why = (bad.get('message') or '') + ' ' + (bad.text or '')
+                yield name, 'failed: ' + ' '.join(why.split())[-500:]
             elif case.find('skipped') is not None or case.get('status') == 'notrun':
                 yield name, 'skipped'
             else:
@@ -34,9 +39,10 @@ def main():
 
     def count(path, statuses):
         for name, status in statuses:
+            status, _, why = status.partition(': ')
             counts[status] += 1
             if status == 'failed':
-                failures.append('%s (%s)' % (name, os.path.relpath(path, results)))
+                failures.append('%s (%s)%s' % (name, os.path.relpath(path, results), ': ' + why if why else ''))
 
     files = sorted(glob.glob(os.path.join(results, '**', '*.xml'), recursive=True))
     for f in files:
@@ -65,7 +71,7 @@ def main():
                 count(f, [(name, status)])
                 continue
             count(detail, detailed)
-            if status == 'failed' and not any(st == 'failed' for _, st in detailed):
+            if status.startswith('failed') and not any(st.startswith('failed') for _, st in detailed):
                 count(f, [(name, 'failed')])
     for name in failures:
         print('FAILED: ' + name)
