@@ -554,10 +554,15 @@ void MapBuilder::decideLoop(bool old_wins, const FrontEnd& fe) {
     const uint32_t keep = best->node;
     const double odds = loopLogOdds();
     candidates_.clear();
-    map_->mergeNodes(keep, loop_new_node_);
+    std::vector<std::pair<uint32_t, uint32_t>> zipped;
+    map_->mergeNodes(keep, loop_new_node_, &zipped);
     loops_.emplace_back(keep, loop_new_node_);
     event("loop closed: node " + std::to_string(loop_new_node_) + " merged into node " + std::to_string(keep) +
           " (log odds " + std::to_string(odds) + ")");
+    for (const auto& [kept, dropped] : zipped) {
+      event("node " + std::to_string(dropped) + " merged into node " + std::to_string(kept) +
+            ": the same place, on the stretch the loop closed along");
+    }
     // Continue on the known graph from the old node, replaying the motion since.
     becomeLocalizedAt(keep, loop_bin_);
     for (const Scan& s : scans) {

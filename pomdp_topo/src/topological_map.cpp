@@ -109,7 +109,7 @@ bool TopologicalMap::recordOpening(uint32_t id, const NodeOpening& opening, doub
   return true;
 }
 
-bool TopologicalMap::mergeNodes(uint32_t keep, uint32_t drop) {
+bool TopologicalMap::mergeNodes(uint32_t keep, uint32_t drop, std::vector<std::pair<uint32_t, uint32_t>>* also_merged) {
   if (keep == drop || !nodes_.count(keep) || !nodes_.count(drop)) return false;
   TopoNode& kept = nodes_.at(keep);
   const TopoNode& dropped = nodes_.at(drop);
@@ -151,17 +151,19 @@ bool TopologicalMap::mergeNodes(uint32_t keep, uint32_t drop) {
       }
     }
   }
-  splitCollinearEdges(keep);
   ++revision_;
+  splitCollinearEdges(keep, also_merged);
   return true;
 }
 
-void TopologicalMap::splitCollinearEdges(uint32_t n) {
+void TopologicalMap::splitCollinearEdges(uint32_t n, std::vector<std::pair<uint32_t, uint32_t>>* also_merged) {
   // Direction of an edge leaving n, and its far node.
   auto away = [&](const TopoEdge& e) { return e.source == n ? e.heading : normalizeAngle(e.heading + laser_features::kPi); };
   auto far = [&](const TopoEdge& e) { return e.source == n ? e.target : e.source; };
   for (bool changed = true; changed;) {
     changed = false;
+    std::pair<uint32_t, uint32_t> zip{0, 0};
+    bool zip_found = false;
     for (auto& ea : edges_) {
       TopoEdge& a = ea.second;  // the longer one
       if (a.source != n && a.target != n) continue;
@@ -169,6 +171,16 @@ void TopologicalMap::splitCollinearEdges(uint32_t n) {
         const TopoEdge& b = eb.second;
         if (eb.first == ea.first || (b.source != n && b.target != n)) continue;
         if (far(a) == far(b) || std::abs(normalizeAngle(away(a) - away(b))) >= kSameDirection) continue;
+        if (std::abs(a.length - b.length) <= kMinSplit) {
+          // Both stretches end at the same place: one node recorded twice (a loop hypothesis
+          // rejected one node before the loop closed at the next). Zip them, the older one kept.
+          if (sameKind(far(a), far(b))) {
+            zip = {std::min(far(a), far(b)), std::max(far(a), far(b))};
+            zip_found = true;
+            break;
+          }
+          continue;
+        }
         if (!(b.length < a.length - kMinSplit)) continue;
         // b's far node lies on a, b.length from n: a now runs from there.
         const uint32_t mid = far(b);
@@ -191,9 +203,28 @@ void TopologicalMap::splitCollinearEdges(uint32_t n) {
         changed = true;
         break;
       }
-      if (changed) break;
+      if (changed || zip_found) break;
+    }
+    if (zip_found) {
+      // (Out of the loops over edges_: the merge re-attaches and erases edges.)
+      if (also_merged != nullptr) also_merged->push_back(zip);
+      mergeNodes(zip.first, zip.second, also_merged);
+      changed = nodes_.count(n) > 0;  // n itself may have been zipped away further along
     }
   }
+}
+
+bool TopologicalMap::sameKind(uint32_t a, uint32_t b) const {
+  const TopoNode* na = node(a);
+  const TopoNode* nb = node(b);
+  if (na == nullptr || nb == nullptr || na->type != nb->type) return false;
+  if (na->openings.empty() || nb->openings.empty()) return na->openings.empty() && nb->openings.empty();
+  // At least one opening on the same side (a door seen from both stretches).
+  return std::any_of(na->openings.begin(), na->openings.end(), [&](const NodeOpening& o) {
+    return std::any_of(nb->openings.begin(), nb->openings.end(), [&](const NodeOpening& k) {
+      return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameDirection;
+    });
+  });
 }
 
 const TopoNode* TopologicalMap::node(uint32_t id) const {

@@ -87,6 +87,57 @@ TEST(TopologicalMap, MergingKeepsAnOpeningExploredFromEitherCopy) {
   EXPECT_TRUE(map.node(a)->openings[0].explored);
 }
 
+TEST(TopologicalMap, ANodeRecordedTwiceBehindAClosedLoopIsZipped) {
+  // small_loop under load: the returning stretch 6 -> 7 (door) -> 8 (junction) had its loop
+  // hypothesis "7 is 1" rejected, then closed at 8 = 2. 7 and 1 are then both 2.7-3 m behind 2 the
+  // same way: one door recorded twice, merged too; 6 -> 1 then runs through the start 0.
+  TopologicalMap map;
+  NodeOpening left;
+  left.bearing = 0.5 * kPi;
+  const uint32_t s = map.addNode(nodeAt(NodeType::Start, 2, 0));
+  const uint32_t d = map.addNode(nodeAt(NodeType::Door, 12, 0));
+  const uint32_t j = map.addNode(nodeAt(NodeType::Junction, 14.74, 0));
+  const uint32_t j6 = map.addNode(nodeAt(NodeType::Junction, 1, 0));
+  const uint32_t d7 = map.addNode(nodeAt(NodeType::Door, 11.98, 0));
+  const uint32_t j8 = map.addNode(nodeAt(NodeType::Junction, 14.94, 0));
+  for (uint32_t n : {d, j, j6, d7, j8}) map.recordOpening(n, left);
+  map.addEdge(s, d, 0.0, 10.0);
+  map.addEdge(d, j, 0.0, 2.74);
+  map.addEdge(j6, d7, 0.0, 10.98);
+  map.addEdge(d7, j8, 0.0, 2.96);
+  std::vector<std::pair<uint32_t, uint32_t>> zipped;
+  ASSERT_TRUE(map.mergeNodes(j, j8, &zipped));
+  ASSERT_EQ(zipped.size(), 1u);
+  EXPECT_EQ(zipped[0], std::make_pair(d, d7));
+  EXPECT_EQ(map.node(d7), nullptr);
+  ASSERT_EQ(map.nodeCount(), 4u);
+  ASSERT_EQ(map.edgeCount(), 3u);
+  for (const auto& [id, e] : map.edges()) {
+    if (e.source == j6) {
+      EXPECT_EQ(e.target, s);
+      EXPECT_NEAR(e.length, 0.98, 1e-9);
+    } else if (e.source == d) {
+      EXPECT_EQ(e.target, j);
+      EXPECT_NEAR(e.length, 0.5 * (2.74 + 2.96), 1e-9);
+    } else {
+      EXPECT_EQ(e.source, s);
+      EXPECT_EQ(e.target, d);
+    }
+  }
+  // A junction and a door the same distance behind are two places: left alone.
+  TopologicalMap other;
+  const uint32_t a = other.addNode(nodeAt(NodeType::Junction, 0, 0));
+  const uint32_t b = other.addNode(nodeAt(NodeType::Junction, 3, 0));
+  const uint32_t c = other.addNode(nodeAt(NodeType::Door, 0.2, 0));
+  const uint32_t b2 = other.addNode(nodeAt(NodeType::Junction, 3.1, 0));
+  other.addEdge(a, b, 0.0, 3.0);
+  other.addEdge(c, b2, 0.0, 2.9);
+  std::vector<std::pair<uint32_t, uint32_t>> none;
+  ASSERT_TRUE(other.mergeNodes(b, b2, &none));
+  EXPECT_TRUE(none.empty());
+  EXPECT_EQ(other.nodeCount(), 3u);
+}
+
 TEST(TopologicalMap, AStretchPastAnUnrecognizedNodeIsCutThere) {
   // A hallway along +x: start S at x 2, door D at x 12 (edge S -> D, 10 m). The loop comes back
   // from a corner C at x 1 heading east and closes at a new door D' (11 m from C), merged into D:

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pomdp_topo {
@@ -106,8 +107,11 @@ class TopologicalMap {
   /// merged: the longer-observed one is kept and the lengths averaged. Two stretches leaving `keep`
   /// the same way to different nodes are one hallway: the longer is cut at the shorter one's far
   /// node (a loop closed past a node the returning stretch did not recognize, such as the start).
-  /// Returns false for unknown ids.
-  bool mergeNodes(uint32_t keep, uint32_t drop);
+  /// Two such stretches of about the same length (within 0.5 m) to nodes of the same type with an
+  /// opening on the same side end at one place recorded twice: those nodes are merged in turn (the
+  /// older id kept), and so on along the stretch; each such pair (keep, drop) is appended to
+  /// `also_merged`. Returns false for unknown ids.
+  bool mergeNodes(uint32_t keep, uint32_t drop, std::vector<std::pair<uint32_t, uint32_t>>* also_merged = nullptr);
 
   /// Records an opening of node `id` (the exploration's bookkeeping): the opening within
   /// `same_bearing` (rad) of `opening.bearing` is updated (explored stays once set; offset and
@@ -149,7 +153,9 @@ class TopologicalMap {
   void touch() { ++revision_; }
 
  private:
-  void splitCollinearEdges(uint32_t node);
+  void splitCollinearEdges(uint32_t node, std::vector<std::pair<uint32_t, uint32_t>>* also_merged);
+  /// Same node type, and an opening on the same side (or neither has one).
+  bool sameKind(uint32_t a, uint32_t b) const;
 
   std::map<uint32_t, TopoNode> nodes_;
   std::map<uint32_t, TopoEdge> edges_;
