@@ -1,6 +1,7 @@
 #include "pomdp_topo/map_builder.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 
@@ -59,6 +60,21 @@ int MapBuilder::currentNode() const {
   if (e == nullptr) return -1;
   const bool near_target = st.forward ? st.offset > 0.5 * e->length : st.offset < 0.5 * e->length;
   return int(near_target == st.forward ? e->target : e->source);
+}
+
+std::string MapBuilder::loopEvidence() const {
+  const Candidate* best = nullptr;
+  for (const auto& c : candidates_) {
+    if (best == nullptr || c.score > best->score) best = &c;
+  }
+  if (best == nullptr) return "no candidate";
+  char text[200];
+  std::snprintf(text, sizeof(text),
+                "best node %u: position prior %.2f, %d landmarks matched, %d unexpected openings, %d expected "
+                "missed, turns %d possible / %d not; new place %.2f",
+                best->node, best->prior, best->matched, best->unexpected, best->missed, best->turns_possible,
+                best->turns_impossible, loop_new_score_);
+  return text;
 }
 
 double MapBuilder::loopLogOdds() const {
@@ -419,7 +435,24 @@ bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const
     if (!map_->exitWithHeading(m.id, go, 0.25 * kPi, &exit)) continue;  // nothing to verify against
     Candidate c;
     c.node = m.id;
-    c.score = std::log(1.0 - params_.loop_new_place_prior) - d * d / (2.0 * sigma * sigma);
+    c.prior = std::log(1.0 - params_.loop_new_place_prior) - d * d / (2.0 * sigma * sigma);
+    c.score = c.prior;
+    // The side openings of a node `base` metres along the path, as landmarks the robot will pass.
+    auto expectOpenings = [&](uint32_t id, double base) {
+      for (const NodeOpening& o : map_->node(id)->openings) {
+        const double s = std::sin(normalizeAngle(o.bearing - go));
+        if (std::abs(s) < 0.7) continue;  // along the hallway: not a side opening
+        EdgeLandmark r;
+        r.type = LandmarkType::Opening;
+        r.distance = base;
+        r.lateral = s > 0 ? 1.0 : -1.0;
+        r.p_lmap = 0.9;
+        c.expected.push_back(r);
+      }
+    };
+    // The old node's own openings first: the new node's door is passed (pass_lag behind the robot)
+    // after the node was made, during the check; unexpected, it counted against every door loop.
+    expectOpenings(m.id, 0.0);
     // The known path beyond the old node, straight on.
     double base = 0.0;
     uint32_t at = m.id;
@@ -439,16 +472,7 @@ bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const
       base += e->length;
       at = x.other;
       c.expected_nodes.push_back(base);
-      for (const NodeOpening& o : map_->node(at)->openings) {
-        const double s = std::sin(normalizeAngle(o.bearing - go));
-        if (std::abs(s) < 0.7) continue;  // along the hallway: not a side opening
-        EdgeLandmark r;
-        r.type = LandmarkType::Opening;
-        r.distance = base;
-        r.lateral = s > 0 ? 1.0 : -1.0;
-        r.p_lmap = 0.9;
-        c.expected.push_back(r);
-      }
+      expectOpenings(at, base);
     }
     c.path_end = base;
     c.used.assign(c.expected.size(), false);
@@ -488,8 +512,10 @@ void MapBuilder::processLoopCheck(const Scan& scan, const FrontEnd& fe) {
         c.score += std::log(std::max(1e-3, l.p_lmap));
         c.used[i] = true;
         matched = true;
+        ++c.matched;
         break;
       }
+      if (!matched && p.landmark.type == LandmarkType::Opening) ++c.unexpected;
       // An unexpected opening speaks against the old place; an unexpected corner does not (corners
       // seen at low confidence on the first pass were never added to the map).
       if (!matched) c.score += std::log(p.landmark.type == LandmarkType::Opening ? p_false : p_new);
@@ -522,14 +548,18 @@ void MapBuilder::processLoopCheck(const Scan& scan, const FrontEnd& fe) {
         if (base > u + params_.node_radius) break;
       }
       c.score += std::log(possible ? 0.9 : 0.02);
+      ++(possible ? c.turns_possible : c.turns_impossible);
     }
   }
   // Expected landmarks left behind unseen (eq. 5's 1 - p_lmap), and travel past the known path.
   for (auto& c : candidates_) {
     for (size_t i = 0; i < c.expected.size(); ++i) {
       if (c.used[i] || c.expected[i].distance > u - params_.match_distance - fe_params_.pass_lag) continue;
+      // The old node's own openings (distance 0) may have been passed before the check began.
+      if (c.expected[i].distance <= 0.0) continue;
       c.score += std::log(std::max(1e-3, 1.0 - c.expected[i].p_lmap));
       c.used[i] = true;
+      ++c.missed;
     }
     if (u > c.path_end + params_.node_radius) c.score = -std::numeric_limits<double>::infinity();
   }
@@ -553,12 +583,13 @@ void MapBuilder::decideLoop(bool old_wins, const FrontEnd& fe) {
     }
     const uint32_t keep = best->node;
     const double odds = loopLogOdds();
+    const std::string evidence = loopEvidence();
     candidates_.clear();
     std::vector<std::pair<uint32_t, uint32_t>> zipped;
     map_->mergeNodes(keep, loop_new_node_, &zipped);
     loops_.emplace_back(keep, loop_new_node_);
     event("loop closed: node " + std::to_string(loop_new_node_) + " merged into node " + std::to_string(keep) +
-          " (log odds " + std::to_string(odds) + ")");
+          " (log odds " + std::to_string(odds) + "; " + evidence + ")");
     for (const auto& [kept, dropped] : zipped) {
       event("node " + std::to_string(dropped) + " merged into node " + std::to_string(kept) +
             ": the same place, on the stretch the loop closed along");
@@ -574,7 +605,7 @@ void MapBuilder::decideLoop(bool old_wins, const FrontEnd& fe) {
   }
   ++loops_rejected_;
   event("loop hypothesis rejected: node " + std::to_string(loop_new_node_) + " is a new place (log odds " +
-        std::to_string(loopLogOdds()) + ")");
+        std::to_string(loopLogOdds()) + "; " + loopEvidence() + ")");
   candidates_.clear();
   if (loop_bin_ != frontier_bin_) {
     // Turned at the new junction: the new stretch starts there, along the branch taken.

@@ -96,6 +96,8 @@ class MapBuilder {
   size_t loopsRejected() const { return loops_rejected_; }
   /// LoopCheck: the log odds of the best old-place hypothesis against the new place.
   double loopLogOdds() const;
+  /// The best candidate's evidence so far, for the log ("3 landmarks matched, 1 expected missed, ...").
+  std::string loopEvidence() const;
 
  private:
   struct Candidate {
@@ -105,6 +107,8 @@ class MapBuilder {
     std::vector<double> expected_nodes;  // distances of the nodes on that path
     std::vector<bool> used;
     double path_end = 0.0;               // m, where the known path beyond the node ends
+    double prior = 0.0;                  // the position prior's part of score (log)
+    int matched = 0, unexpected = 0, missed = 0, turns_possible = 0, turns_impossible = 0;  // the evidence, for the log
   };
   /// What the builder needs of one scan (kept to replay the scans of a rejected loop hypothesis).
   struct Scan {
