@@ -27,7 +27,7 @@ while kill -0 "$LAUNCH" 2>/dev/null; do
 done
 END=$(date +%s.%N)
 {
-  echo -n "{\"wall_time_s\": $(echo "$END - $START" | bc)"
+  echo -n "{\"wall_time_s\": $(awk -v a="$START" -v b="$END" 'BEGIN { printf "%.1f", b - a }')"
   for node in "${!PEAK[@]}"; do echo -n ", \"${node}_peak_rss_kb\": ${PEAK[$node]}"; done
   echo "}"
 } > "$OUT/$NAME.memory.json"
