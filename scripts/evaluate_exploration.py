@@ -141,6 +141,7 @@ class ExplorationEvaluator:
             'rooms_missed': [r for r in rooms if r not in per_room],
             'rooms_mapped_twice': {r: n for r, n in per_room.items() if n > 1},
             'rooms_unreachable': unreachable,
+            'place_rooms': {str(k): v for k, v in sorted(place_room.items())},
             'places': s.places if s else 0, 'places_in_no_room': sorted(k for k in range(s.places if s else 0)
                                                                         if k not in place_room),
             'hallway_doors': len(doors), 'doors_found': found, 'doors_missed': missed,

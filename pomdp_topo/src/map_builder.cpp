@@ -699,6 +699,32 @@ void MapBuilder::processLocalized(const Scan& scan) {
   if (sure && params_.mapping && beyond_ == 0.0) updateKnownEdge(scan);
 }
 
+bool MapBuilder::knownOpeningNear(const TopoEdge& e, double d, double bearing, double width) const {
+  // Nodes within reach of d along the graph: the edge's ends, and their neighbours as far as the
+  // reach goes on (short edges between doors facing each other across a hallway).
+  const double reach = params_.min_node_separation + params_.match_distance;
+  std::vector<std::pair<uint32_t, double>> todo = {{e.source, reach - std::max(0.0, d)},
+                                                   {e.target, reach - std::max(0.0, e.length - d)}};
+  std::vector<uint32_t> seen;
+  while (!todo.empty()) {
+    const auto [id, left] = todo.back();
+    todo.pop_back();
+    if (left < 0.0 || std::find(seen.begin(), seen.end(), id) != seen.end()) continue;
+    seen.push_back(id);
+    const TopoNode* n = map_->node(id);
+    if (n == nullptr) continue;
+    for (const NodeOpening& o : n->openings) {
+      const bool other_width = o.width > 0.0 && width > 0.0 && std::abs(o.width - width) > TopologicalMap::kDifferentWidth;
+      if (!other_width && std::abs(normalizeAngle(o.bearing - bearing)) < kSameBearing) return true;
+    }
+    for (const EdgeExit& x : map_->exits(id)) {
+      const TopoEdge* next = map_->edge(x.edge);
+      if (next != nullptr) todo.push_back({x.other, left - next->length});
+    }
+  }
+  return false;
+}
+
 void MapBuilder::updateKnownEdge(const Scan& scan) {
   const int ml = localizer_->mostLikely();
   const PomdpLocalizer::State st = localizer_->state(size_t(ml));
@@ -758,6 +784,12 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       // A wide opening in the middle of a known stretch: a junction the first pass did not see is
       // unlikely (hallway branches are seen from afar); a gap beside a pillar or a wide view into
       // a room is not. Not a node.
+      continue;
+    } else if (knownOpeningNear(*e, d, normalizeAngle(st.heading + (p.landmark.lateral >= 0.0 ? 0.5 : -0.5) * kPi),
+                                p.landmark.width)) {
+      // A door a node near here already has: the belief is a little off along the edge (institute:
+      // office_10's door, 0.84 m from seminar's across the hallway, was added to seminar's node as
+      // a second, unexplored opening, and the room was explored twice).
       continue;
     } else if (!near_end) {
       // A new opening creates a new node (an unknown door on a known stretch).

@@ -135,6 +135,9 @@ class MapBuilder {
   bool statePosition(const PomdpLocalizer::State& st, Eigen::Vector2d* p) const;
   void decideLoop(bool old_wins, const FrontEnd& fe);
   void updateKnownEdge(const Scan& scan);
+  /// A node within min_node_separation + match_distance of `d` along edge `e` (either way, through
+  /// short edges) has an opening at `bearing` (map frame) of a compatible `width`.
+  bool knownOpeningNear(const TopoEdge& e, double d, double bearing, double width) const;
   void splitEdgeWithDoor(uint32_t edge, double distance, const ObservedLandmark& opening, double heading);
   Fingerprint fingerprintAt(const Eigen::Vector2d& position, const FrontEnd& fe) const;
   double fingerprintSimilarity(const Fingerprint& a, const Fingerprint& b) const;
