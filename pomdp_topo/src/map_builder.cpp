@@ -703,8 +703,11 @@ bool MapBuilder::knownOpeningNear(const TopoEdge& e, double d, double bearing, d
   // Nodes within reach of d along the graph: the edge's ends, and their neighbours as far as the
   // reach goes on (short edges between doors facing each other across a hallway).
   const double reach = params_.min_node_separation + params_.match_distance;
-  std::vector<std::pair<uint32_t, double>> todo = {{e.source, reach - std::max(0.0, d)},
-                                                   {e.target, reach - std::max(0.0, e.length - d)}};
+  return knownOpeningNear({{e.source, reach - std::max(0.0, d)}, {e.target, reach - std::max(0.0, e.length - d)}},
+                          bearing, width);
+}
+
+bool MapBuilder::knownOpeningNear(std::vector<std::pair<uint32_t, double>> todo, double bearing, double width) const {
   std::vector<uint32_t> seen;
   while (!todo.empty()) {
     const auto [id, left] = todo.back();
@@ -725,11 +728,39 @@ bool MapBuilder::knownOpeningNear(const TopoEdge& e, double d, double bearing, d
   return false;
 }
 
+void MapBuilder::addOpeningsAtNode(const PomdpLocalizer::State& st, const Scan& scan) {
+  // A door passed while the belief is at a node that does not know it: a door facing the node's
+  // own across the hallway, seen only after a U-turn at a hallway end just past it (institute's
+  // printer, 0.2 m from director's; the belief stays at the node through the turn and the first
+  // metre back, where updating edges never sees it).
+  TopoNode* n = map_->node(st.id);
+  if (n == nullptr) return;
+  const double reach = params_.min_node_separation + params_.match_distance;
+  bool changed = false;
+  for (const PassedLandmark& p : scan.passed) {
+    if (p.landmark.type != LandmarkType::Opening || p.landmark.width > params_.door_max_width) continue;
+    if (binHeading(p.heading_bin) != binHeading(binOf(st.heading))) continue;
+    NodeOpening o;
+    o.bearing = normalizeAngle(st.heading + (p.landmark.lateral >= 0.0 ? 0.5 : -0.5) * kPi);
+    o.offset = std::abs(p.landmark.lateral);
+    o.width = p.landmark.width;
+    if (knownOpeningNear({{n->id, reach}}, o.bearing, o.width)) continue;
+    n->openings.push_back(o);
+    changed = true;
+    event("opening added to node " + std::to_string(n->id));
+  }
+  if (changed) {  // as on an edge (updateKnownEdge)
+    map_->touch();
+    refreshLocalizer();
+  }
+}
+
 void MapBuilder::updateKnownEdge(const Scan& scan) {
   const int ml = localizer_->mostLikely();
   const PomdpLocalizer::State st = localizer_->state(size_t(ml));
   if (st.kind != PomdpLocalizer::State::Edge) {
     last_edge_ = -1;
+    if (st.kind == PomdpLocalizer::State::Node) addOpeningsAtNode(st, scan);
     return;
   }
   TopoEdge* e = map_->edge(st.id);

@@ -193,6 +193,23 @@ TEST(MapBuilder, DoorsFacingEachOtherCloseTogetherAreNotAddedToEachOther) {
   }
 }
 
+// institute's east end of hall_north: two doors facing each other 0.2 m apart, the robot turning
+// round just past the first before passing the second. The second, passed on the way back while
+// the belief is still at the door node, is added to that node.
+TEST(MapBuilder, ADoorPassedOnlyAfterAUTurnAtItsNodeIsAddedToIt) {
+  SyntheticFloor floor;
+  floor.doors.push_back({{5.0, 1.1}, 0.5 * kPi, 0.9});
+  floor.doors.push_back({{18.3, 1.1}, 0.5 * kPi, 0.9});
+  floor.doors.push_back({{18.5, -1.1}, -0.5 * kPi, 0.9});
+  Drive drive;
+  drive.run(&floor, {{1.5, 0}, {18.6, 0}, {10.0, 0}}, 0.0);
+  size_t openings = 0;
+  for (const auto& [id, n] : drive.map.nodes()) {
+    if (n.type == NodeType::Door) openings += n.openings.size();
+  }
+  EXPECT_EQ(openings, 3u);
+}
+
 // A rectangular ring with two doors: two laps counter-clockwise. The first return to the start
 // stretch is a loop: closed by merging, without a duplicate of any door.
 TEST(MapBuilder, RingLoopIsClosedOnceAndTheSecondLapIsLocalized) {

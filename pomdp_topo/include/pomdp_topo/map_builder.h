@@ -138,6 +138,10 @@ class MapBuilder {
   /// A node within min_node_separation + match_distance of `d` along edge `e` (either way, through
   /// short edges) has an opening at `bearing` (map frame) of a compatible `width`.
   bool knownOpeningNear(const TopoEdge& e, double d, double bearing, double width) const;
+  /// The same from a list of (node, reach left in m).
+  bool knownOpeningNear(std::vector<std::pair<uint32_t, double>> todo, double bearing, double width) const;
+  /// Doors passed while the belief is at node `st` that no node within reach has: added to it.
+  void addOpeningsAtNode(const PomdpLocalizer::State& st, const Scan& scan);
   void splitEdgeWithDoor(uint32_t edge, double distance, const ObservedLandmark& opening, double heading);
   Fingerprint fingerprintAt(const Eigen::Vector2d& position, const FrontEnd& fe) const;
   double fingerprintSimilarity(const Fingerprint& a, const Fingerprint& b) const;
