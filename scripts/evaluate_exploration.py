@@ -70,6 +70,17 @@ class ExplorationEvaluator:
                             todo.append(r)
         return seen
 
+    def into_room(self, door):
+        """World heading from a hallway door's centre into its room (the door lies in an axis-aligned wall)."""
+        room = next(r for r in self.regions if r['name'] in door['between'] and self.kinds[r['name']] == 'room')
+        cx, cy = door['center']
+        for heading in (0.0, 0.5 * math.pi, math.pi, -0.5 * math.pi):
+            dx, dy = 0.3 * math.cos(heading), 0.3 * math.sin(heading)
+            # (along the wall both sides test the same: a point on the boundary may count as inside)
+            if inside(room['polygon'], cx + dx, cy + dy) and not inside(room['polygon'], cx - dx, cy - dy):
+                return heading
+        return 0.0
+
     def region_at(self, x, y):
         for r in self.regions:
             if inside(r['polygon'], x, y):
@@ -113,16 +124,25 @@ class ExplorationEvaluator:
         # Doors between a room and a hallway: the ones a hallway exploration can find.
         doors = [d for d in self.open_doors if d['between'][0] in self.reachable and
                  sorted(self.kinds.get(b) for b in d['between']) == ['hallway', 'room']]
-        door_nodes = [n for n in (self.map.nodes if self.map else []) if n.type == 0]
+        # A door is found when a node within 1.5 m has an opening into its room (doors facing each
+        # other across a hallway, or beside a junction, are openings of one node); each opening
+        # counts for one door. A door node none of whose openings is a door is spurious.
+        nodes = list(self.map.nodes) if self.map else []
+        door_nodes = [n for n in nodes if n.type == 0]
         used = set()
         found, missed = 0, []
         for d in doors:
             mx, my = self.to_map(*d['center'])
+            into = self.into_room(d) - self.start[2]
             best = None
-            for n in door_nodes:
+            for n in nodes:
                 dist = math.hypot(n.pose.x - mx, n.pose.y - my)
-                if n.id not in used and dist <= 1.5 and (best is None or dist < best[0]):
-                    best = (dist, n.id)
+                if dist > 1.5:
+                    continue
+                for k, o in enumerate(n.openings):
+                    off = abs(math.atan2(math.sin(o.bearing - into), math.cos(o.bearing - into)))
+                    if (n.id, k) not in used and off < 0.6 and (best is None or dist < best[0]):
+                        best = (dist, (n.id, k))
             if best is None:
                 missed.append(d['between'])
             else:
@@ -145,7 +165,7 @@ class ExplorationEvaluator:
             'places': s.places if s else 0, 'places_in_no_room': sorted(k for k in range(s.places if s else 0)
                                                                         if k not in place_room),
             'hallway_doors': len(doors), 'doors_found': found, 'doors_missed': missed,
-            'spurious_door_nodes': [n.id for n in door_nodes if n.id not in used],
+            'spurious_door_nodes': [n.id for n in door_nodes if not any(u[0] == n.id for u in used)],
             'nodes': len(self.map.nodes) if self.map else 0, 'edges': len(self.map.edges) if self.map else 0,
             'openings_explored': s.openings_explored if s else 0,
             'openings_unexplored': s.openings_unexplored if s else 0,
