@@ -710,6 +710,9 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
   have_goal_ = false;
   mode_ = CoordinatorMode::Topological;
   last_turn_travel_ = travel_;
+  // The travel in the room is not travel past the route's goal node: a door facing the one just
+  // explored across the hallway (institute's director, opposite printer) was given up at once.
+  goal_pass_node_ = -1;
   if (mission_active_) {
     // A mission leaving a room: back on the hallway, on to the goal's door (nothing to record).
     place_id_ = -1;

@@ -831,6 +831,10 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       // An opening at an end node that the node does not know yet.
       const uint32_t nid = d < 0.5 * e->length ? e->source : e->target;
       TopoNode* n = map_->node(nid);
+      // A wide one at a door node is a view into a room or a gap beside furniture (as in the middle
+      // of a stretch, above), not a branch: institute's hall_north got 1.8-2.1 m "openings" at two
+      // door nodes, which the exploration turned round for five times before giving them up.
+      if (n->type != NodeType::Junction && p.landmark.width > params_.door_max_width) continue;
       NodeOpening o;
       o.bearing = normalizeAngle(st.heading + (p.landmark.lateral >= 0.0 ? 0.5 : -0.5) * kPi);
       o.offset = std::abs(p.landmark.lateral);
