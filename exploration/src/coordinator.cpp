@@ -17,6 +17,9 @@ using laser_features::Pose2D;
 
 namespace {
 
+// m: the robot is at a node when the belief puts it this close (pomdp_topo's node_radius).
+constexpr double kAtNodeDistance = 1.0;
+
 bool finite(const Pose2D& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta); }
 
 Eigen::Vector2d apply(const Pose2D& frame, const Eigen::Vector2d& p) { return laser_features::transformPoint(frame, p); }
@@ -300,7 +303,12 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     // Doors only: a hallway branch is never given up this way (the north half of institute lies
     // behind one); the robot turns into it when its side opens (below).
     const bool door_goal = route.goal_width > 0.0 && route.goal_width <= params_.door_max_width;
-    if (!mission_active_ && route.found && door_goal && near >= 0 && uint32_t(near) == route.goal_node) {
+    // Counted from within kAtNodeDistance of it: the nearest node changes half-way along an edge
+    // (institute's printer door, 1.5 m before hall_north's east end: given up 3 m after the middle
+    // of its 6.5 m edge, before the robot had reached it or turned round at the end to pass it).
+    const bool at_goal = near >= 0 && uint32_t(near) == route.goal_node;
+    const bool close = at_goal && graph_.nearestNodeDistance(topo.position) <= kAtNodeDistance;
+    if (!mission_active_ && route.found && door_goal && at_goal && (goal_pass_node_ == near || close)) {
       if (goal_pass_node_ != near) {
         goal_pass_node_ = near;
         goal_pass_travel_ = travel_;

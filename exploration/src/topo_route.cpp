@@ -121,6 +121,14 @@ int TopoGraph::nearestNode(const GraphPosition& pos) const {
   return int(to_target < pos.offset ? e->target : e->source);
 }
 
+double TopoGraph::nearestNodeDistance(const GraphPosition& pos) const {
+  const int n = nearestNode(pos);
+  if (n < 0) return std::numeric_limits<double>::infinity();
+  if (pos.at_node) return 0.0;
+  const GraphEdge* e = edge(pos.id);
+  return std::clamp(uint32_t(n) == e->target ? e->length - pos.offset : pos.offset, 0.0, e->length);
+}
+
 RouteStep TopoGraph::route(const GraphPosition& pos, double u_turn_cost) const {
   return search(pos, u_turn_cost, [this](uint32_t n) {
     const std::vector<GraphOpening> open = unexplored(n);

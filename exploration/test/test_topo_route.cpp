@@ -149,6 +149,18 @@ TEST(TopoRoute, NearestNodeOfAnEdgePosition) {
   EXPECT_EQ(g.nearestNode(onEdge(1, 3.0, kPi)), 1);
 }
 
+TEST(TopoRoute, DistanceToTheNearestNode) {
+  const TopoGraph g = hallway(false, false);
+  EXPECT_NEAR(g.nearestNodeDistance(onEdge(1, 1.0, 0.0)), 1.0, 1e-9);  // to node 1
+  EXPECT_NEAR(g.nearestNodeDistance(onEdge(1, 5.5, 0.0)), 0.5, 1e-9);  // to node 2
+  EXPECT_NEAR(g.nearestNodeDistance(onEdge(1, 3.0, kPi)), 3.0, 1e-9);
+  GraphPosition at;
+  at.valid = at.at_node = true;
+  at.id = 2;
+  EXPECT_EQ(g.nearestNodeDistance(at), 0.0);
+  EXPECT_TRUE(std::isinf(g.nearestNodeDistance(GraphPosition())));
+}
+
 TEST(TopoRoute, RouteToAMissionsDoorGoesPastNearerUnexploredOpenings) {
   TopoGraph g = hallway(false, false);
   GraphNode door{4, 0, 12.0, 0.0, 9, {GraphOpening{-0.5 * kPi, 0.8, true}, GraphOpening{0.5 * kPi, 1.8, false}}};

@@ -100,6 +100,8 @@ class TopoGraph {
   /// The node the robot is at, or the edge's end it is nearer (ahead of it when half-way); -1 if
   /// `pos` is not valid or names nothing in the graph.
   int nearestNode(const GraphPosition& pos) const;
+  /// The distance along the edge from `pos` to nearestNode(pos) (0 at a node; infinity if none).
+  double nearestNodeDistance(const GraphPosition& pos) const;
 
   /// The route from `pos` to the nearest unexplored opening (distance along the edges; a U-turn on
   /// an edge costs `u_turn_cost` m).
