@@ -173,6 +173,16 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
         setState(State::Follow, "door passed: pomdp_topo checks whether it is a known one");
         break;
       }
+      if (now_ - state_since_ >= params_.settle_time && enter_node_ < 0 && topo.mode != "frontier" &&
+          !mayEnter(topo, door_)) {
+        // Stopped for a door on a new stretch, and pomdp_topo has since closed a loop at the door's
+        // node in one go (hypothesis and verdict in one scan): the door is a known one, explored
+        // (explore_restart: room_east mapped twice). Entered only as a known unexplored door.
+        mode_ = CoordinatorMode::Topological;
+        ++stats_.doors_passed;
+        setState(State::Follow, "door passed: it is a known one (pomdp_topo closed a loop at it)");
+        break;
+      }
       if (now_ - state_since_ >= params_.settle_time) {
         // The door's node exists now (passed); the topological map stands still from here on.
         mode_ = CoordinatorMode::Metric;

@@ -126,6 +126,40 @@ TEST(Coordinator, ADoorTakenForAKnownOneIsNotEntered) {
   EXPECT_EQ(c.stats().doors_passed, 1);
 }
 
+TEST(Coordinator, ADoorWhoseLoopClosedInOneGoIsNotEnteredAgain) {
+  // explore_restart: the robot stopped for a door on a new stretch, and pomdp_topo made the door's
+  // node, took it for a known one and closed the loop in the same scan: the belief is localized at
+  // that node, whose door is explored (its room mapped). Not entered; the robot goes on.
+  TopoGraph g;
+  g.addNode(GraphNode{0, 4, 0.0, 0.0, -1, {}});
+  g.addNode(GraphNode{2, 0, 5.0, 0.0, 7, {GraphOpening{0.5 * kPi, 0.9, true}}});
+  g.addNode(GraphNode{1, 1, 10.0, 0.0, -1, {GraphOpening{0.5 * kPi, 2.0, false}}});
+  g.addEdge(GraphEdge{0, 0, 2, 0.0, 5.0});
+  g.addEdge(GraphEdge{1, 2, 1, 0.0, 5.0});
+  Coordinator c;
+  c.setGraph(g);
+  Hallway h;
+  bool place_requested = false, stopped = false;
+  double x = 0.0, t = 0.0;
+  for (int i = 0; i < 400 && x < 8.0; ++i, t += 0.1) {
+    TopoView v = view("frontier", true);
+    if (stopped) {
+      v = view("localized", true);
+      v.position.valid = true;
+      v.position.id = 1;  // on the edge 2 -> 1
+      v.position.offset = x - 5.0;
+    }
+    const Decision d = c.update(h.perceive(x, t), v, false, false);
+    stopped |= d.mode == CoordinatorMode::Switching;
+    for (const Request& q : d.requests) place_requested |= q.kind == Request::CreatePlace;
+    if (!d.stop && d.has_goal && d.x > x) x += 0.05;
+  }
+  EXPECT_TRUE(stopped);
+  EXPECT_FALSE(place_requested);
+  EXPECT_GE(x, 8.0) << "the robot did not go on along the hallway";
+  EXPECT_EQ(c.stats().doors_entered, 0);
+}
+
 TEST(Coordinator, NeverMetricWhileTheBeliefIsUnconfident) {
   Coordinator c;
   const DriveResult r = drive(&c, 0.0, 8.0, [](double) { return view("localized", false); });

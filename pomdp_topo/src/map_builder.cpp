@@ -451,7 +451,8 @@ bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const
       }
     };
     // The old node's own openings first: the new node's door is passed (pass_lag behind the robot)
-    // after the node was made, during the check; unexpected, it counted against every door loop.
+    // after the node was made, during the check; unexpected, it counted against every door loop
+    // (small_loop's closed at log odds 0.99, by a hair at the next corner's turn).
     expectOpenings(m.id, 0.0);
     // The known path beyond the old node, straight on.
     double base = 0.0;
@@ -509,7 +510,10 @@ void MapBuilder::processLoopCheck(const Scan& scan, const FrontEnd& fe) {
         const EdgeLandmark& l = c.expected[i];
         if (c.used[i] || l.type != p.landmark.type || sideOf(l.lateral) != sideOf(p.landmark.lateral)) continue;
         if (std::abs(l.distance - pos) > params_.match_distance) continue;
-        c.score += std::log(std::max(1e-3, l.p_lmap));
+        // The new node's own door (distance 0) is no evidence either way: both hypotheses have it
+        // (the candidate was chosen for its openings). Scored like the new place's, it only keeps
+        // it from counting against the old one.
+        c.score += l.distance <= 0.0 ? std::log(p_new) : std::log(std::max(1e-3, l.p_lmap));
         c.used[i] = true;
         matched = true;
         ++c.matched;
