@@ -309,7 +309,19 @@ void MapBuilder::frontierTurn(int k, const Scan& scan, const FrontEnd& fe) {
 uint32_t MapBuilder::createNode(NodeType type, double pos, const Scan& scan, const FrontEnd& fe,
                                 const std::vector<NodeOpening>& openings) {
   const double h = binHeading(frontier_bin_);
-  if (pos < params_.min_node_separation) {
+  // Two openings on the same side whose centres are nearer than half their widths' sum would
+  // overlap: one opening seen twice (institute's hall_link mouth, 2.2 m wide, made two junction
+  // nodes 0.97 m apart; the second's "branch" sent the robot round for 600 s and lost it).
+  double join = params_.min_node_separation;
+  if (const TopoNode* last = map_->node(from_node_)) {
+    for (const NodeOpening& o : openings) {
+      for (const NodeOpening& k : last->openings) {
+        if (std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameBearing && o.width > 0.0 && k.width > 0.0)
+          join = std::max(join, 0.5 * (o.width + k.width));
+      }
+    }
+  }
+  if (pos < join) {
     TopoNode* node = map_->node(from_node_);
     for (const NodeOpening& o : openings) {
       const bool present = std::any_of(node->openings.begin(), node->openings.end(), [&](const NodeOpening& k) {

@@ -210,6 +210,16 @@ TEST(MapBuilder, ADoorPassedOnlyAfterAUTurnAtItsNodeIsAddedToIt) {
   EXPECT_EQ(openings, 3u);
 }
 
+// institute's hall_link mouth: a 2.2 m wide branch seen as two openings 1 m apart. One junction.
+TEST(MapBuilder, AWideBranchSeenTwiceIsOneJunction) {
+  SyntheticFloor floor;
+  floor.doors.push_back({{8.0, 1.1}, 0.5 * kPi, 2.1});
+  floor.doors.push_back({{9.0, 1.1}, 0.5 * kPi, 2.1});
+  Drive drive;
+  drive.run(&floor, {{1.5, 0}, {15.0, 0}}, 0.0);
+  EXPECT_EQ(drive.count(NodeType::Junction), 1u);
+}
+
 // A rectangular ring with two doors: two laps counter-clockwise. The first return to the start
 // stretch is a loop: closed by merging, without a duplicate of any door.
 TEST(MapBuilder, RingLoopIsClosedOnceAndTheSecondLapIsLocalized) {
