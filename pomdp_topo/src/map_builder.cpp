@@ -1,8 +1,8 @@
 #include "pomdp_topo/map_builder.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace pomdp_topo {
