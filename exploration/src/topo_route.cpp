@@ -148,8 +148,9 @@ std::optional<PlaceDoor> TopoGraph::placeDoor(int place_id, double door_max_widt
   for (const auto& entry : nodes_) {
     const GraphNode& n = entry.second;
     if (n.place_id != place_id) continue;
-    // The place's door: the node's explored opening of a door's width (the coordinator marks it
-    // explored when it links the place); a node with no such opening keeps its first one.
+    // The place's door: pomdp_topo puts the linked place's door first among the node's openings
+    // (TopologicalMap::linkPlace), explored (the coordinator marks it when it links the place); the
+    // first explored opening of a door's width, else the first of a door's width.
     PlaceDoor door;
     door.node = n.id;
     door.door_in_place[0] = n.door_x;

@@ -334,14 +334,16 @@ class TopoNodeRos {
       res.message = "no node " + std::to_string(id) + " (or a non-finite bearing)";
       return true;
     }
-    if (req.place_id >= 0) {
-      TopoNode* node = map_.node(uint32_t(id));
-      node->place_id = req.place_id;
-      node->door_in_place = Pose2D{d.x, d.y, laser_features::normalizeAngle(d.theta)};
-    }
     res.success = true;
     res.node = id;
     res.message = "node " + std::to_string(id) + " updated";
+    if (req.place_id >= 0 && !map_.linkPlace(uint32_t(id), o, req.place_id, Pose2D{d.x, d.y, d.theta})) {
+      // Doors facing each other are one node, which links one place: the room is mapped, but
+      // missions cannot name it (the map format has one place per node).
+      res.message += "; place " + std::to_string(req.place_id) + " not linked: the node links place " +
+                     std::to_string(map_.node(uint32_t(id))->place_id);
+      ROS_WARN_STREAM("pomdp_topo: " << res.message);
+    }
     publishMap();
     if (autosave_ && !map_file_.empty()) save(map_file_, nullptr);
     return true;

@@ -87,13 +87,29 @@ bool TopologicalMap::removeNode(uint32_t id) {
   return true;
 }
 
-bool TopologicalMap::recordOpening(uint32_t id, const NodeOpening& opening, double same_bearing) {
-  TopoNode* n = node(id);
-  if (n == nullptr || !std::isfinite(opening.bearing)) return false;
-  auto it = std::find_if(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {
+std::vector<NodeOpening>::iterator TopologicalMap::findOpening(TopoNode* n, const NodeOpening& opening,
+                                                              double same_bearing) {
+  return std::find_if(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {
     const bool other_width = k.width > 0.0 && opening.width > 0.0 && std::abs(k.width - opening.width) > kDifferentWidth;
     return std::abs(normalizeAngle(k.bearing - opening.bearing)) < same_bearing && !other_width;
   });
+}
+
+bool TopologicalMap::linkPlace(uint32_t id, const NodeOpening& door, int32_t place_id, const Pose2D& door_in_place) {
+  TopoNode* n = node(id);
+  if (n == nullptr || place_id < 0) return false;
+  if (n->place_id >= 0 && n->place_id != place_id) return false;  // one place per node: the first stays
+  auto it = findOpening(n, door, 0.4);
+  if (it != n->openings.end()) std::rotate(n->openings.begin(), it, it + 1);  // the place's door first
+  n->place_id = place_id;
+  n->door_in_place = Pose2D{door_in_place.x, door_in_place.y, normalizeAngle(door_in_place.theta)};
+  return true;
+}
+
+bool TopologicalMap::recordOpening(uint32_t id, const NodeOpening& opening, double same_bearing) {
+  TopoNode* n = node(id);
+  if (n == nullptr || !std::isfinite(opening.bearing)) return false;
+  auto it = findOpening(n, opening, same_bearing);
   if (it == n->openings.end()) {
     NodeOpening o = opening;
     o.bearing = normalizeAngle(o.bearing);
@@ -117,8 +133,9 @@ bool TopologicalMap::mergeNodes(uint32_t keep, uint32_t drop, std::vector<std::p
     recordOpening(keep, o, kSameDirection);  // an opening explored from either copy stays explored
   }
   if (kept.place_id < 0 && dropped.place_id >= 0) {
-    kept.place_id = dropped.place_id;
-    kept.door_in_place = dropped.door_in_place;
+    // The dropped node's place came with its door, its first opening (linkPlace).
+    linkPlace(keep, dropped.openings.empty() ? NodeOpening() : dropped.openings.front(), dropped.place_id,
+              dropped.door_in_place);
   }
   for (auto& entry : edges_) {
     TopoEdge& e = entry.second;

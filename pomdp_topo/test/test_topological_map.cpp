@@ -138,6 +138,36 @@ TEST(TopologicalMap, ANodeRecordedTwiceBehindAClosedLoopIsZipped) {
   EXPECT_EQ(other.nodeCount(), 3u);
 }
 
+TEST(TopologicalMap, APlaceIsLinkedThroughItsDoorWhichComesFirstAndANodeKeepsItsFirstPlace) {
+  // institute's library and office_11: two doors facing each other, one node. The place entered
+  // second through the south door is linked; the north door's room, entered after, is not.
+  TopologicalMap map;
+  const uint32_t n = map.addNode(nodeAt(NodeType::Door, 0, 0));
+  NodeOpening north, south;
+  north.bearing = 0.5 * kPi;
+  north.width = 1.2;
+  south.bearing = -0.5 * kPi;
+  south.width = 0.9;
+  map.recordOpening(n, north);
+  map.recordOpening(n, south);
+  ASSERT_TRUE(map.linkPlace(n, south, 18, Pose2D{0.1, 0.2, 0.3}));
+  EXPECT_EQ(map.node(n)->place_id, 18);
+  EXPECT_NEAR(map.node(n)->openings.front().bearing, -0.5 * kPi, 1e-9);  // the place's door first
+  EXPECT_FALSE(map.linkPlace(n, north, 19, Pose2D{}));
+  EXPECT_EQ(map.node(n)->place_id, 18);
+  EXPECT_NEAR(map.node(n)->door_in_place.y, 0.2, 1e-9);
+  EXPECT_NEAR(map.node(n)->openings.front().bearing, -0.5 * kPi, 1e-9);
+  EXPECT_TRUE(map.linkPlace(n, south, 18, Pose2D{0.1, 0.2, 0.3}));  // the same place again
+  // A merge hands the dropped node's place to a kept node without one, its door first.
+  const uint32_t k = map.addNode(nodeAt(NodeType::Door, 0.1, 0));
+  map.recordOpening(k, north);
+  ASSERT_TRUE(map.mergeNodes(k, n));
+  EXPECT_EQ(map.node(k)->place_id, 18);
+  ASSERT_EQ(map.node(k)->openings.size(), 2u);
+  EXPECT_NEAR(map.node(k)->openings.front().bearing, -0.5 * kPi, 1e-9);
+  EXPECT_FALSE(map.linkPlace(99, south, 1, Pose2D{}));
+}
+
 TEST(TopologicalMap, AStretchPastAnUnrecognizedNodeIsCutThere) {
   // A hallway along +x: start S at x 2, door D at x 12 (edge S -> D, 10 m). The loop comes back
   // from a corner C at x 1 heading east and closes at a new door D' (11 m from C), merged into D:

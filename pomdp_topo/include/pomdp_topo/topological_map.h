@@ -122,6 +122,12 @@ class TopologicalMap {
   /// localizer's states stay). False for an unknown node or a non-finite bearing.
   static constexpr double kDifferentWidth = 0.6;  // m
   bool recordOpening(uint32_t id, const NodeOpening& opening, double same_bearing = 0.4);
+  /// Links place `place_id` (its door at `door_in_place` in the place's frame) to node `id` through
+  /// the node's opening matching `door` (as recordOpening matches), which becomes the node's first:
+  /// the place's door is the node's first opening. A node links one place, the first: false (no
+  /// change) when it links another already (doors facing each other across a hallway are one node;
+  /// the second room is mapped but not linked), an unknown node or a negative id.
+  bool linkPlace(uint32_t id, const NodeOpening& door, int32_t place_id, const Pose2D& door_in_place);
 
   const TopoNode* node(uint32_t id) const;
   TopoNode* node(uint32_t id);
@@ -154,6 +160,7 @@ class TopologicalMap {
 
  private:
   void splitCollinearEdges(uint32_t node, std::vector<std::pair<uint32_t, uint32_t>>* also_merged);
+  static std::vector<NodeOpening>::iterator findOpening(TopoNode* n, const NodeOpening& opening, double same_bearing);
   /// Same node type, and an opening on the same side (or neither has one).
   bool sameKind(uint32_t a, uint32_t b) const;
 
