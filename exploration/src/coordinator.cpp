@@ -164,23 +164,17 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
         if (now_ - state_since_ >= params_.settle_time) relocate(p, topo, &d);
         break;
       }
-      if (now_ - state_since_ >= params_.settle_time && enter_node_ < 0 && topo.mode == "loop_check") {
-        // pomdp_topo made the door's node and took it for a known one (a loop hypothesis): the room
-        // may be mapped already. Go on along the hallway; the check merges the node (the door is
-        // explored) or rejects it (its opening stays unexplored and the door is come back to).
-        mode_ = CoordinatorMode::Topological;
-        ++stats_.doors_passed;
-        setState(State::Follow, "door passed: pomdp_topo checks whether it is a known one");
-        break;
-      }
       if (now_ - state_since_ >= params_.settle_time && enter_node_ < 0 && topo.mode != "frontier" &&
           !mayEnter(topo, door_)) {
-        // Stopped for a door on a new stretch, and pomdp_topo has since closed a loop at the door's
-        // node in one go (hypothesis and verdict in one scan): the door is a known one, explored
-        // (explore_restart: room_east mapped twice). Entered only as a known unexplored door.
+        // Stopped for a door on a new stretch, and pomdp_topo has since made its node and taken it
+        // for a known one: a loop hypothesis (the check merges the node, the door explored, or
+        // rejects it, its opening unexplored and come back to), or a loop closed in the same scan
+        // (explore_restart: room_east mapped twice). Entered only as a known unexplored door
+        // (mayEnter); else on along the hallway.
         mode_ = CoordinatorMode::Topological;
         ++stats_.doors_passed;
-        setState(State::Follow, "door passed: it is a known one (pomdp_topo closed a loop at it)");
+        setState(State::Follow, topo.mode == "loop_check" ? "door passed: pomdp_topo checks whether it is a known one"
+                                                          : "door passed: it is a known one (pomdp_topo closed a loop at it)");
         break;
       }
       if (now_ - state_since_ >= params_.settle_time) {

@@ -13,6 +13,14 @@ using laser_features::normalizeAngle;
 namespace {
 constexpr double kSameBearing = 0.4;  // rad: two openings of a node this close in bearing are one
 double sideOf(double lateral) { return lateral >= 0.0 ? 1.0 : -1.0; }
+// The node opening a side landmark passed while travelling along `heading` (map frame) stands for.
+NodeOpening sideOpening(double heading, const ObservedLandmark& l) {
+  NodeOpening o;
+  o.bearing = normalizeAngle(heading + (l.lateral >= 0.0 ? 0.5 : -0.5) * kPi);
+  o.offset = std::abs(l.lateral);
+  o.width = l.width;
+  return o;
+}
 }  // namespace
 
 MapBuilder::MapBuilder(TopologicalMap* map, PomdpLocalizer* localizer, const MapBuilderParams& params)
@@ -756,10 +764,7 @@ void MapBuilder::addOpeningsAtNode(const PomdpLocalizer::State& st, const Scan& 
   for (const PassedLandmark& p : scan.passed) {
     if (p.landmark.type != LandmarkType::Opening || p.landmark.width > params_.door_max_width) continue;
     if (binHeading(p.heading_bin) != binHeading(binOf(st.heading))) continue;
-    NodeOpening o;
-    o.bearing = normalizeAngle(st.heading + (p.landmark.lateral >= 0.0 ? 0.5 : -0.5) * kPi);
-    o.offset = std::abs(p.landmark.lateral);
-    o.width = p.landmark.width;
+    const NodeOpening o = sideOpening(st.heading, p.landmark);
     if (knownOpeningNear({{n->id, reach}}, o.bearing, o.width)) continue;
     n->openings.push_back(o);
     changed = true;
@@ -832,8 +837,7 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       // unlikely (hallway branches are seen from afar); a gap beside a pillar or a wide view into
       // a room is not. Not a node.
       continue;
-    } else if (knownOpeningNear(*e, d, normalizeAngle(st.heading + (p.landmark.lateral >= 0.0 ? 0.5 : -0.5) * kPi),
-                                p.landmark.width)) {
+    } else if (knownOpeningNear(*e, d, sideOpening(st.heading, p.landmark).bearing, p.landmark.width)) {
       // A door a node near here already has: the belief is a little off along the edge (institute:
       // office_10's door, 0.84 m from seminar's across the hallway, was added to seminar's node as
       // a second, unexplored opening, and the room was explored twice).
@@ -851,10 +855,7 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       // of a stretch, above), not a branch: institute's hall_north got 1.8-2.1 m "openings" at two
       // door nodes, which the exploration turned round for five times before giving them up.
       if (n->type != NodeType::Junction && p.landmark.width > params_.door_max_width) continue;
-      NodeOpening o;
-      o.bearing = normalizeAngle(st.heading + (p.landmark.lateral >= 0.0 ? 0.5 : -0.5) * kPi);
-      o.offset = std::abs(p.landmark.lateral);
-      o.width = p.landmark.width;
+      const NodeOpening o = sideOpening(st.heading, p.landmark);
       const bool present = std::any_of(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {
         return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameBearing;
       });
