@@ -61,9 +61,10 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
     return fail("branch_record_distance and u_turn_cost must be >= 0, goal_refresh_distance > 0");
   if (!(p.relocation_timeout > 0.0 && p.mission_time_limit > 0.0 && p.mission_stall_time > 0.0 &&
         p.mission_goal_tolerance > 0.0 && p.mission_heading_tolerance > 0.0 &&
-        p.mission_accept_distance >= p.mission_goal_tolerance && p.mission_accept_angle >= p.mission_heading_tolerance))
+        p.mission_accept_distance >= p.mission_goal_tolerance && p.mission_accept_angle >= p.mission_heading_tolerance &&
+        p.mission_refine_attempts >= 0))
     return fail("relocation_timeout, mission_time_limit, mission_stall_time and the mission tolerances must be > 0, "
-                "the accepted distance and angle at least the tolerances");
+                "the accepted distance and angle at least the tolerances, mission_refine_attempts >= 0");
   if (p.max_relocation_failures < 0) return fail("max_relocation_failures must be >= 0");
   return RoomExplorer::validate(p.room, error);
 }
@@ -814,6 +815,7 @@ void Coordinator::beginGoToGoal(const std::string& text, bool inside) {
   setState(State::GoToGoal, text);
   mission_entered_ = inside;
   mission_goal_odom_valid_ = false;
+  mission_refines_ = 0;
   mission_path_.clear();
   mission_best_ = std::numeric_limits<double>::infinity();
   mission_best_time_ = now_;
@@ -998,19 +1000,22 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
     d->x = mission_goal_odom_.x;
     d->y = mission_goal_odom_.y;
     d->theta = mission_goal_odom_.theta;
-    // Sent again already within the accepted distance (only the heading was off): the controller
-    // turns on the spot instead of driving a differential drive a few millimetres.
-    d->tolerance = std::make_pair(dist < params_.mission_accept_distance ? params_.mission_accept_distance
-                                                                         : params_.mission_goal_tolerance,
-                                  params_.mission_heading_tolerance);
+    d->tolerance = std::make_pair(params_.mission_goal_tolerance, params_.mission_heading_tolerance);
     // Reached when the controller says so (it has stopped there; the EKF's estimate alone can pass
     // through the goal while the robot still turns, and the robot would stop 0.5 rad further on at
-    // rate 10) and the EKF agrees; else the goal is sent again from the EKF's estimate.
-    if (sent && reached_ && close) {
+    // rate 10) and the EKF agrees within the tolerances. Else the goal is sent again from the EKF's
+    // estimate (the controller backs up to a goal a few centimetres behind), mission_refine_attempts
+    // times, and then accepted within the accepted distance: the estimate moves by a few
+    // millimetres with every scan.
+    const bool precise = dist <= params_.mission_goal_tolerance && herr <= params_.mission_heading_tolerance;
+    if (sent && reached_ && (precise || (close && mission_refines_ >= params_.mission_refine_attempts))) {
       endMission(true, "goal reached in place " + std::to_string(place_id_) + at, d);
       return;
     }
-    if (sent && reached_) mission_goal_odom_valid_ = false;
+    if (sent && reached_) {
+      ++mission_refines_;
+      mission_goal_odom_valid_ = false;
+    }
     blocked_at_goal = sent && blocked_;
     if (blocked_at_goal && !close) {
       endMission(false, "the goal is not reachable: stopped at the closest reachable pose" + std::string(at), d);

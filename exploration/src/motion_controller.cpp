@@ -78,6 +78,8 @@ bool MotionController::validate(const MotionParams& p, std::string* error) {
   if (!nonneg(p.min_linear) || p.min_linear > p.max_linear)
     return fail(error, "min_linear must be in [0, max_linear]");
   if (!positive(p.heading_gain)) return fail(error, "heading_gain must be > 0");
+  if (!nonneg(p.reverse_distance) || p.reverse_distance > p.safety_margin)
+    return fail(error, "reverse_distance must be in [0, safety_margin]");
   if (!positive(p.turn_in_place_angle) || p.turn_in_place_angle > kPi)
     return fail(error, "turn_in_place_angle must be in (0, pi]");
   if (p.candidate_headings < 3 || p.candidate_headings > 3600)
@@ -308,8 +310,25 @@ Command MotionController::drive(const Pose2D& pose, double dt) {
   }
   free_ahead_ = freeDistance(pose.theta);
 
-  // Candidates k * spacing from the goal direction, k = 0 first: the goal direction is one of them.
   const double goal_direction = std::atan2(dy, dx);
+  // The fine approach: a goal a few centimetres behind (an EKF correction after the final turn)
+  // is reached backwards. Turning round to it would turn half a circle there and half back, and
+  // each turn's odometry error moves the goal again.
+  if (goal_theta_ && distance <= params_.reverse_distance &&
+      std::abs(normalizeAngle(goal_direction - pose.theta)) > 0.5 * kPi && freeDistance(pose.theta + kPi) >= distance) {
+    target_heading_ = normalizeAngle(goal_direction + kPi);  // the rear towards the goal
+    const double error = normalizeAngle(target_heading_ - pose.theta);
+    double v = 0.0;
+    if (std::abs(error) <= params_.turn_in_place_angle)
+      v = -std::max(params_.min_linear, params_.max_linear * std::sqrt(distance / params_.slow_down_distance)) *
+          std::cos(error);
+    have_previous_choice_ = false;
+    status_ = MotionStatus::Moving;
+    setText("moving: backwards, %.3f m to the goal", distance);
+    return limit(Command{v, turnRate(error)}, dt);
+  }
+
+  // Candidates k * spacing from the goal direction, k = 0 first: the goal direction is one of them.
   const int n = params_.candidate_headings;
   const double spacing = kTwoPi / n;
   const double required = std::min(params_.lookahead, distance);

@@ -243,16 +243,21 @@ TopoView onHallway(double x) {
 struct MissionRun {
   std::vector<Request> requests;
   Pose2D robot;
+  Eigen::Vector2d ekf_shift = Eigen::Vector2d::Zero();  // the EKF's estimate minus the odometry
   int ticks = 0;
 };
 
 // An ideal robot (0.05 m or 0.1 rad per 0.1 s tick towards the goal) on the mission; the place
 // frame is the odometry frame. `relocation(k)` is ekf_local_map's verdict on the k-th relocation.
+// `correction_at_goal`: the EKF's estimate jumps by this (place frame) the first time the
+// controller has reached a goal within 1 cm of `goal` (an EKF correction after the final turn).
 template <typename Verdict, typename EachTick>
 MissionRun runMission(Coordinator* c, Verdict relocation, EachTick each_tick, const std::string& verdict = "test",
-                      int max_ticks = 3000) {
+                      int max_ticks = 3000, const Eigen::Vector2d& correction_at_goal = Eigen::Vector2d::Zero(),
+                      const Eigen::Vector2d& goal = Eigen::Vector2d::Zero()) {
   Hallway h;
   MissionRun run;
+  bool corrected = false;
   double t = 0.0;
   int relocations = 0;
   bool reached = false;
@@ -260,7 +265,13 @@ MissionRun runMission(Coordinator* c, Verdict relocation, EachTick each_tick, co
     Perception p = h.perceive(run.robot.x, t);
     p.odom = run.robot;
     p.room_pose_valid = c->currentPlace() >= 0;
+    if (reached && !corrected && (Eigen::Vector2d(run.robot.x, run.robot.y) + run.ekf_shift - goal).norm() < 0.01) {
+      corrected = true;
+      run.ekf_shift += correction_at_goal;
+    }
     p.room_pose = run.robot;
+    p.room_pose.x += run.ekf_shift.x();
+    p.room_pose.y += run.ekf_shift.y();
     const Decision d = c->update(p, onHallway(run.robot.x), reached, false);
     for (const Request& q : d.requests) {
       run.requests.push_back(q);
@@ -359,6 +370,24 @@ TEST(CoordinatorMission, GoesAlongTheHallwayRelocatesAtTheDoorAndReachesTheGoal)
   const MissionRun again = runMission(&c, [](int) { return true; });
   EXPECT_TRUE(c.missionOutcome().success) << c.missionOutcome().message;
   EXPECT_EQ(count(again.requests, Request::Relocate), 0);
+}
+
+TEST(CoordinatorMission, AnEkfCorrectionAtTheGoalIsDrivenOutToWithinTheTolerance) {
+  // At the goal, the EKF moves its estimate by 2 cm (less than mission_accept_distance): the goal
+  // is sent again and the mission ends with the estimate within mission_goal_tolerance, not 2 cm off.
+  Coordinator c(missionParams());
+  c.setGraph(exploredHallway());
+  startIdle(&c);
+  std::string why;
+  const Eigen::Vector2d goal(5.0, 3.0);
+  ASSERT_TRUE(c.startMission(4, Pose2D{goal.x(), goal.y(), 0.5 * kPi}, &why)) << why;
+  const MissionRun run = runMission(&c, [](int) { return true; }, [](Coordinator*, int) {}, "test", 3000,
+                                    Eigen::Vector2d(0.0, -0.02), goal);
+  ASSERT_TRUE(c.missionOutcome().finished);
+  EXPECT_TRUE(c.missionOutcome().success) << c.missionOutcome().message;
+  EXPECT_NEAR(run.ekf_shift.y(), -0.02, 1e-12) << "the correction happened";
+  const Eigen::Vector2d estimate = Eigen::Vector2d(run.robot.x, run.robot.y) + run.ekf_shift;
+  EXPECT_LE((estimate - goal).norm(), missionParams().mission_goal_tolerance + 1e-9) << c.missionOutcome().message;
 }
 
 TEST(CoordinatorMission, AFailedRelocationResetsTheBeliefAndIsGivenUpAfterTheLimit) {

@@ -271,6 +271,49 @@ TEST(MotionController, ReachesWithTheDesignBaseLimits) {
   EXPECT_WITHIN_LIMITS(sim);
 }
 
+// The last centimetres of a mission: a goal a few centimetres behind, with the robot's own
+// heading, is reached backwards without turning round (straight back when it lies straight behind;
+// turning less than a quarter circle for one a little to the side), within a 5 mm tolerance. Beyond reverse_distance, or with reverse_distance 0, it turns round.
+double maxHeadingDeviation(Sim* sim, double max_time) {
+  double worst = 0.0;
+  const double start = sim->t;
+  do {
+    sim->step();
+    worst = std::max(worst, std::abs(normalizeAngle(sim->pose.theta)));
+  } while (sim->mc.status() == MotionStatus::Moving && sim->t - start < max_time);
+  return worst;
+}
+
+TEST(MotionController, GoalAFewCentimetresBehindIsReachedBackwards) {
+  for (const Vector2d goal : {Vector2d(-0.03, 0.0), Vector2d(-0.06, 0.01), Vector2d(-0.02, -0.015)}) {
+    Sim sim(room());
+    ASSERT_TRUE(sim.mc.setGoal(goal.x(), goal.y(), 0.0, std::make_pair(0.005, 0.02)));
+    const double worst = maxHeadingDeviation(&sim, 20.0);
+    ASSERT_EQ(sim.mc.status(), MotionStatus::Reached) << sim.mc.statusText();
+    EXPECT_LE(sim.distanceTo(goal.x(), goal.y()), 0.006) << goal.transpose();
+    EXPECT_LE(std::abs(sim.pose.theta), 0.03) << goal.transpose();
+    EXPECT_LT(worst, goal.y() == 0.0 ? 0.05 : kPi / 2) << goal.transpose();
+    EXPECT_LT(sim.t, 5.0) << goal.transpose();
+    EXPECT_WITHIN_LIMITS(sim);
+  }
+  MotionParams never;
+  never.reverse_distance = 0.0;
+  Sim sim(room(), never);
+  ASSERT_TRUE(sim.mc.setGoal(-0.03, 0.0, 0.0, std::make_pair(0.005, 0.02)));
+  EXPECT_GT(maxHeadingDeviation(&sim, 30.0), 2.0);  // turned round to it and back
+  EXPECT_EQ(sim.mc.status(), MotionStatus::Reached) << sim.mc.statusText();
+}
+
+TEST(MotionController, NoBackingUpIntoAWallBehind) {
+  World w = room();
+  w.wall(-0.30, -1.0, -0.30, 1.0);  // 5 cm behind the robot's back (radius 0.25)
+  Sim sim(w);
+  ASSERT_TRUE(sim.mc.setGoal(-0.04, 0.0, 0.0, std::make_pair(0.005, 0.02)));
+  sim.runWhileMoving(20.0);
+  EXPECT_GT(sim.min_clearance, sim.p.robot_radius);
+  EXPECT_WITHIN_LIMITS(sim);
+}
+
 TEST(MotionController, NewGoalReplacesThePreviousOne) {
   Sim sim(room());
   sim.mc.setGoal(4.0, 0.0, std::nullopt);
@@ -664,6 +707,10 @@ TEST(MotionController, RefusesBadParams) {
   std::string why;
   EXPECT_FALSE(MotionController::validate(p, &why));
   EXPECT_NE(why.find("safety_margin"), std::string::npos);
+  p = MotionParams();
+  p.reverse_distance = p.safety_margin + 0.01;  // the rear is checked against the current scan only
+  EXPECT_FALSE(MotionController::validate(p, &why));
+  EXPECT_NE(why.find("reverse_distance"), std::string::npos);
   EXPECT_TRUE(MotionController::validate(MotionParams()));
 }
 

@@ -74,12 +74,14 @@ struct CoordinatorParams {
   int max_relocation_failures = 2;   // -, relocations that fail (wrong room), and separately misses of the
                                      // goal's door, before a mission is given up (each resets the belief)
   double mission_time_limit = 1200.0;  // s, a mission ends unsuccessful after this (sim time)
-  double mission_goal_tolerance = 0.01;   // m, a mission's goal is reached within this (the EKF's estimate)
+  double mission_goal_tolerance = 0.005;  // m, a mission's goal is reached within this (the EKF's estimate)
   double mission_heading_tolerance = 0.02;  // rad, and its heading within this
-  double mission_accept_distance = 0.03;  // m, the controller stopping (blocked, stalled) this close to a
-                                         // mission's goal ...
-  double mission_accept_angle = 0.05;    // rad, ... and its heading: reached (the last centimetres of a
-                                         // differential drive); the goal is not re-sent for corrections below
+  int mission_refine_attempts = 3;  // -, the controller reached the goal but the EKF's estimate is beyond
+                                    // the tolerances: the goal is sent again this many times, then ...
+  double mission_accept_distance = 0.03;  // m, ... reached within this; the controller stopping (blocked,
+                                         // stalled) this close to a mission's goal also counts as reached ...
+  double mission_accept_angle = 0.05;    // rad, ... with its heading within this. EKF corrections of the
+                                         // goal below these are not re-sent while the robot drives to it
   double mission_stall_time = 20.0;  // s, no 5 cm of progress to a mission's goal in a room for this: unreachable
 };
 
@@ -315,6 +317,7 @@ class Coordinator {
   double relocate_step_since_ = 0.0;
   laser_features::Pose2D mission_goal_odom_;  // GoToGoal: the goal as last sent, odometry frame
   bool mission_goal_odom_valid_ = false;
+  int mission_refines_ = 0;         // GoToGoal: times the goal was sent again after the controller reached it
   bool mission_entered_ = false;    // GoToGoal: the robot has been entry_depth inside the door
   std::vector<Eigen::Vector2d> mission_path_;  // GoToGoal: grid path to the goal (place frame)
   size_t mission_path_index_ = 0;

@@ -44,6 +44,10 @@ struct MotionParams {
                                       // near obstacles)
   double heading_gain = 2.0;          // 1/s, w = heading_gain * heading error, before the limits
   double turn_in_place_angle = 0.6;   // rad, v = 0 above this heading error (until back below half)
+  double reverse_distance = 0.10;     // m, a goal with a final heading this close behind the robot is
+                                      // reached backwards, straight, instead of turning round to it and
+                                      // back (the last centimetres of a mission's goal); 0: never. At most
+                                      // safety_margin: the rear is checked only against the current scan
   int candidate_headings = 31;        // -, directions sampled around the full circle for avoidance,
                                       // one on the goal direction
   double scan_timeout = 0.5;          // s, no scan younger than this: stop (the watchdog)

@@ -29,6 +29,7 @@ void visitMotionParams(MotionParams* m, Visitor&& visit) {
   visit("motion/min_linear", &m->min_linear);
   visit("motion/heading_gain", &m->heading_gain);
   visit("motion/turn_in_place_angle", &m->turn_in_place_angle);
+  visit("motion/reverse_distance", &m->reverse_distance);
   visit("motion/candidate_headings", &m->candidate_headings);
   visit("motion/scan_timeout", &m->scan_timeout);
   visit("motion/stuck_time", &m->stuck_time);
@@ -69,6 +70,7 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("mission_stall_time", &c.mission_stall_time);
   visit("mission_goal_tolerance", &c.mission_goal_tolerance);
   visit("mission_heading_tolerance", &c.mission_heading_tolerance);
+  visit("mission_refine_attempts", &c.mission_refine_attempts);
   visit("mission_accept_distance", &c.mission_accept_distance);
   visit("mission_accept_angle", &c.mission_accept_angle);
   HallwayViewParams& h = c.hallway;
