@@ -20,6 +20,7 @@
 #include <std_msgs/Bool.h>
 #include <std_msgs/Float64.h>
 #include <std_msgs/String.h>
+#include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <tf2/utils.h>
 #include <tf2_ros/transform_listener.h>
@@ -58,6 +59,7 @@ class ExplorationNode {
     pnh_.param("progress_period", progress_period_, 30.0);
     pnh_.param("shutdown_when_done", shutdown_when_done_, true);
     pnh_.param("serve_missions", serve_missions_, false);
+    pnh_.param("freeze_map_for_missions", freeze_map_for_missions_, true);
     pnh_.param("relocation_sigma_xy", relocation_sigma_xy_, 0.05);
     pnh_.param("relocation_sigma_theta", relocation_sigma_theta_, 0.05);
     if (!params_.coordinator.explore) serve_missions_ = true;
@@ -212,6 +214,14 @@ class ExplorationNode {
       return;
     }
     ROS_INFO("exploration: mission to (%.2f, %.2f, %.2f) in place %d", g.x, g.y, g.theta, goal->place_id);
+    // Missions run on the finished map: nodes made of a look-alike stretch of hallway (while the
+    // belief is briefly wrong) would only add states to confuse the belief with.
+    if (freeze_map_for_missions_ && !map_frozen_) {
+      std_srvs::SetBool srv;
+      srv.request.data = false;
+      map_frozen_ = call(topo_node_ + "/set_mapping", &srv);
+      if (map_frozen_) ROS_INFO("exploration: topological map frozen for missions (%s)", srv.response.message.c_str());
+    }
   }
 
   void onMissionPreempt() {
@@ -489,6 +499,8 @@ class ExplorationNode {
   double control_rate_ = 20.0, progress_period_ = 30.0;
   bool shutdown_when_done_ = true;
   bool serve_missions_ = false;
+  bool freeze_map_for_missions_ = true;  // pomdp_topo's mapping off from the first mission on
+  bool map_frozen_ = false;
   double relocation_sigma_xy_ = 0.05, relocation_sigma_theta_ = 0.05;
   std::unique_ptr<MissionServer> mission_server_;
   ros::Subscriber relocation_sub_;

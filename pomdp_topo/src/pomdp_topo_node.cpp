@@ -11,6 +11,7 @@
 #include <std_msgs/Bool.h>
 #include <std_msgs/Float64.h>
 #include <std_msgs/String.h>
+#include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <tf2/utils.h>
 #include <tf2_ros/transform_listener.h>
@@ -81,6 +82,7 @@ class TopoNodeRos {
         pnh.advertiseService("clear_map", &TopoNodeRos::onClear, this),
         pnh.advertiseService("reset_belief", &TopoNodeRos::onReset, this),
         pnh.advertiseService("update_opening", &TopoNodeRos::onUpdateOpening, this),
+        pnh.advertiseService("set_mapping", &TopoNodeRos::onSetMapping, this),
     };
     if (load_on_start_ && fileExists(map_file_)) {
       const IoResult r = loadMap(map_file_, &map_);
@@ -308,6 +310,14 @@ class TopoNodeRos {
     }
     res.success = true;
     res.message = "belief on node " + std::to_string(req.node);
+    return true;
+  }
+
+  bool onSetMapping(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
+    builder_.setMapping(req.data);
+    res.success = true;
+    res.message = req.data ? "mapping on" : "mapping off: localization only, the map is not changed";
+    ROS_INFO("pomdp_topo: %s", res.message.c_str());
     return true;
   }
 

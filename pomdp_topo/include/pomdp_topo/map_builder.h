@@ -57,6 +57,9 @@ class MapBuilder {
 
   MapBuilder(TopologicalMap* map, PomdpLocalizer* localizer, const MapBuilderParams& params = MapBuilderParams());
   const MapBuilderParams& params() const { return params_; }
+  /// Mapping on or off while running (missions on a finished map: localization only). Off takes
+  /// effect at the next frontier: the robot off the graph relocalizes instead of mapping on.
+  void setMapping(bool on) { params_.mapping = on; }
 
   /// Starts: an empty map gets a Start node at the robot and a Frontier along its heading; a
   /// loaded map starts Localized with a uniform belief (global localization).
