@@ -78,7 +78,14 @@ bool RoomExplorer::validate(const RoomExplorerParams& p, std::string* error) {
 }
 
 RoomExplorer::RoomExplorer(const RoomExplorerParams& params)
-    : params_(checked(params)), grid_(params_.grid), explorer_(params_.frontier, params_.planner) {}
+    : params_(checked(params)),
+      grid_(params_.grid),
+      explorer_(params_.frontier, params_.planner),
+      optimistic_planner_([&] {
+        PlannerParams p = params_.planner;
+        p.allow_unknown = true;
+        return p;
+      }()) {}
 
 bool RoomExplorer::start(const Pose2D& door, double door_width) {
   // Whatever happens, the previous room is gone.
@@ -281,9 +288,8 @@ std::optional<Path> RoomExplorer::pathToExit(const Eigen::Vector2d& robot) {
 
 std::optional<Path> RoomExplorer::pathTo(const Eigen::Vector2d& robot, const Eigen::Vector2d& goal) {
   if (status_ == RoomStatus::Invalid || !finite(robot) || !finite(goal)) return std::nullopt;
-  GridPlanner& planner = explorer_.planner();
-  planner.setMap(grid_);
-  return planner.plan(robot, goal);
+  optimistic_planner_.setMap(grid_);
+  return optimistic_planner_.plan(robot, goal);
 }
 
 double RoomExplorer::freeArea() const {

@@ -129,8 +129,10 @@ class RoomExplorer {
   /// room's side). The entry's virtual wall stays: the caller drives straight out from there. None
   /// when unreachable, before start() or for a non-finite position.
   std::optional<Path> pathToExit(const Eigen::Vector2d& robot);
-  /// A grid path from `robot` to `goal` in the room as seen so far (a mission's goal); none when
-  /// unreachable on the grid, before start() or for non-finite points.
+  /// A grid path from `robot` to `goal` in the room as seen so far (a mission's goal), through its
+  /// unseen part too (optimistic: the caller plans again as the room is seen; a goal behind
+  /// furniture not yet seen round is otherwise unreachable). None when unreachable on the grid,
+  /// before start() or for non-finite points.
   std::optional<Path> pathTo(const Eigen::Vector2d& robot, const Eigen::Vector2d& goal);
   /// Where pathToExit() heads for (pose frame).
   Eigen::Vector2d exitPoint() const;
@@ -161,6 +163,7 @@ class RoomExplorer {
   RoomExplorerParams params_;
   OccupancyGrid grid_;
   FrontierExplorer explorer_;
+  GridPlanner optimistic_planner_;  // pathTo(): Unknown cells traversable
   RoomStatus status_ = RoomStatus::Invalid;
   bool entered_ = false;
 
