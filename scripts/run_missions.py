@@ -3,7 +3,9 @@
 
 Waits until the exploration node is idle (the exploration done, or explore false on a loaded map),
 then sends ~missions GoToPlace goals (seeded): each to a random place other than the one the robot
-is in, at a random free pose of that place's room (from the world file's ground truth). Prints the
+is in, at a random free pose of that place's room (from the world file's ground truth: at least
+~goal_clearance from every obstacle, and connected to the place's door through space with at least
+~reach_clearance, so that a goal walled in by furniture is not asked for). Prints the
 paper's Table 1 for them and writes it as JSON to ~output.
 
 The goal error is measured against the simulator's ground truth: a place's frame in the world is
@@ -88,6 +90,11 @@ class MissionRunner:
         self.truth_file = rospy.get_param('~truth_file', '')
         self.mission_timeout = float(rospy.get_param('~mission_timeout', 900.0))  # s, sim
         self.clearance = float(rospy.get_param('~goal_clearance', 0.55))  # m, free space around a goal
+        # m, free space along some way from the door to a goal: the robot's radius (0.25) and the
+        # controller's safety margin (0.10), plus 5 cm
+        self.reach_clearance = float(rospy.get_param('~reach_clearance', 0.40))
+        self.reachable = {}  # place id -> set of reachable 0.1 m cells (world)
+        self.doors = {}  # place id -> its door in the world (x, y, theta into the room)
         self.truth = []  # (stamp, (x, y, theta))
         self.frames = {}  # place id -> place frame in the world (x, y, theta)
         if self.truth_file and os.path.exists(self.truth_file):
@@ -145,6 +152,8 @@ class MissionRunner:
     def on_relocation(self, msg):
         v = {'place': msg.place_id, 'success': msg.success, 'verdict': msg.verdict, 'matched': msg.matched,
              'joint_nis': round(msg.joint_nis, 2), 'bound': round(msg.joint_nis_bound, 2)}
+        if self.truth:  # where the robot really was (ground truth, world), to tell a wrong door from a bad match
+            v['truth'] = [round(c, 2) for c in self.truth[-1][1]]
         if len(self.relocations) < 40:
             self.relocations.append(v)
 
@@ -201,14 +210,39 @@ class MissionRunner:
                 room = self.world.room_at(door[0] + math.cos(door[2]), door[1] + math.sin(door[2]))
                 if room is not None:
                     out[n.place_id] = room
+                    self.doors[n.place_id] = door
         return out
+
+    def reachable_cells(self, place_id, room, cell=0.1):
+        """The 0.1 m cells of the room reachable from its door with reach_clearance (ground truth)."""
+        if place_id in self.reachable:
+            return self.reachable[place_id]
+        door = self.doors[place_id]
+        key = lambda x, y: (int(math.floor(x / cell)), int(math.floor(y / cell)))
+        free = lambda c: (inside(room['polygon'], (c[0] + 0.5) * cell, (c[1] + 0.5) * cell) and
+                          self.world.clearance((c[0] + 0.5) * cell, (c[1] + 0.5) * cell) > self.reach_clearance)
+        # From 0.5 m inside the door (the door's own centre is no wider than its jambs allow).
+        start = key(door[0] + 0.5 * math.cos(door[2]), door[1] + 0.5 * math.sin(door[2]))
+        seen, todo = {start}, [start] if free(start) else []
+        reached = set(todo)
+        while todo:
+            c = todo.pop()
+            for n in ((c[0] + 1, c[1]), (c[0] - 1, c[1]), (c[0], c[1] + 1), (c[0], c[1] - 1)):
+                if n not in seen:
+                    seen.add(n)
+                    if free(n):
+                        reached.add(n)
+                        todo.append(n)
+        self.reachable[place_id] = reached
+        return reached
 
     def random_goal(self, place_id, room):
         xs = [p[0] for p in room['polygon']]
         ys = [p[1] for p in room['polygon']]
         for _ in range(5000):
             x, y = self.rng.uniform(min(xs), max(xs)), self.rng.uniform(min(ys), max(ys))
-            if inside(room['polygon'], x, y) and self.world.clearance(x, y) > self.clearance:
+            if (inside(room['polygon'], x, y) and self.world.clearance(x, y) > self.clearance and
+                    (int(math.floor(x / 0.1)), int(math.floor(y / 0.1))) in self.reachable_cells(place_id, room)):
                 world = (x, y, self.rng.uniform(-math.pi, math.pi))
                 return world, compose(inverse(self.frames[place_id]), world)
         return None, None
