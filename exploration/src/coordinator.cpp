@@ -819,6 +819,7 @@ void Coordinator::beginGoToGoal(const std::string& text, bool inside) {
   mission_path_.clear();
   mission_best_ = std::numeric_limits<double>::infinity();
   mission_best_time_ = now_;
+  mission_path_length_ = std::numeric_limits<double>::infinity();
 }
 
 void Coordinator::cancelMission(const std::string& why) {
@@ -878,6 +879,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
     relocation_ok_ = false;
     relocation_verdict_.clear();
     relocate_step_ = 0;
+    relocation_retried_ = false;
     setState(State::Relocate, "relocating in place " + std::to_string(mission_place_) + " at its door");
     return;
   }
@@ -900,7 +902,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
   // door, facing in, where it sees the room. Only a jointly incompatible match (the wrong room) or
   // no success from there too is a failure.
   const bool wrong_room = relocation_verdict_ == "matches jointly incompatible";
-  if (!relocation_pending_ && !wrong_room && relocate_step_ == 0 && !timeout) {
+  if (!relocation_pending_ && relocate_step_ == 0 && !timeout) {
     relocate_step_ = 1;
     relocate_step_since_ = now_;
     state_text_ = "relocation from the hallway: " + relocation_verdict_ + "; trying again in front of the door";
@@ -920,6 +922,34 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
       d->theta = door_.into_odom;
       return;
     }
+  }
+  // Jointly incompatible from the hallway is not yet the wrong room: the door, half a metre behind
+  // the robot where it stopped, may be seen off by a few decimetres (institute: the store's and the
+  // kitchen's doors, right rooms both). A new relocation from in front of the door, with the door as
+  // seen from there, decides (once).
+  if (relocate_step_ == 2 && wrong_room && !relocation_retried_) {
+    relocation_retried_ = true;
+    Pose2D door{door_.centre_odom.x(), door_.centre_odom.y(), door_.into_odom};
+    double nearest = 0.5;  // m, the opening seen now that is the door
+    for (const laser_features::Opening& o : p.openings) {
+      const Pose2D seen = compose(p.odom, Pose2D{o.center.x(), o.center.y(), o.theta});
+      const double off = (Eigen::Vector2d(seen.x, seen.y) - door_.centre_odom).norm();
+      if (off < nearest && std::abs(normalizeAngle(seen.theta - door_.into_odom)) < 0.5) {
+        nearest = off;
+        door = Pose2D{seen.x, seen.y, seen.theta};
+      }
+    }
+    Request r;
+    r.kind = Request::Relocate;
+    r.place_id = mission_place_;
+    r.door_id = int(mission_door_.node);
+    r.pose = compose(inverse(door), p.odom);  // the robot in the door's frame
+    d->requests.push_back(r);
+    relocation_pending_ = true;
+    relocation_ok_ = false;
+    relocation_verdict_.clear();
+    setState(State::Relocate, "relocating again in place " + std::to_string(mission_place_) + ", in front of its door");
+    return;
   }
   if (relocate_step_ == 2 && now_ - relocate_step_since_ < 3.0 && !wrong_room) return;  // a few scans from there
   if (relocation_pending_ && !timeout) return;
@@ -950,10 +980,6 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
   const double dist = (goal - robot).norm();
   const double herr = std::abs(normalizeAngle(mission_goal_.theta - p.room_pose.theta));
   mission_distance_left_ = dist;
-  if (dist < mission_best_ - 0.05) {
-    mission_best_ = dist;
-    mission_best_time_ = now_;
-  }
   char at[96];
   std::snprintf(at, sizeof(at), " (estimate %.3f m, %.3f rad from the goal)", dist, herr);
   // Where the controller stops (blocked) or stalls this close, the goal counts as reached.
@@ -971,7 +997,19 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
     last_room_plan_ = now_;
     mission_path_.clear();
     mission_path_index_ = 0;
-    if (auto path = room_.pathTo(robot, goal)) mission_path_ = path->waypoints;
+    const auto path = room_.pathTo(robot, goal);
+    if (path) mission_path_ = path->waypoints;
+    // Progress is along the way to the goal (the grid path's length), not straight at it: going
+    // round furniture first leads away. A way found longer by a metre (what was unseen is blocked)
+    // starts the progress anew.
+    const double length = path ? path->length : dist;
+    if (length > mission_path_length_ + 1.0) mission_best_ = std::numeric_limits<double>::infinity();
+    mission_path_length_ = length;
+  }
+  const double left = entering ? dist : mission_path_length_;
+  if (left < mission_best_ - 0.05) {
+    mission_best_ = left;
+    mission_best_time_ = now_;
   }
   while (mission_path_index_ < mission_path_.size() && (mission_path_[mission_path_index_] - robot).norm() < 0.3)
     ++mission_path_index_;

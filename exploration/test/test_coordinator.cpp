@@ -475,3 +475,39 @@ TEST(CoordinatorMission, ARelocationThatSeesTooLittleFromTheHallwayIsTriedAgainI
   EXPECT_EQ(count(run.requests, Request::ResetBelief), 0);
   EXPECT_NEAR(run.robot.y, 3.0, 0.03);
 }
+
+TEST(CoordinatorMission, AJointlyIncompatibleRelocationFromTheHallwayIsAskedAgainInFrontOfTheDoor) {
+  // The first verdict, from where the robot stopped past the door, is "matches jointly
+  // incompatible" (the door seen off): a second relocation is asked for from in front of the door,
+  // facing in; it succeeds and the mission goes on with no belief reset. Two such verdicts are the
+  // wrong room: the belief is reset.
+  for (const bool second_ok : {true, false}) {
+    exploration::CoordinatorParams params = missionParams();
+    params.max_relocation_failures = 0;
+    Coordinator c(params);
+    c.setGraph(exploredHallway());
+    startIdle(&c);
+    std::string why;
+    ASSERT_TRUE(c.startMission(4, Pose2D{5.0, 3.0, 0.5 * kPi}, &why)) << why;
+    const MissionRun run = runMission(&c, [&](int k) { return k == 1 && second_ok; }, [](Coordinator*, int) {},
+                                      "matches jointly incompatible");
+    ASSERT_TRUE(c.missionOutcome().finished);
+    ASSERT_EQ(count(run.requests, Request::Relocate), 2) << second_ok;
+    std::vector<Pose2D> asked;
+    for (const Request& r : run.requests)
+      if (r.kind == Request::Relocate) asked.push_back(r.pose);
+    // The second: 0.6 m in front of the door (x = -0.6 in its frame), on its axis, facing in.
+    EXPECT_NEAR(asked[1].x, -0.6, 0.1);
+    EXPECT_NEAR(asked[1].y, 0.0, 0.1);
+    EXPECT_NEAR(asked[1].theta, 0.0, 0.1);
+    EXPECT_LT(asked[0].y, -0.25) << "the first from where the robot stopped, past the door";
+    if (second_ok) {
+      EXPECT_TRUE(c.missionOutcome().success) << c.missionOutcome().message;
+      EXPECT_EQ(count(run.requests, Request::ResetBelief), 0);
+    } else {
+      EXPECT_FALSE(c.missionOutcome().success);
+      EXPECT_EQ(c.missionOutcome().relocation_failures, 1);
+      EXPECT_EQ(count(run.requests, Request::ResetBelief), 0) << "max_relocation_failures 0: the mission ends";
+    }
+  }
+}

@@ -315,14 +315,16 @@ class Coordinator {
   int mission_door_misses_ = 0;
   int relocate_step_ = 0;             // Relocate: 0 from the hallway, 1 moving in front of the door, 2 from there
   double relocate_step_since_ = 0.0;
+  bool relocation_retried_ = false;   // Relocate: a second relocation asked for from in front of the door
   laser_features::Pose2D mission_goal_odom_;  // GoToGoal: the goal as last sent, odometry frame
   bool mission_goal_odom_valid_ = false;
   int mission_refines_ = 0;         // GoToGoal: times the goal was sent again after the controller reached it
   bool mission_entered_ = false;    // GoToGoal: the robot has been entry_depth inside the door
   std::vector<Eigen::Vector2d> mission_path_;  // GoToGoal: grid path to the goal (place frame)
   size_t mission_path_index_ = 0;
-  double mission_best_ = 0.0;       // m, GoToGoal: the closest the robot came to the goal ...
-  double mission_best_time_ = 0.0;  // s, ... when it got 5 cm closer last
+  double mission_best_ = 0.0;       // m, GoToGoal: the shortest way left to the goal so far ...
+  double mission_best_time_ = 0.0;  // s, ... when it got 5 cm shorter last
+  double mission_path_length_ = 0.0;  // m, GoToGoal: the last grid path's length (straight: the distance)
 };
 
 }  // namespace exploration
