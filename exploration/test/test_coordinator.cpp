@@ -318,6 +318,13 @@ void startIdle(Coordinator* c) {
   for (int i = 0; i < 5 && !c->idle(); ++i) c->update(h.perceive(0.0, 0.1 * i), onHallway(0.0), false, false);
 }
 
+// The explored hallway, idle at its start, then a mission to `place`.
+bool startMissionOnHallway(Coordinator* c, int place, const Pose2D& goal, std::string* why) {
+  c->setGraph(exploredHallway());
+  startIdle(c);
+  return c->startMission(place, goal, why);
+}
+
 }  // namespace
 
 TEST(CoordinatorMission, AnUnknownPlaceOrARunningExplorationIsRefusedWithTheReason) {
@@ -340,10 +347,8 @@ TEST(CoordinatorMission, AnUnknownPlaceOrARunningExplorationIsRefusedWithTheReas
 
 TEST(CoordinatorMission, GoesAlongTheHallwayRelocatesAtTheDoorAndReachesTheGoal) {
   Coordinator c(missionParams());
-  c.setGraph(exploredHallway());
-  startIdle(&c);
   std::string why;
-  ASSERT_TRUE(c.startMission(4, Pose2D{5.0, 3.0, 0.5 * kPi}, &why)) << why;
+  ASSERT_TRUE(startMissionOnHallway(&c, 4, Pose2D{5.0, 3.0, 0.5 * kPi}, &why)) << why;
   const MissionRun run = runMission(&c, [](int) { return true; });
   ASSERT_TRUE(c.missionOutcome().finished);
   EXPECT_TRUE(c.missionOutcome().success) << c.missionOutcome().message;
@@ -376,11 +381,9 @@ TEST(CoordinatorMission, AnEkfCorrectionAtTheGoalIsDrivenOutToWithinTheTolerance
   // At the goal, the EKF moves its estimate by 2 cm (less than mission_accept_distance): the goal
   // is sent again and the mission ends with the estimate within mission_goal_tolerance, not 2 cm off.
   Coordinator c(missionParams());
-  c.setGraph(exploredHallway());
-  startIdle(&c);
   std::string why;
   const Eigen::Vector2d goal(5.0, 3.0);
-  ASSERT_TRUE(c.startMission(4, Pose2D{goal.x(), goal.y(), 0.5 * kPi}, &why)) << why;
+  ASSERT_TRUE(startMissionOnHallway(&c, 4, Pose2D{goal.x(), goal.y(), 0.5 * kPi}, &why)) << why;
   const MissionRun run = runMission(&c, [](int) { return true; }, [](Coordinator*, int) {}, "test", 3000,
                                     Eigen::Vector2d(0.0, -0.02), goal);
   ASSERT_TRUE(c.missionOutcome().finished);
@@ -396,10 +399,8 @@ TEST(CoordinatorMission, AFailedRelocationResetsTheBeliefAndIsGivenUpAfterTheLim
   exploration::CoordinatorParams params = missionParams();
   params.max_relocation_failures = 0;
   Coordinator c(params);
-  c.setGraph(exploredHallway());
-  startIdle(&c);
   std::string why;
-  ASSERT_TRUE(c.startMission(4, Pose2D{5.0, 3.0, 0.0}, &why)) << why;
+  ASSERT_TRUE(startMissionOnHallway(&c, 4, Pose2D{5.0, 3.0, 0.0}, &why)) << why;
   const MissionRun run = runMission(&c, [](int) { return false; });
   ASSERT_TRUE(c.missionOutcome().finished);
   EXPECT_FALSE(c.missionOutcome().success);
@@ -412,10 +413,8 @@ TEST(CoordinatorMission, AFailedRelocationResetsTheBeliefAndIsGivenUpAfterTheLim
 
 TEST(CoordinatorMission, ACancelledMissionEndsAtOnceAndClosesThePlaceItRelocatedIn) {
   Coordinator c(missionParams());
-  c.setGraph(exploredHallway());
-  startIdle(&c);
   std::string why;
-  ASSERT_TRUE(c.startMission(4, Pose2D{5.0, 3.0, 0.0}, &why)) << why;
+  ASSERT_TRUE(startMissionOnHallway(&c, 4, Pose2D{5.0, 3.0, 0.0}, &why)) << why;
   // Drive until the relocation is asked for; no verdict comes.
   Hallway h;
   double x = 0.0, t = 0.0;
@@ -440,10 +439,8 @@ TEST(CoordinatorMission, AGoalJustInsideTheDoorIsReached) {
   // The goal lies 0.4 m past the door line, within entry_depth (0.7 m): the robot goes through the
   // door on its axis once, then back to the goal, and does not swing between the two.
   Coordinator c(missionParams());
-  c.setGraph(exploredHallway());
-  startIdle(&c);
   std::string why;
-  ASSERT_TRUE(c.startMission(4, Pose2D{5.3, 1.4, 0.0}, &why)) << why;
+  ASSERT_TRUE(startMissionOnHallway(&c, 4, Pose2D{5.3, 1.4, 0.0}, &why)) << why;
   const MissionRun run = runMission(&c, [](int) { return true; });
   ASSERT_TRUE(c.missionOutcome().finished);
   EXPECT_TRUE(c.missionOutcome().success) << c.missionOutcome().message;
@@ -455,10 +452,8 @@ TEST(CoordinatorMission, ARelocationThatSeesTooLittleFromTheHallwayIsTriedAgainI
   // From the hallway the matched lines are all parallel (ekf_local_map keeps the relocation
   // pending): the robot moves in front of the door, facing in, where the next verdict succeeds.
   Coordinator c(missionParams());
-  c.setGraph(exploredHallway());
-  startIdle(&c);
   std::string why;
-  ASSERT_TRUE(c.startMission(4, Pose2D{5.0, 3.0, 0.5 * kPi}, &why)) << why;
+  ASSERT_TRUE(startMissionOnHallway(&c, 4, Pose2D{5.0, 3.0, 0.5 * kPi}, &why)) << why;
   int relocation_tick = -1;
   Pose2D at_success;
   const MissionRun run = runMission(
@@ -480,15 +475,13 @@ TEST(CoordinatorMission, AJointlyIncompatibleRelocationFromTheHallwayIsAskedAgai
   // The first verdict, from where the robot stopped past the door, is "matches jointly
   // incompatible" (the door seen off): a second relocation is asked for from in front of the door,
   // facing in; it succeeds and the mission goes on with no belief reset. Two such verdicts are the
-  // wrong room: the belief is reset.
+  // wrong room: one relocation failure (with max_relocation_failures 0 the mission ends there).
   for (const bool second_ok : {true, false}) {
     exploration::CoordinatorParams params = missionParams();
     params.max_relocation_failures = 0;
     Coordinator c(params);
-    c.setGraph(exploredHallway());
-    startIdle(&c);
     std::string why;
-    ASSERT_TRUE(c.startMission(4, Pose2D{5.0, 3.0, 0.5 * kPi}, &why)) << why;
+    ASSERT_TRUE(startMissionOnHallway(&c, 4, Pose2D{5.0, 3.0, 0.5 * kPi}, &why)) << why;
     const MissionRun run = runMission(&c, [&](int k) { return k == 1 && second_ok; }, [](Coordinator*, int) {},
                                       "matches jointly incompatible");
     ASSERT_TRUE(c.missionOutcome().finished);
