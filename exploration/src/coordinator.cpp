@@ -820,6 +820,7 @@ void Coordinator::beginGoToGoal(const std::string& text, bool inside) {
   mission_best_ = std::numeric_limits<double>::infinity();
   mission_best_time_ = now_;
   mission_path_length_ = std::numeric_limits<double>::infinity();
+  mission_had_path_ = false;
 }
 
 void Coordinator::cancelMission(const std::string& why) {
@@ -899,8 +900,8 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
   if (relocation_ok_ && !timeout) return;  // the verdict came, the EKF's pose not yet
   // From the hallway the room may show too little (lines all parallel, or too few): ekf_local_map
   // keeps the relocation pending and tries again on every scan, so the robot moves in front of the
-  // door, facing in, where it sees the room. Only a jointly incompatible match (the wrong room) or
-  // no success from there too is a failure.
+  // door, facing in, where it sees the room. A jointly incompatible match (the wrong room, or the
+  // door seen off) is asked again from there once (below); a failure from there too is a failure.
   const bool wrong_room = relocation_verdict_ == "matches jointly incompatible";
   if (!relocation_pending_ && relocate_step_ == 0 && !timeout) {
     relocate_step_ = 1;
@@ -1000,10 +1001,13 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
     const auto path = room_.pathTo(robot, goal);
     if (path) mission_path_ = path->waypoints;
     // Progress is along the way to the goal (the grid path's length), not straight at it: going
-    // round furniture first leads away. A way found longer by a metre (what was unseen is blocked)
-    // starts the progress anew.
+    // round furniture first leads away. A path found a metre longer than the last path (what was
+    // unseen is blocked) starts the progress anew; no path (straight at the goal) never does, so a
+    // goal with a path now and then (inside a wall) still stalls.
     const double length = path ? path->length : dist;
-    if (length > mission_path_length_ + 1.0) mission_best_ = std::numeric_limits<double>::infinity();
+    if (path && mission_had_path_ && length > mission_path_length_ + 1.0)
+      mission_best_ = std::numeric_limits<double>::infinity();
+    mission_had_path_ = path.has_value();
     mission_path_length_ = length;
   }
   const double left = entering ? dist : mission_path_length_;

@@ -344,6 +344,23 @@ TEST(MapBuilder, LocalizationOnlyNeverChangesTheMap) {
   EXPECT_EQ(drive.localizer.mostLikely(), -1);
 }
 
+// Missions freeze the map (pomdp_topo's set_mapping): mapping turned off while a stretch is being
+// mapped adds nothing more, doors passed after it included; the robot relocalizes on the map instead.
+TEST(MapBuilder, MappingTurnedOffWhileRunningChangesTheMapNoMore) {
+  SyntheticFloor floor;
+  for (const double x : {4.0, 9.0, 13.0}) floor.doors.push_back({{x, 1.1}, 0.5 * kPi, 0.9});
+  Drive drive;
+  drive.run(&floor, {{1.5, 0}, {6.0, 0}}, 0.0);
+  ASSERT_EQ(drive.count(NodeType::Door), 1u) << "the first door is mapped while mapping is on";
+  const size_t nodes = drive.map.nodeCount(), edges = drive.map.edgeCount();
+  drive.builder.setMapping(false);
+  drive.run(&floor, {{6.0, 0}, {16.0, 0}}, 0.0);
+  EXPECT_EQ(drive.map.nodeCount(), nodes);
+  EXPECT_EQ(drive.map.edgeCount(), edges);
+  EXPECT_EQ(drive.builder.mode(), MapBuilder::Mode::Localized);
+  EXPECT_FALSE(drive.builder.params().mapping);
+}
+
 TEST(FrontEnd, OneTurnActionPerUTurnAndTravelInResolutionSteps) {
   FrontEnd fe;
   std::vector<Action> actions;

@@ -325,6 +325,7 @@ class Coordinator {
   double mission_best_ = 0.0;       // m, GoToGoal: the shortest way left to the goal so far ...
   double mission_best_time_ = 0.0;  // s, ... when it got 5 cm shorter last
   double mission_path_length_ = 0.0;  // m, GoToGoal: the last grid path's length (straight: the distance)
+  bool mission_had_path_ = false;     // GoToGoal: the last plan found a grid path
 };
 
 }  // namespace exploration
