@@ -859,6 +859,18 @@ void Coordinator::relocationResult(int place_id, bool success, const std::string
   relocation_verdict_ = verdict;
 }
 
+void Coordinator::askRelocation(const Pose2D& door_odom, const Pose2D& robot_odom, Decision* d) {
+  Request r;
+  r.kind = Request::Relocate;
+  r.place_id = mission_place_;
+  r.door_id = int(mission_door_.node);
+  r.pose = compose(inverse(door_odom), robot_odom);  // the robot in the door's frame
+  d->requests.push_back(r);
+  relocation_pending_ = true;
+  relocation_ok_ = false;
+  relocation_verdict_.clear();
+}
+
 void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* d) {
   d->stop = true;
   mode_ = CoordinatorMode::Metric;
@@ -869,16 +881,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
     hallway_bin_ = bin_;
     place_id_ = mission_place_;
     door_node_ = int(mission_door_.node);
-    const Pose2D door_in_robot = compose(inverse(p.odom), Pose2D{door_.centre_odom.x(), door_.centre_odom.y(), door_.into_odom});
-    Request r;
-    r.kind = Request::Relocate;
-    r.place_id = mission_place_;
-    r.door_id = int(mission_door_.node);
-    r.pose = inverse(door_in_robot);
-    d->requests.push_back(r);
-    relocation_pending_ = true;
-    relocation_ok_ = false;
-    relocation_verdict_.clear();
+    askRelocation(Pose2D{door_.centre_odom.x(), door_.centre_odom.y(), door_.into_odom}, p.odom, d);
     relocate_step_ = 0;
     relocation_retried_ = false;
     setState(State::Relocate, "relocating in place " + std::to_string(mission_place_) + " at its door");
@@ -940,15 +943,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
         door = Pose2D{seen.x, seen.y, seen.theta};
       }
     }
-    Request r;
-    r.kind = Request::Relocate;
-    r.place_id = mission_place_;
-    r.door_id = int(mission_door_.node);
-    r.pose = compose(inverse(door), p.odom);  // the robot in the door's frame
-    d->requests.push_back(r);
-    relocation_pending_ = true;
-    relocation_ok_ = false;
-    relocation_verdict_.clear();
+    askRelocation(door, p.odom, d);
     setState(State::Relocate, "relocating again in place " + std::to_string(mission_place_) + ", in front of its door");
     return;
   }

@@ -221,6 +221,9 @@ class Coordinator {
   double binHeading(int bin) const;   // map frame
   int binOf(double map_heading) const;
   double odomHeadingOfBin(int bin, const TopoView& topo) const;
+  /// Asks ekf_local_map to relocate the robot (odometry pose) in the mission's place at its door
+  /// (as seen, odometry frame); the verdict is pending from then on.
+  void askRelocation(const laser_features::Pose2D& door_odom, const laser_features::Pose2D& robot_odom, Decision* d);
   void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
   void decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d);
   void trackDoors(const Perception& p, double dir_robot);
