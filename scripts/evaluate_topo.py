@@ -164,7 +164,8 @@ class TopoEvaluator:
         _, tx, ty, tyaw, path = self.truth_at(msg.header.stamp.to_sec())
         self.steps['total'] += 1
         if mode != 'localized':
-            self.trace.append((msg.header.stamp.to_sec(), mode, -1, 0, 0.0, tx, ty, 0, msg.entropy, int(msg.confident)))
+            self.trace.append((msg.header.stamp.to_sec(), mode, -1, 0, 0.0, '', '', '', tx, ty, tyaw, 0, msg.entropy,
+                               int(msg.confident)))
             return
         s = self.steps
         s['localized'] += 1
@@ -174,7 +175,8 @@ class TopoEvaluator:
             abs(wrap(msg.state_heading[i] - tyaw)) < math.pi / 4
         s['correct'] += int(right)
         self.trace.append((msg.header.stamp.to_sec(), mode, msg.state_edge[i], int(msg.at_node[i]),
-                           msg.state_offset[i], tx, ty, int(right), msg.entropy, int(msg.confident)))
+                           msg.state_offset[i], pos[0] if pos else '', pos[1] if pos else '', msg.state_heading[i],
+                           tx, ty, tyaw, int(right), msg.entropy, int(msg.confident)))
         s['unconfident'] += int(not msg.confident)
         near_twin = any(n['look_alike'] and math.hypot(n['x'] - tx, n['y'] - ty) < 1.5 for n in self.true_nodes)
         if near_twin:
@@ -300,7 +302,8 @@ class TopoEvaluator:
             with open(self.output, 'w') as f:
                 json.dump(out, f, indent=1)
             with open(self.output + '.csv', 'w') as f:
-                f.write('t,mode,state_id,at_node,offset,true_x,true_y,right,entropy,confident\n')
+                f.write('t,mode,state_id,at_node,offset,state_x,state_y,state_heading,true_x,true_y,true_heading,'
+                        'right,entropy,confident\n')
                 for row in self.trace:
                     f.write(','.join(str(round(v, 3)) if isinstance(v, float) else str(v) for v in row) + '\n')
         rospy.loginfo('evaluate_topo: %s', json.dumps(out))

@@ -18,7 +18,9 @@ double FrontEnd::binHeading(int bin) const {
 void FrontEnd::reset(const Pose2D& odom, double theta, double variance) {
   heading_.reset(theta, variance);
   last_odom_ = odom;
-  pose_ = Pose2D{0.0, 0.0, heading_.theta()};
+  // The map frame is the odometry frame at the first scan, whenever that scan comes: a robot that
+  // drove off before pomdp_topo started maps where it is, not at the origin.
+  pose_ = Pose2D{odom.x, odom.y, heading_.theta()};
   const double step = 2.0 * kPi / params_.heading_bins;
   bin_ = int(std::lround(normalizeAngle(theta - params_.axis_angle) / step));
   bin_ = ((bin_ % params_.heading_bins) + params_.heading_bins) % params_.heading_bins;

@@ -141,7 +141,7 @@ class TopoNodeRos {
                         features_sub_.getTopic().c_str());
     }
     const bool first = !front_end_.initialized();
-    if (first) front_end_.reset(odom, 0.0, params_.heading.initial_variance);
+    if (first) front_end_.reset(odom, odom.theta, params_.heading.initial_variance);
     actions_.clear();
     if (!front_end_.process(odom, lines_, corners_, openings_, &actions_, &why)) {
       ROS_WARN_THROTTLE(5.0, "pomdp_topo: %s; the scan is skipped", why.c_str());

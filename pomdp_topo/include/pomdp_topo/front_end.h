@@ -54,7 +54,8 @@ class FrontEnd {
                     const HeadingEstimatorParams& heading_params = HeadingEstimatorParams());
   const FrontEndParams& params() const { return params_; }
 
-  /// Starts over at `odom` with the heading estimate `theta` (map frame) and its variance.
+  /// Starts over at `odom` with the heading estimate `theta` (map frame) and its variance. The
+  /// position starts at odom's: the map frame is the odometry frame at the first scan.
   void reset(const Pose2D& odom, double theta, double variance);
 
   /// One scan: `odom` is the robot's odometry pose at the scan's stamp; lines, corners and
