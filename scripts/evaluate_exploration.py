@@ -8,12 +8,15 @@ doors (display poses in the start frame, within 1.5 m). Doors closed in the worl
 ~closed_doors (the simulator's parameter) are walls: the rooms they cut off from the start are
 reported as unreachable and not counted as missed. At the end (status DONE, or shutdown) it
 writes a JSON file: rooms mapped / missed / mapped twice, doors found / missed, spurious door
-nodes, travel, times, map file sizes and bytes per square metre of floor.
+nodes, travel, times, map file sizes and bytes per square metre of floor. Next to it,
+<output>.trace.csv holds where the robot truly was (region and pose) at each change of the
+coordinator's state and every 5 s of sim time, written as it goes: what went wrong where.
 """
 import collections
 import json
 import math
 import os
+import threading
 
 import rospy
 import yaml
@@ -51,6 +54,12 @@ class ExplorationEvaluator:
         self.map = None
         self.t0 = None
         self.written = False
+        self.trace = None
+        self.last_trace = (-1e9, None)  # (stamp, state text)
+        self.trace_lock = threading.Lock()  # ground truth and status come in separate threads
+        if self.output:
+            self.trace = open(self.output + '.trace.csv', 'w', buffering=1)  # line-buffered: nothing lost on a crash
+            self.trace.write('t,true_x,true_y,true_yaw,region,mode,place,node,state\n')
         rospy.Subscriber('ground_truth', Odometry, self.on_truth, queue_size=200)
         rospy.Subscriber('exploration_status', ExplorationStatus, self.on_status, queue_size=50)
         rospy.Subscriber('topological_map', TopologicalMap, self.on_map, queue_size=2)
@@ -94,6 +103,9 @@ class ExplorationEvaluator:
             if step < 0.5:
                 self.travel += step
         self.truth = (p.x, p.y)
+        q = msg.pose.pose.orientation
+        self.truth_yaw = math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
+        self.trace_row(msg.header.stamp.to_sec())
         if self.t0 is None:
             self.t0 = msg.header.stamp.to_sec()
         if self.status is not None and self.status.mode == METRIC and self.status.current_place >= 0:
@@ -103,12 +115,26 @@ class ExplorationEvaluator:
 
     def on_status(self, msg):
         self.status = msg
+        self.trace_row(msg.header.stamp.to_sec())
         if msg.mode == DONE and not self.written:
             rospy.sleep(1.0)  # the final map messages
             self.write()
 
     def on_map(self, msg):
         self.map = msg
+
+    def trace_row(self, stamp):
+        if self.trace is None or self.truth is None or self.status is None:
+            return
+        with self.trace_lock:
+            last_stamp, last_state = self.last_trace
+            if self.status.state == last_state and stamp - last_stamp < 5.0:
+                return
+            self.last_trace = (stamp, self.status.state)
+            x, y = self.truth
+            self.trace.write('%.2f,%.2f,%.2f,%.3f,%s,%d,%d,%d,"%s"\n' % (
+                stamp, x, y, self.truth_yaw, self.region_at(x, y) or '', self.status.mode,
+                self.status.current_place, self.status.current_node, self.status.state.replace('"', "'")))
 
     def to_map(self, x, y):
         sx, sy, syaw = self.start

@@ -39,6 +39,8 @@ TopoParams readParams(const ros::NodeHandle& pnh) {
   TopoParams p;
   visitParams(&p, RosParamReader{pnh});
   p.sync();
+  std::string why;
+  if (!validateParams(p, &why)) throw std::invalid_argument("parameter " + why);
   return p;
 }
 

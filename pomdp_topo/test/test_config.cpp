@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <set>
+#include <string>
 
 #include "pomdp_topo/params_visit.h"
 
@@ -39,4 +41,35 @@ TEST(Config, SharedValuesReachEveryPiece) {
   EXPECT_EQ(p.front_end.axis_angle, 0.3);
   EXPECT_EQ(p.heading.axis_angle, 0.3);
   EXPECT_EQ(p.builder.node_radius, 1.5);
+}
+
+// A wrong value ends the node with the parameter's name (pomdp_topo_node throws what this says).
+TEST(Config, OutOfRangeValuesAreRefusedWithTheirName) {
+  pomdp_topo::TopoParams defaults;
+  defaults.sync();
+  std::string why;
+  EXPECT_TRUE(pomdp_topo::validateParams(defaults, &why)) << why;
+  struct Case {
+    const char* name;
+    void (*spoil)(pomdp_topo::TopoParams*);
+  };
+  const Case cases[] = {
+      {"door_max_width", [](pomdp_topo::TopoParams* p) { p->builder.door_max_width = -1.0; }},
+      {"loop_new_place_prior", [](pomdp_topo::TopoParams* p) { p->builder.loop_new_place_prior = 0.0; }},
+      {"loop_verify_distance", [](pomdp_topo::TopoParams* p) { p->builder.loop_verify_distance = std::nan(""); }},
+      {"p_lmap_min_observations", [](pomdp_topo::TopoParams* p) { p->builder.p_lmap_min_observations = 0; }},
+      {"min_sightings", [](pomdp_topo::TopoParams* p) { p->front_end.min_sightings = 0; }},
+      {"side_angle", [](pomdp_topo::TopoParams* p) { p->front_end.side_angle = 2.0; }},
+      {"max_odometry_step", [](pomdp_topo::TopoParams* p) { p->front_end.max_odometry_step = 0.0; }},
+      {"heading_gate_probability", [](pomdp_topo::TopoParams* p) { p->heading.gate_probability = 1.0; }},
+      {"heading_initial_variance", [](pomdp_topo::TopoParams* p) { p->heading.initial_variance = -0.1; }},
+      {"resolution", [](pomdp_topo::TopoParams* p) { p->pomdp.resolution = 0.0; }},
+  };
+  for (const Case& c : cases) {
+    pomdp_topo::TopoParams p = defaults;
+    c.spoil(&p);
+    why.clear();
+    EXPECT_FALSE(pomdp_topo::validateParams(p, &why)) << c.name;
+    EXPECT_NE(why.find(c.name), std::string::npos) << c.name << ": " << why;
+  }
 }

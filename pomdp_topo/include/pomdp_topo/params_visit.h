@@ -4,6 +4,8 @@
 // key; sync() copies them into every piece.
 #pragma once
 
+#include <string>
+
 #include "pomdp_topo/front_end.h"
 #include "pomdp_topo/heading_estimator.h"
 #include "pomdp_topo/map_builder.h"
@@ -26,6 +28,10 @@ struct TopoParams {
     builder.node_radius = pomdp.node_radius;
   }
 };
+
+/// Range checks of every parameter (the POMDP's by PomdpLocalizer::validate). False with the first
+/// offending parameter's name and range in `error`.
+bool validateParams(const TopoParams& params, std::string* error = nullptr);
 
 template <typename Visitor>
 void visitParams(TopoParams* p, Visitor&& visit) {
