@@ -5,6 +5,8 @@
 # (needs a built workspace: source .ws/devel/setup.bash first)
 set -uo pipefail
 WORLD="$1"
+# A world file given by a relative path: roslaunch's nodes run in ~/.ros, so make it absolute.
+[ -f "$WORLD" ] && WORLD="$(cd "$(dirname "$WORLD")" && pwd)/$(basename "$WORLD")"
 OUT="$(mkdir -p "$2" && cd "$2" && pwd)"
 RATE="${3:-10}"
 MAX_TIME="${4:-4000}"
