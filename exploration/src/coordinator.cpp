@@ -410,7 +410,24 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     // metre, the branch's mouth opens the side sector only within a quarter metre of its centre.
     const bool here = (near >= 0 && uint32_t(near) == route.next_node) ||
                       (route.next_node == route.goal_node && route.distance < 2.0);
-    if (((left && v.open_left) || (right && v.open_right)) && here) {
+    // A door abeam on that side is not the branch: the belief that puts the robot at the branch's
+    // node is wrong (large_floor: node 18's 2.2 m crossing taken at a 1.2 m office door 38 m east
+    // of it along a hallway of look-alike doors; the robot then mapped the office as hallways for
+    // 1,000 s). The robot drives on and the belief is not acted on (no turn round for the route,
+    // no room entered) for jump_hold_distance, as after a jump.
+    const double side_sign = left ? 1.0 : -1.0;
+    const std::optional<DoorTrack> door_abeam = doorAbeam(p, dir_robot, side_sign);
+    if (((left && v.open_left) || (right && v.open_right)) && here && door_abeam) {
+      if (refused_branch_node_ != long(route.next_node)) {  // counted once per node in a row
+        refused_branch_node_ = long(route.next_node);
+        ++stats_.branch_turns_refused;
+      }
+      distrust_until_ = std::max(distrust_until_, travel_ + params_.jump_hold_distance);
+      char why[160];
+      std::snprintf(why, sizeof(why), "a %.2f m door beside the robot, not the branch of node %u: not turning",
+                    door_abeam->width, route.next_node);
+      state_text_ = why;
+    } else if (((left && v.open_left) || (right && v.open_right)) && here) {
       startTurn(route_bin, p, topo, {});
       state_text_ = "turning into the branch of node " + std::to_string(near) + " towards node " +
                     std::to_string(route.goal_node);
@@ -532,6 +549,20 @@ void Coordinator::trackDoors(const Perception& p, double dir_robot) {
   doors_.erase(std::remove_if(doors_.begin(), doors_.end(),
                               [&](const DoorTrack& t) { return (t.centre_odom - robot).norm() > 8.0; }),
                doors_.end());
+}
+
+std::optional<Coordinator::DoorTrack> Coordinator::doorAbeam(const Perception& p, double dir_robot, double side) const {
+  const Eigen::Vector2d robot(p.odom.x, p.odom.y);
+  const double heading = normalizeAngle(dir_robot + p.odom.theta);
+  const Eigen::Vector2d u = unit(heading), nrm = unit(heading + 0.5 * kPi);
+  for (const DoorTrack& t : doors_) {
+    if (t.sightings < 2) continue;
+    const Eigen::Vector2d rel = t.centre_odom - robot;
+    // Within a door's width along: a branch's mouth (a hallway wide) and a door beside it on the
+    // same side are farther apart than that (half-widths and the wall between).
+    if (std::abs(rel.dot(u)) <= params_.door_max_width && rel.dot(nrm) * side > 0.0) return t;
+  }
+  return std::nullopt;
 }
 
 bool Coordinator::doorPassed(const Perception& p, double dir_robot, DoorTrack* door) {

@@ -157,6 +157,7 @@ struct CoordinatorStats {
   int openings_given_up = 0;  // openings the route kept missing (see max_route_attempts)
   int belief_jumps = 0;       // implausible jumps of the belief (see jump_tolerance)
   int turns = 0, u_turns = 0;
+  int branch_turns_refused = 0;  // route turns into a branch not made: a door was beside the robot
   double travel = 0.0;        // m, odometric
   double room_free_area = 0.0;  // m^2, sum over the rooms' grids
   size_t peak_room_bytes = 0;
@@ -228,6 +229,8 @@ class Coordinator {
   void decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d);
   void trackDoors(const Perception& p, double dir_robot);
   bool doorPassed(const Perception& p, double dir_robot, DoorTrack* door);
+  /// A tracked door beside the robot (within a door's width along) on the side `side` (+1 left, -1 right).
+  std::optional<DoorTrack> doorAbeam(const Perception& p, double dir_robot, double side) const;
   bool mayEnter(const TopoView& topo, const DoorTrack& door);
   bool beliefPlausible(const TopoView& topo);
   /// The goal of a turn on the spot: where the robot is now, with the turn's heading.
@@ -267,6 +270,7 @@ class Coordinator {
   int trusted_node_ = -1;          // the belief's node when last trusted
   double trusted_travel_ = 0.0;    // m, travel_ when it became the trusted node
   double distrust_until_ = 0.0;    // m, travel_ before which a jumped belief is not acted on
+  long refused_branch_node_ = -1;  // the last node whose branch turn was refused (a door beside)
   int goal_pass_node_ = -1;        // the route's goal node the robot is at (as the belief says)
   double goal_pass_travel_ = 0.0;  // m, travel_ when it got there
   std::map<uint32_t, int> route_attempts_;  // U-turns towards each goal node
