@@ -99,6 +99,10 @@ void MapBuilder::start(const FrontEnd& fe) {
   relocated_ = false;
   end_beyond_.clear();
   localizer_->clearOpenWays();
+  // A map built from here on is in the dead reckoning's frame; a loaded one is not (until a jump's
+  // relocation moves the front end onto it).
+  position_trusted_ = map_->empty();
+  trusted_travel_ = fe.travel();
   if (map_->empty()) {
     if (!params_.mapping) {
       mode_ = Mode::Localized;
@@ -164,6 +168,7 @@ void MapBuilder::odometryJump(const FrontEnd& fe) {
     }
   }
   mode_ = Mode::Localized;
+  position_trusted_ = false;  // the dead reckoning no longer says where the robot is on the map
   refreshLocalizer();
   localizer_->setUniform();
   beyond_ = 0.0;
@@ -653,6 +658,26 @@ bool MapBuilder::statePosition(const PomdpLocalizer::State& st, Eigen::Vector2d*
   return true;
 }
 
+void MapBuilder::gateByPosition(const Scan& scan) {
+  if (!position_trusted_ || !(params_.position_gate > 0.0)) return;
+  // Heading-corrected dead reckoning drifts little in a rectilinear building, and the map's node
+  // positions come from the same dead reckoning: a state far from it is a look-alike elsewhere
+  // (large_floor: a belief at the start node 94 m west of the robot at the east end of the same
+  // hallway started a new stretch there, and the whole hallway was mapped twice).
+  const double gate = params_.position_gate + params_.position_gate_per_m * std::max(0.0, scan.travel - trusted_travel_);
+  const Eigen::Vector2d here(scan.pose.x, scan.pose.y);
+  const size_t n = localizer_->belief().size();
+  std::vector<bool> allowed(n, true);
+  for (size_t s = 0; s < n; ++s) {
+    Eigen::Vector2d p;
+    if (statePosition(localizer_->state(s), &p)) allowed[s] = (p - here).norm() <= gate;
+  }
+  if (!localizer_->restrictTo(allowed)) {
+    event("no belief within " + std::to_string(int(std::lround(gate))) +
+          " m of the dead-reckoned position: uniform over the states there");
+  }
+}
+
 void MapBuilder::processLocalized(const Scan& scan) {
   double travelled = 0.0;
   for (const Action& a : scan.actions) {
@@ -704,6 +729,7 @@ void MapBuilder::processLocalized(const Scan& scan) {
     beyond_ = 0.0;
     localizer_->update(scan.observation);
   }
+  gateByPosition(scan);
   const int ml = localizer_->mostLikely();
   if (ml < 0) return;
   const bool sure = localizer_->confident();
@@ -717,6 +743,8 @@ void MapBuilder::processLocalized(const Scan& scan) {
       relocation_pending_ = false;
       relocated_ = true;
       relocated_position_ = p;
+      position_trusted_ = true;  // the caller moves the front end there (takeRelocatedPosition)
+      trusted_travel_ = scan.travel;
       event("relocalized after the odometry jump");
     }
   }

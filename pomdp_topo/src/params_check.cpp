@@ -71,6 +71,8 @@ bool validateParams(const TopoParams& p, std::string* error) {
        "loop_false_landmark_probability must be in (0, 1)");
   need(positive(b.loop_decision_log_odds), "loop_decision_log_odds must be > 0");
   need(positive(b.loop_verify_distance), "loop_verify_distance must be > 0");
+  need(nonneg(b.position_gate), "position_gate must be >= 0");
+  need(nonneg(b.position_gate_per_m), "position_gate_per_m must be >= 0");
   return ok;
 }
 

@@ -916,6 +916,23 @@ bool PomdpLocalizer::setBelief(const std::vector<double>& belief) {
   return true;
 }
 
+bool PomdpLocalizer::restrictTo(const std::vector<bool>& allowed) {
+  if (allowed.size() != belief_.size()) return true;
+  double inside = 0.0;
+  size_t count = 0;
+  for (size_t s = 0; s < belief_.size(); ++s) {
+    if (!allowed[s]) continue;
+    inside += belief_[s];
+    ++count;
+  }
+  if (count == 0) return true;
+  const bool kept = inside > 1e-12;
+  for (size_t s = 0; s < belief_.size(); ++s) {
+    belief_[s] = !allowed[s] ? 0.0 : kept ? belief_[s] / inside : 1.0 / double(count);
+  }
+  return kept;
+}
+
 bool PomdpLocalizer::resetToNode(uint32_t node, double heading) {
   const int index = nodeStateIndex(node, heading);
   return index >= 0 && setState(size_t(index));

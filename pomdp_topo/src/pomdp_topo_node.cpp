@@ -147,6 +147,7 @@ class TopoNodeRos {
     actions_.clear();
     if (!front_end_.process(odom, lines_, corners_, openings_, &actions_, &why)) {
       ROS_WARN_THROTTLE(5.0, "pomdp_topo: %s; the scan is skipped", why.c_str());
+      builder_.positionLost();
       return;
     }
     if (first) builder_.start(front_end_);

@@ -171,6 +171,40 @@ TEST(MapBuilder, StraightHallwayDoorsHallwayEndsAndLocalizationOnTheWayBack) {
   EXPECT_EQ(drive.builder.loopsClosed().size(), 0u);
 }
 
+// A long hallway of look-alike doors (one every 5 m, alternating sides), mapped east and localized
+// on the way back; then the belief is lost (uniform). The position gate keeps it within
+// position_gate (+1 % of the travel) of the dead-reckoned position: no look-alike 40 m away gets
+// any of it (which of the near look-alikes is right takes more than 10 m to tell in a periodic
+// hallway). Without the gate the far look-alikes keep their share.
+TEST(MapBuilder, ThePositionGateKeepsALostBeliefNearTheDeadReckonedPosition) {
+  for (const double gate : {15.0, 0.0}) {
+    SyntheticFloor floor;
+    for (int i = 0; i < 11; ++i) {
+      floor.doors.push_back({{4.0 + 5.0 * i, i % 2 ? -1.1 : 1.1}, i % 2 ? -0.5 * kPi : 0.5 * kPi, 0.9});
+    }
+    MapBuilderParams params;
+    params.position_gate = gate;
+    Drive drive(params);
+    drive.run(&floor, {{1.5, 0}, {58.0, 0}, {30.0, 0}}, 0.0);
+    ASSERT_EQ(drive.builder.mode(), MapBuilder::Mode::Localized);
+    drive.localizer.setUniform();  // lost, at x = 30
+    drive.localized = drive.right = 0;
+    drive.run(&floor, {{30.0, 0}, {20.0, 0}}, kPi);
+    const Eigen::Vector2d here(drive.front_end.pose().x, drive.front_end.pose().y);
+    double far = 0.0;  // belief mass more than 25 m from the robot (the gate is 15 m + ~1 m)
+    for (size_t s = 0; s < drive.localizer.belief().size(); ++s) {
+      if ((drive.position(drive.localizer.state(s)) - here).norm() > 25.0) far += drive.localizer.belief()[s];
+    }
+    if (gate > 0.0) {
+      EXPECT_EQ(far, 0.0);
+      ASSERT_GE(drive.localizer.mostLikely(), 0);
+      EXPECT_LE((drive.position(drive.localizer.state(size_t(drive.localizer.mostLikely()))) - here).norm(), 16.5);
+    } else {
+      EXPECT_GT(far, 1e-6) << "without the gate the far look-alikes keep some belief";
+    }
+  }
+}
+
 // institute's hall_north: doors facing each other across the hallway 0.9 m apart, driven there and
 // back twice. Each door is one opening of one node: a door seen on the way back with the belief a
 // little off along the short edge between them is not added to the other door's node.

@@ -46,6 +46,10 @@ struct MapBuilderParams {
   double loop_false_landmark_probability = 0.05;  // -, likelihood of a landmark the old place does not explain
   double loop_decision_log_odds = 3.0; // -, a hypothesis wins when ahead by this (log odds, about 20:1)
   double loop_verify_distance = 6.0;   // m, past this the better hypothesis wins
+  double position_gate = 15.0;         // m, states farther than this from the dead-reckoned position ...
+  double position_gate_per_m = 0.01;   // m/m, ... plus this per metre travelled since the map and the dead
+                                       // reckoning last agreed (built from the start, or relocalized after a
+                                       // jump) get no belief: a look-alike 40 m away is no candidate; 0 = off
   bool start_node_closed = false;      // -, the start node has no way but its edges and recorded openings (the
                                        // exploration records an open way behind the robot): a belief leaving it
                                        // elsewhere is wrong, as past a hallway end; false when nobody records them
@@ -75,6 +79,9 @@ class MapBuilder {
   /// a loop check keeps the new place; the belief becomes uniform over the known graph (Localized,
   /// unconfident: no map change until it is confident again).
   void odometryJump(const FrontEnd& fe);
+  /// The front end refused a scan's odometry (a jump past max_odometry_step, a reset of the
+  /// odometry): its position is no longer the map's, and the position gate is off from now on.
+  void positionLost() { position_trusted_ = false; }
   /// After an odometry jump, once the belief is confident again: where the map puts the robot (m,
   /// map frame), once; the caller moves the FrontEnd there (FrontEnd::setPosition). False otherwise.
   bool takeRelocatedPosition(Eigen::Vector2d* position);
@@ -136,6 +143,8 @@ class MapBuilder {
   bool startLoopCheck(uint32_t new_node, uint32_t previous_node, const Scan& scan);
   /// The map position of a belief state (a node, or along an edge between its nodes' poses).
   bool statePosition(const PomdpLocalizer::State& st, Eigen::Vector2d* p) const;
+  /// The position gate (position_gate): the belief restricted to states near the dead-reckoned position.
+  void gateByPosition(const Scan& scan);
   void decideLoop(bool old_wins, const FrontEnd& fe);
   void updateKnownEdge(const Scan& scan);
   /// A node within min_node_separation + match_distance of `d` along edge `e` (either way, through
@@ -167,6 +176,8 @@ class MapBuilder {
   double travel_base_ = 0.0;
   std::vector<EdgeLandmark> pending_;  // corners on the frontier, distance from from_node_
   double travel_since_localized_ = 0.0;
+  bool position_trusted_ = false;   // the front end's position is in the map's frame (see position_gate)
+  double trusted_travel_ = 0.0;     // FrontEnd::travel() when it last became so
   bool relocation_pending_ = false;     // an odometry jump happened; not yet confident again
   bool relocated_ = false;              // confident again: the position is to be taken
   Eigen::Vector2d relocated_position_ = Eigen::Vector2d::Zero();

@@ -103,6 +103,8 @@ void visitParams(TopoParams* p, Visitor&& visit) {
   visit("loop_false_landmark_probability", &p->builder.loop_false_landmark_probability);
   visit("loop_decision_log_odds", &p->builder.loop_decision_log_odds);
   visit("loop_verify_distance", &p->builder.loop_verify_distance);
+  visit("position_gate", &p->builder.position_gate);
+  visit("position_gate_per_m", &p->builder.position_gate_per_m);
   visit("start_node_closed", &p->builder.start_node_closed);
 }
 

@@ -106,6 +106,11 @@ class PomdpLocalizer {
   /// Any belief (normalized here); false (no change) for a wrong size, a negative or non-finite
   /// entry, or a zero sum.
   bool setBelief(const std::vector<double>& belief);
+  /// The belief outside `allowed` (one flag per state) is dropped and the rest renormalized; when
+  /// nothing was inside, the belief becomes uniform over `allowed` and this returns false. Unlike
+  /// setBelief the lost-belief detection goes on counting. No change for a wrong size or no state
+  /// allowed (returns true).
+  bool restrictTo(const std::vector<bool>& allowed);
   /// Belief all on the node state of the bin nearest `heading`; false (no change) for an unknown node.
   bool resetToNode(uint32_t node, double heading);
   /// Belief all on the cell of `edge` containing `offset` (clamped to the edge); false (no change)
