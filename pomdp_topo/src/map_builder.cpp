@@ -615,7 +615,9 @@ void MapBuilder::decideLoop(bool old_wins, const FrontEnd& fe) {
     const std::string evidence = loopEvidence();
     candidates_.clear();
     std::vector<std::pair<uint32_t, uint32_t>> zipped;
-    map_->mergeNodes(keep, loop_new_node_, &zipped);
+    // Zips only within the position gate (when on): positions share the dead reckoning's frame.
+    map_->mergeNodes(keep, loop_new_node_, &zipped,
+                     params_.position_gate > 0.0 ? params_.position_gate : std::numeric_limits<double>::infinity());
     loops_.emplace_back(keep, loop_new_node_);
     event("loop closed: node " + std::to_string(loop_new_node_) + " merged into node " + std::to_string(keep) +
           " (log odds " + std::to_string(odds) + "; " + evidence + ")");

@@ -125,7 +125,8 @@ bool TopologicalMap::recordOpening(uint32_t id, const NodeOpening& opening, doub
   return true;
 }
 
-bool TopologicalMap::mergeNodes(uint32_t keep, uint32_t drop, std::vector<std::pair<uint32_t, uint32_t>>* also_merged) {
+bool TopologicalMap::mergeNodes(uint32_t keep, uint32_t drop, std::vector<std::pair<uint32_t, uint32_t>>* also_merged,
+                                double max_zip_distance) {
   if (keep == drop || !nodes_.count(keep) || !nodes_.count(drop)) return false;
   TopoNode& kept = nodes_.at(keep);
   const TopoNode& dropped = nodes_.at(drop);
@@ -169,11 +170,18 @@ bool TopologicalMap::mergeNodes(uint32_t keep, uint32_t drop, std::vector<std::p
     }
   }
   ++revision_;
-  splitCollinearEdges(keep, also_merged);
+  splitCollinearEdges(keep, also_merged, max_zip_distance);
   return true;
 }
 
-void TopologicalMap::splitCollinearEdges(uint32_t n, std::vector<std::pair<uint32_t, uint32_t>>* also_merged) {
+void TopologicalMap::splitCollinearEdges(uint32_t n, std::vector<std::pair<uint32_t, uint32_t>>* also_merged,
+                                         double max_zip_distance) {
+  auto near = [&](uint32_t a, uint32_t b) {
+    const TopoNode* na = node(a);
+    const TopoNode* nb = node(b);
+    return na != nullptr && nb != nullptr &&
+           std::hypot(na->pose.x - nb->pose.x, na->pose.y - nb->pose.y) <= max_zip_distance;
+  };
   // Direction of an edge leaving n, and its far node.
   auto away = [&](const TopoEdge& e) { return e.source == n ? e.heading : normalizeAngle(e.heading + laser_features::kPi); };
   auto far = [&](const TopoEdge& e) { return e.source == n ? e.target : e.source; };
@@ -190,8 +198,10 @@ void TopologicalMap::splitCollinearEdges(uint32_t n, std::vector<std::pair<uint3
         if (far(a) == far(b) || std::abs(normalizeAngle(away(a) - away(b))) >= kSameDirection) continue;
         if (std::abs(a.length - b.length) <= kMinSplit) {
           // Both stretches end at the same place: one node recorded twice (a loop hypothesis
-          // rejected one node before the loop closed at the next). Zip them, the older one kept.
-          if (sameKind(far(a), far(b))) {
+          // rejected one node before the loop closed at the next). Zip them, the older one kept,
+          // unless the dead reckoning put them far apart (large_floor: zips of nodes 25 m apart
+          // joined hallways across the building).
+          if (sameKind(far(a), far(b)) && near(far(a), far(b))) {
             zip = {std::min(far(a), far(b)), std::max(far(a), far(b))};
             zip_found = true;
             break;
@@ -225,7 +235,7 @@ void TopologicalMap::splitCollinearEdges(uint32_t n, std::vector<std::pair<uint3
     if (zip_found) {
       // (Out of the loops over edges_: the merge re-attaches and erases edges.)
       if (also_merged != nullptr) also_merged->push_back(zip);
-      mergeNodes(zip.first, zip.second, also_merged);
+      mergeNodes(zip.first, zip.second, also_merged, max_zip_distance);
       changed = nodes_.count(n) > 0;  // n itself may have been zipped away further along
     }
   }

@@ -124,6 +124,26 @@ TEST(TopologicalMap, ANodeRecordedTwiceBehindAClosedLoopIsZipped) {
       EXPECT_EQ(e.target, d);
     }
   }
+  // The same with the second door recorded 30 m away (the dead reckoning disagrees): not zipped
+  // when zips are limited to 15 m.
+  {
+    TopologicalMap far;
+    const uint32_t fs = far.addNode(nodeAt(NodeType::Start, 2, 0));
+    const uint32_t fd = far.addNode(nodeAt(NodeType::Door, 12, 0));
+    const uint32_t fj = far.addNode(nodeAt(NodeType::Junction, 14.74, 0));
+    const uint32_t fj6 = far.addNode(nodeAt(NodeType::Junction, 1, 30));
+    const uint32_t fd7 = far.addNode(nodeAt(NodeType::Door, 11.98, 30));
+    const uint32_t fj8 = far.addNode(nodeAt(NodeType::Junction, 14.94, 0));
+    for (uint32_t n : {fd, fj, fj6, fd7, fj8}) far.recordOpening(n, left);
+    far.addEdge(fs, fd, 0.0, 10.0);
+    far.addEdge(fd, fj, 0.0, 2.74);
+    far.addEdge(fj6, fd7, 0.0, 10.98);
+    far.addEdge(fd7, fj8, 0.0, 2.96);
+    std::vector<std::pair<uint32_t, uint32_t>> kept_apart;
+    ASSERT_TRUE(far.mergeNodes(fj, fj8, &kept_apart, 15.0));
+    EXPECT_TRUE(kept_apart.empty());
+    EXPECT_NE(far.node(fd7), nullptr);
+  }
   // A junction and a door the same distance behind are two places: left alone.
   TopologicalMap other;
   const uint32_t a = other.addNode(nodeAt(NodeType::Junction, 0, 0));

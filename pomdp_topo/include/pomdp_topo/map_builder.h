@@ -49,7 +49,8 @@ struct MapBuilderParams {
   double position_gate = 15.0;         // m, states farther than this from the dead-reckoned position ...
   double position_gate_per_m = 0.01;   // m/m, ... plus this per metre travelled since the map and the dead
                                        // reckoning last agreed (built from the start, or relocalized after a
-                                       // jump) get no belief: a look-alike 40 m away is no candidate; 0 = off
+                                       // jump) get no belief: a look-alike 40 m away is no candidate; nodes
+                                       // zipped after a loop closure lie within position_gate; 0 = off
   bool start_node_closed = false;      // -, the start node has no way but its edges and recorded openings (the
                                        // exploration records an open way behind the robot): a belief leaving it
                                        // elsewhere is wrong, as past a hallway end; false when nobody records them

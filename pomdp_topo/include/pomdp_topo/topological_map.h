@@ -13,6 +13,7 @@
 #include "laser_features/geometry.h"
 
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <string>
 #include <utility>
@@ -109,9 +110,11 @@ class TopologicalMap {
   /// node (a loop closed past a node the returning stretch did not recognize, such as the start).
   /// Two such stretches of about the same length (within 0.5 m) to nodes of the same type with an
   /// opening on the same side end at one place recorded twice: those nodes are merged in turn (the
-  /// older id kept), and so on along the stretch; each such pair (keep, drop) is appended to
-  /// `also_merged`. Returns false for unknown ids.
-  bool mergeNodes(uint32_t keep, uint32_t drop, std::vector<std::pair<uint32_t, uint32_t>>* also_merged = nullptr);
+  /// older id kept), and so on along the stretch, unless their display poses lie more than
+  /// `max_zip_distance` (m) apart; each such pair (keep, drop) is appended to `also_merged`.
+  /// Returns false for unknown ids.
+  bool mergeNodes(uint32_t keep, uint32_t drop, std::vector<std::pair<uint32_t, uint32_t>>* also_merged = nullptr,
+                  double max_zip_distance = std::numeric_limits<double>::infinity());
 
   /// Records an opening of node `id` (the exploration's bookkeeping): the opening within
   /// `same_bearing` (rad) of `opening.bearing` is updated (explored stays once set; offset and
@@ -159,7 +162,8 @@ class TopologicalMap {
   void touch() { ++revision_; }
 
  private:
-  void splitCollinearEdges(uint32_t node, std::vector<std::pair<uint32_t, uint32_t>>* also_merged);
+  void splitCollinearEdges(uint32_t node, std::vector<std::pair<uint32_t, uint32_t>>* also_merged,
+                           double max_zip_distance);
   static std::vector<NodeOpening>::iterator findOpening(TopoNode* n, const NodeOpening& opening, double same_bearing);
   /// Same node type, and an opening on the same side (or neither has one).
   bool sameKind(uint32_t a, uint32_t b) const;
