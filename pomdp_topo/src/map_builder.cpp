@@ -677,6 +677,14 @@ void MapBuilder::gateByPosition(const Scan& scan) {
   if (!localizer_->restrictTo(allowed)) {
     event("no belief within " + std::to_string(int(std::lround(gate))) +
           " m of the dead-reckoned position: uniform over the states there");
+    return;
+  }
+  // A confident belief near the dead-reckoned position: the two agree, the drift allowance restarts.
+  const int ml = localizer_->mostLikely();
+  Eigen::Vector2d p;
+  if (ml >= 0 && localizer_->confident() && statePosition(localizer_->state(size_t(ml)), &p) &&
+      (p - here).norm() <= params_.position_gate) {
+    trusted_travel_ = scan.travel;
   }
 }
 

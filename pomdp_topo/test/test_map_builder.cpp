@@ -177,7 +177,7 @@ TEST(MapBuilder, StraightHallwayDoorsHallwayEndsAndLocalizationOnTheWayBack) {
 // any of it (which of the near look-alikes is right takes more than 10 m to tell in a periodic
 // hallway). Without the gate the far look-alikes keep their share.
 TEST(MapBuilder, ThePositionGateKeepsALostBeliefNearTheDeadReckonedPosition) {
-  for (const double gate : {15.0, 0.0}) {
+  for (const double gate : {10.0, 0.0}) {
     SyntheticFloor floor;
     for (int i = 0; i < 11; ++i) {
       floor.doors.push_back({{4.0 + 5.0 * i, i % 2 ? -1.1 : 1.1}, i % 2 ? -0.5 * kPi : 0.5 * kPi, 0.9});
@@ -191,14 +191,14 @@ TEST(MapBuilder, ThePositionGateKeepsALostBeliefNearTheDeadReckonedPosition) {
     drive.localized = drive.right = 0;
     drive.run(&floor, {{30.0, 0}, {20.0, 0}}, kPi);
     const Eigen::Vector2d here(drive.front_end.pose().x, drive.front_end.pose().y);
-    double far = 0.0;  // belief mass more than 25 m from the robot (the gate is 15 m + ~1 m)
+    double far = 0.0;  // belief mass more than 25 m from the robot (the gate is 10 m + ~1 m)
     for (size_t s = 0; s < drive.localizer.belief().size(); ++s) {
       if ((drive.position(drive.localizer.state(s)) - here).norm() > 25.0) far += drive.localizer.belief()[s];
     }
     if (gate > 0.0) {
       EXPECT_EQ(far, 0.0);
       ASSERT_GE(drive.localizer.mostLikely(), 0);
-      EXPECT_LE((drive.position(drive.localizer.state(size_t(drive.localizer.mostLikely()))) - here).norm(), 16.5);
+      EXPECT_LE((drive.position(drive.localizer.state(size_t(drive.localizer.mostLikely()))) - here).norm(), 11.5);
     } else {
       EXPECT_GT(far, 1e-6) << "without the gate the far look-alikes keep some belief";
     }

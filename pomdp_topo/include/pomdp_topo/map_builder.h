@@ -46,11 +46,12 @@ struct MapBuilderParams {
   double loop_false_landmark_probability = 0.05;  // -, likelihood of a landmark the old place does not explain
   double loop_decision_log_odds = 3.0; // -, a hypothesis wins when ahead by this (log odds, about 20:1)
   double loop_verify_distance = 6.0;   // m, past this the better hypothesis wins
-  double position_gate = 15.0;         // m, states farther than this from the dead-reckoned position ...
+  double position_gate = 10.0;         // m, states farther than this from the dead-reckoned position ...
   double position_gate_per_m = 0.01;   // m/m, ... plus this per metre travelled since the map and the dead
-                                       // reckoning last agreed (built from the start, or relocalized after a
-                                       // jump) get no belief: a look-alike 40 m away is no candidate; nodes
-                                       // zipped after a loop closure lie within position_gate; 0 = off
+                                       // reckoning last agreed (a confident belief within position_gate of
+                                       // it; a relocation after a jump) get no belief: a look-alike hallway
+                                       // 15 m away is no candidate; nodes zipped after a loop closure lie
+                                       // within position_gate; 0 = off
   bool start_node_closed = false;      // -, the start node has no way but its edges and recorded openings (the
                                        // exploration records an open way behind the robot): a belief leaving it
                                        // elsewhere is wrong, as past a hallway end; false when nobody records them
