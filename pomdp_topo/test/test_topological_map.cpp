@@ -87,24 +87,34 @@ TEST(TopologicalMap, MergingKeepsAnOpeningExploredFromEitherCopy) {
   EXPECT_TRUE(map.node(a)->openings[0].explored);
 }
 
-TEST(TopologicalMap, ANodeRecordedTwiceBehindAClosedLoopIsZipped) {
-  // small_loop under load: the returning stretch 6 -> 7 (door) -> 8 (junction) had its loop
-  // hypothesis "7 is 1" rejected, then closed at 8 = 2. 7 and 1 are then both 2.7-3 m behind 2 the
-  // same way: one door recorded twice, merged too; 6 -> 1 then runs through the start 0.
+// small_loop under load: the returning stretch 6 -> 7 (door) -> 8 (junction) had its loop
+// hypothesis "7 is 1" rejected, then closed at 8 = 2. 7 and 1 are then both 2.7-3 m behind 2 the
+// same way: one door recorded twice. `second_y`: where the dead reckoning put 6 and 7.
+struct ClosedLoopScene {
   TopologicalMap map;
-  NodeOpening left;
-  left.bearing = 0.5 * kPi;
-  const uint32_t s = map.addNode(nodeAt(NodeType::Start, 2, 0));
-  const uint32_t d = map.addNode(nodeAt(NodeType::Door, 12, 0));
-  const uint32_t j = map.addNode(nodeAt(NodeType::Junction, 14.74, 0));
-  const uint32_t j6 = map.addNode(nodeAt(NodeType::Junction, 1, 0));
-  const uint32_t d7 = map.addNode(nodeAt(NodeType::Door, 11.98, 0));
-  const uint32_t j8 = map.addNode(nodeAt(NodeType::Junction, 14.94, 0));
-  for (uint32_t n : {d, j, j6, d7, j8}) map.recordOpening(n, left);
-  map.addEdge(s, d, 0.0, 10.0);
-  map.addEdge(d, j, 0.0, 2.74);
-  map.addEdge(j6, d7, 0.0, 10.98);
-  map.addEdge(d7, j8, 0.0, 2.96);
+  uint32_t s, d, j, j6, d7, j8;
+  explicit ClosedLoopScene(double second_y) {
+    NodeOpening left;
+    left.bearing = 0.5 * kPi;
+    s = map.addNode(nodeAt(NodeType::Start, 2, 0));
+    d = map.addNode(nodeAt(NodeType::Door, 12, 0));
+    j = map.addNode(nodeAt(NodeType::Junction, 14.74, 0));
+    j6 = map.addNode(nodeAt(NodeType::Junction, 1, second_y));
+    d7 = map.addNode(nodeAt(NodeType::Door, 11.98, second_y));
+    j8 = map.addNode(nodeAt(NodeType::Junction, 14.94, 0));
+    for (uint32_t n : {d, j, j6, d7, j8}) map.recordOpening(n, left);
+    map.addEdge(s, d, 0.0, 10.0);
+    map.addEdge(d, j, 0.0, 2.74);
+    map.addEdge(j6, d7, 0.0, 10.98);
+    map.addEdge(d7, j8, 0.0, 2.96);
+  }
+};
+
+TEST(TopologicalMap, ANodeRecordedTwiceBehindAClosedLoopIsZipped) {
+  // The door recorded twice is merged too; 6 -> 1 then runs through the start 0.
+  ClosedLoopScene scene(0.0);
+  TopologicalMap& map = scene.map;
+  const uint32_t s = scene.s, d = scene.d, j = scene.j, j6 = scene.j6, d7 = scene.d7, j8 = scene.j8;
   std::vector<std::pair<uint32_t, uint32_t>> zipped;
   ASSERT_TRUE(map.mergeNodes(j, j8, &zipped));
   ASSERT_EQ(zipped.size(), 1u);
@@ -127,22 +137,11 @@ TEST(TopologicalMap, ANodeRecordedTwiceBehindAClosedLoopIsZipped) {
   // The same with the second door recorded 30 m away (the dead reckoning disagrees): not zipped
   // when zips are limited to 15 m.
   {
-    TopologicalMap far;
-    const uint32_t fs = far.addNode(nodeAt(NodeType::Start, 2, 0));
-    const uint32_t fd = far.addNode(nodeAt(NodeType::Door, 12, 0));
-    const uint32_t fj = far.addNode(nodeAt(NodeType::Junction, 14.74, 0));
-    const uint32_t fj6 = far.addNode(nodeAt(NodeType::Junction, 1, 30));
-    const uint32_t fd7 = far.addNode(nodeAt(NodeType::Door, 11.98, 30));
-    const uint32_t fj8 = far.addNode(nodeAt(NodeType::Junction, 14.94, 0));
-    for (uint32_t n : {fd, fj, fj6, fd7, fj8}) far.recordOpening(n, left);
-    far.addEdge(fs, fd, 0.0, 10.0);
-    far.addEdge(fd, fj, 0.0, 2.74);
-    far.addEdge(fj6, fd7, 0.0, 10.98);
-    far.addEdge(fd7, fj8, 0.0, 2.96);
+    ClosedLoopScene far(30.0);
     std::vector<std::pair<uint32_t, uint32_t>> kept_apart;
-    ASSERT_TRUE(far.mergeNodes(fj, fj8, &kept_apart, 15.0));
+    ASSERT_TRUE(far.map.mergeNodes(far.j, far.j8, &kept_apart, 15.0));
     EXPECT_TRUE(kept_apart.empty());
-    EXPECT_NE(far.node(fd7), nullptr);
+    EXPECT_NE(far.map.node(far.d7), nullptr);
   }
   // A junction and a door the same distance behind are two places: left alone.
   TopologicalMap other;
