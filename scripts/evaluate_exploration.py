@@ -22,7 +22,7 @@ import rospy
 import yaml
 from hybrid_slam_msgs.msg import ExplorationStatus, TopologicalMap
 from nav_msgs.msg import Odometry
-from world_geometry import inside
+from world_geometry import inside, yaw_of
 
 METRIC, DONE = 1, 3
 
@@ -103,8 +103,7 @@ class ExplorationEvaluator:
             if step < 0.5:
                 self.travel += step
         self.truth = (p.x, p.y)
-        q = msg.pose.pose.orientation
-        self.truth_yaw = math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
+        self.truth_yaw = yaw_of(msg.pose.pose.orientation)
         self.trace_row(msg.header.stamp.to_sec())
         if self.t0 is None:
             self.t0 = msg.header.stamp.to_sec()

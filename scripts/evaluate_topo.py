@@ -18,7 +18,7 @@ import math
 
 import rospy
 import yaml
-from world_geometry import inside
+from world_geometry import yaw_of
 from geometry_msgs.msg import Pose2D
 from hybrid_slam_msgs.msg import TopologicalBelief, TopologicalMap
 from hybrid_slam_msgs.srv import Teleport
@@ -95,8 +95,7 @@ class TopoEvaluator:
 
     def on_truth(self, msg):
         p = msg.pose.pose.position
-        q = msg.pose.pose.orientation
-        yaw = math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
+        yaw = yaw_of(msg.pose.pose.orientation)
         mx, my = self.to_map(p.x, p.y)
         if self.truth is not None:
             step = math.hypot(mx - self.truth[0], my - self.truth[1])

@@ -30,16 +30,12 @@ import rospy
 import yaml
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from visualization_msgs.msg import MarkerArray
-from world_geometry import compose, inside, inverse
+from world_geometry import compose, inside, inverse, yaw_of
 from hybrid_slam_msgs.msg import (ExplorationStatus, GoToPlaceAction, GoToPlaceGoal, RelocationResult,
                                   TopologicalBelief, TopologicalMap)
 from nav_msgs.msg import Odometry
 
 DONE, TOPOLOGICAL = 3, 0
-
-
-def yaw_of(q):
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
 def segment_distance(p, a, b):

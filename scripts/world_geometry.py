@@ -1,5 +1,5 @@
 """Plane geometry the evaluation scripts share (ground truth only): the point-in-polygon test of
-world regions and 2D pose composition (x, y, theta)."""
+world regions, 2D pose composition (x, y, theta) and the yaw of a quaternion."""
 import math
 
 
@@ -26,3 +26,8 @@ def compose(a, b):
 def inverse(a):
     c, s = math.cos(a[2]), math.sin(a[2])
     return (-c * a[0] - s * a[1], s * a[0] - c * a[1], -a[2])
+
+
+def yaw_of(q):
+    """The yaw (rad) of a geometry_msgs/Quaternion."""
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
