@@ -415,9 +415,10 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     // of it along a hallway of look-alike doors; the robot then mapped the office as hallways for
     // 1,000 s). The robot drives on and the belief is not acted on (no turn round for the route,
     // no room entered) for jump_hold_distance, as after a jump.
-    const double side_sign = left ? 1.0 : -1.0;
-    const std::optional<DoorTrack> door_abeam = doorAbeam(p, dir_robot, side_sign);
-    if (((left && v.open_left) || (right && v.open_right)) && here && door_abeam) {
+    const bool side_open = (left && v.open_left) || (right && v.open_right);
+    const std::optional<DoorTrack> door_abeam =
+        side_open && here ? doorAbeam(p, dir_robot, left ? 1.0 : -1.0) : std::nullopt;
+    if (door_abeam) {
       if (refused_branch_node_ != long(route.next_node)) {  // counted once per node in a row
         refused_branch_node_ = long(route.next_node);
         ++stats_.branch_turns_refused;
@@ -427,7 +428,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
       std::snprintf(why, sizeof(why), "a %.2f m door beside the robot, not the branch of node %u: not turning",
                     door_abeam->width, route.next_node);
       state_text_ = why;
-    } else if (((left && v.open_left) || (right && v.open_right)) && here) {
+    } else if (side_open && here) {
       startTurn(route_bin, p, topo, {});
       state_text_ = "turning into the branch of node " + std::to_string(near) + " towards node " +
                     std::to_string(route.goal_node);

@@ -669,21 +669,26 @@ void MapBuilder::gateByPosition(const Scan& scan) {
   const double gate = params_.position_gate + params_.position_gate_per_m * std::max(0.0, scan.travel - trusted_travel_);
   const Eigen::Vector2d here(scan.pose.x, scan.pose.y);
   const size_t n = localizer_->belief().size();
-  std::vector<bool> allowed(n, true);
-  for (size_t s = 0; s < n; ++s) {
-    Eigen::Vector2d p;
-    if (statePosition(localizer_->state(s), &p)) allowed[s] = (p - here).norm() <= gate;
+  if (state_positions_.size() != n || state_positions_revision_ != map_->revision() ||
+      state_positions_states_revision_ != localizer_->mapRevision()) {
+    state_positions_.assign(n, Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN()));
+    for (size_t s = 0; s < n; ++s) statePosition(localizer_->state(s), &state_positions_[s]);
+    state_positions_revision_ = map_->revision();
+    state_positions_states_revision_ = localizer_->mapRevision();
   }
-  if (!localizer_->restrictTo(allowed)) {
+  // A state with no position (NaN) is never gated out.
+  auto within = [&](size_t s, double radius) { return !((state_positions_[s] - here).norm() > radius); };
+  gate_allowed_.resize(n);
+  for (size_t s = 0; s < n; ++s) gate_allowed_[s] = within(s, gate);
+  if (!localizer_->restrictTo(gate_allowed_)) {
     event("no belief within " + std::to_string(int(std::lround(gate))) +
           " m of the dead-reckoned position: uniform over the states there");
     return;
   }
   // A confident belief near the dead-reckoned position: the two agree, the drift allowance restarts.
   const int ml = localizer_->mostLikely();
-  Eigen::Vector2d p;
-  if (ml >= 0 && localizer_->confident() && statePosition(localizer_->state(size_t(ml)), &p) &&
-      (p - here).norm() <= params_.position_gate) {
+  if (ml >= 0 && localizer_->confident() && std::isfinite(state_positions_[size_t(ml)].x()) &&
+      within(size_t(ml), params_.position_gate)) {
     trusted_travel_ = scan.travel;
   }
 }

@@ -301,6 +301,35 @@ TEST(PomdpLocalizer, UniformEntropyIsLogN) {
   EXPECT_EQ(loc.mostLikely(), 3);
 }
 
+// The position gate's restriction: the mass outside is dropped and the rest renormalized; with
+// nothing inside, uniform over the allowed states (false); a wrong size or nothing allowed: no change.
+TEST(PomdpLocalizer, RestrictToKeepsTheAllowedStatesOnly) {
+  World w = ring();
+  PomdpLocalizer loc;
+  loc.setMap(w.map);
+  const size_t n = loc.size();
+  std::vector<bool> allowed(n, false);
+  allowed[1] = allowed[2] = allowed[5] = true;
+  std::vector<double> b(n, 0.0);
+  b[1] = 0.2;
+  b[2] = 0.2;
+  b[7] = 0.6;
+  ASSERT_TRUE(loc.setBelief(b));
+  EXPECT_TRUE(loc.restrictTo(allowed));
+  EXPECT_NEAR(loc.belief()[1], 0.5, 1e-12);
+  EXPECT_NEAR(loc.belief()[2], 0.5, 1e-12);
+  EXPECT_EQ(loc.belief()[7], 0.0);
+  EXPECT_TRUE(isDistribution(loc));
+  ASSERT_TRUE(loc.setState(7));  // all outside
+  EXPECT_FALSE(loc.restrictTo(allowed));
+  for (size_t s : {1u, 2u, 5u}) EXPECT_NEAR(loc.belief()[s], 1.0 / 3.0, 1e-12);
+  EXPECT_TRUE(isDistribution(loc));
+  const std::vector<double> before = loc.belief();
+  EXPECT_TRUE(loc.restrictTo(std::vector<bool>(n, false)));
+  EXPECT_TRUE(loc.restrictTo(std::vector<bool>(n + 1, true)));
+  EXPECT_EQ(loc.belief(), before);
+}
+
 TEST(PomdpLocalizer, HeadingBins) {
   PomdpParams p;
   p.axis_angle = 0.1;

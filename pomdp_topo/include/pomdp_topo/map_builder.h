@@ -180,6 +180,11 @@ class MapBuilder {
   double travel_since_localized_ = 0.0;
   bool position_trusted_ = false;   // the front end's position is in the map's frame (see position_gate)
   double trusted_travel_ = 0.0;     // FrontEnd::travel() when it last became so
+  // The position gate's per-state positions (NaN: none), kept until the map or the localizer's
+  // states change, and its mask: nothing allocated or looked up per scan.
+  std::vector<Eigen::Vector2d> state_positions_;
+  uint64_t state_positions_revision_ = ~0ull, state_positions_states_revision_ = ~0ull;
+  std::vector<bool> gate_allowed_;
   bool relocation_pending_ = false;     // an odometry jump happened; not yet confident again
   bool relocated_ = false;              // confident again: the position is to be taken
   Eigen::Vector2d relocated_position_ = Eigen::Vector2d::Zero();
