@@ -84,4 +84,23 @@ void HeadingEstimator::shift(int quarter_turns) {
   theta_ = normalizeAngle(theta_ + double(quarter_turns % 4) * kQuarterTurn);
 }
 
+void HeadingRealigner::setTrusted(bool trusted) {
+  trusted_ = trusted;
+  last_ = 0;
+  votes_ = 0;
+}
+
+int HeadingRealigner::update(int state_bin, int front_end_bin) {
+  if (trusted_) return 0;
+  const int k = ((state_bin - front_end_bin) % bins_ + bins_) % bins_;
+  if (k != last_) {
+    last_ = k;
+    votes_ = 0;
+  }
+  if (++votes_ < updates_) return 0;
+  votes_ = 0;
+  if (k == 0) trusted_ = true;  // the belief has agreed with the heading long enough
+  return k;
+}
+
 }  // namespace pomdp_topo

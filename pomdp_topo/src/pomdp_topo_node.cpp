@@ -44,6 +44,13 @@ TopoParams readParams(const ros::NodeHandle& pnh) {
   return p;
 }
 
+int readRealignUpdates(const ros::NodeHandle& pnh) {
+  int updates = 20;
+  pnh.param("realign_updates", updates, updates);
+  if (updates < 1) throw std::invalid_argument("parameter realign_updates must be >= 1");
+  return updates;
+}
+
 bool fileExists(const std::string& path) {
   struct stat st;
   return !path.empty() && ::stat(path.c_str(), &st) == 0;
@@ -57,6 +64,7 @@ class TopoNodeRos {
         localizer_(params_.pomdp),
         front_end_(params_.front_end, params_.heading),
         builder_(&map_, &localizer_, params_.builder),
+        realigner_(params_.pomdp.heading_bins, readRealignUpdates(pnh)),
         tf_listener_(tf_buffer_) {
     pnh.param<std::string>("map_frame", map_frame_, "map");
     pnh.param<std::string>("odom_frame", odom_frame_, "odom");
@@ -66,7 +74,6 @@ class TopoNodeRos {
     pnh.param("autosave", autosave_, true);
     pnh.param("transform_timeout", transform_timeout_, 0.1);
     pnh.param("markers_period", markers_period_, 0.5);
-    pnh.param("realign_updates", realign_updates_, 20);
     pnh.param("kidnap_consistency", kidnap_consistency_, 0.75);
 
     map_pub_ = nh_.advertise<hybrid_slam_msgs::TopologicalMap>("topological_map", 1, true);
@@ -148,9 +155,13 @@ class TopoNodeRos {
     if (!front_end_.process(odom, lines_, corners_, openings_, &actions_, &why)) {
       ROS_WARN_THROTTLE(5.0, "pomdp_topo: %s; the scan is skipped", why.c_str());
       builder_.positionLost();
+      realigner_.setTrusted(false);
       return;
     }
-    if (first) builder_.start(front_end_);
+    if (first) {
+      builder_.start(front_end_);
+      realigner_.setTrusted(map_.empty());  // a map built from here on has the odometry's heading
+    }
     // A scan the odometry does not explain: the robot was moved (kidnapped) and its place is unknown.
     // Not before the map has two nodes: a belief over one node is 'confident' at once, and a false
     // alarm there would move the whole map.
@@ -160,6 +171,7 @@ class TopoNodeRos {
                msg->odometry_consistency, kidnap_consistency_);
       front_end_.clearTracks();
       builder_.odometryJump(front_end_);
+      realigner_.setTrusted(false);
       publishMap();  // a reopened opening is no structural change (no new revision) but must be seen
       if (autosave_ && !map_file_.empty()) save(map_file_, nullptr);
     }
@@ -220,22 +232,13 @@ class TopoNodeRos {
   }
 
   // After a kidnapping the heading estimate may be off by whole bins: once the belief is confident
-  // again, its most likely heading wins.
+  // again, its most likely heading wins (HeadingRealigner: not while the heading is trusted).
   void realignHeading() {
     if (builder_.mode() != MapBuilder::Mode::Localized || !localizer_.confident()) return;
     const int ml = localizer_.mostLikely();
     if (ml < 0) return;
-    const int bins = params_.pomdp.heading_bins;
-    const int state_bin = localizer_.headingBin(localizer_.state(size_t(ml)).heading);
-    const int k = ((state_bin - front_end_.headingBin()) % bins + bins) % bins;
-    // Only a disagreement the belief keeps for realign_updates confident updates in a row.
-    if (k == 0 || k != realign_bins_) {
-      realign_bins_ = k;
-      realign_votes_ = 0;
-      return;
-    }
-    if (++realign_votes_ < realign_updates_) return;
-    realign_votes_ = 0;
+    const int k = realigner_.update(localizer_.headingBin(localizer_.state(size_t(ml)).heading), front_end_.headingBin());
+    if (k == 0) return;
     ROS_WARN("pomdp_topo: heading estimate re-aligned by %d bin(s) to the localized state", k);
     front_end_.shiftHeading(k);
   }
@@ -284,6 +287,7 @@ class TopoNodeRos {
     res.message = "loaded " + std::to_string(map_.nodeCount()) + " nodes and " + std::to_string(map_.edgeCount()) + " edges";
     if (front_end_.initialized()) builder_.start(front_end_);  // localized, uniform belief
     else localizer_.setMap(map_);
+    realigner_.setTrusted(false);  // the loaded map's frame is not the odometry's
     publishMap();
     return true;
   }
@@ -292,6 +296,7 @@ class TopoNodeRos {
     map_.clear();
     if (front_end_.initialized()) builder_.start(front_end_);
     else localizer_.setMap(map_);
+    realigner_.setTrusted(true);  // the map is built anew from the odometry's heading
     publishMap();
     res.success = true;
     res.message = "map cleared";
@@ -368,12 +373,12 @@ class TopoNodeRos {
   PomdpLocalizer localizer_;
   FrontEnd front_end_;
   MapBuilder builder_;
+  HeadingRealigner realigner_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   std::string map_frame_, odom_frame_, base_frame_, map_file_;
   bool load_on_start_ = true, autosave_ = true;
   double transform_timeout_ = 0.1, markers_period_ = 0.5;
-  int realign_updates_ = 20;
   double kidnap_consistency_ = 0.75;
   ros::Publisher map_pub_, belief_pub_, confident_pub_, heading_pub_, events_pub_, mode_pub_, markers_pub_;
   std::string last_mode_;
@@ -386,7 +391,6 @@ class TopoNodeRos {
   int paused_bin_ = 0;          // FrontEnd::headingBin() then
   double paused_pending_ = 0.0; // m, FrontEnd::pendingTravel() then
   uint64_t lost_resets_ = 0;
-  int realign_votes_ = 0, realign_bins_ = 0;
   std::vector<laser_features::LineSegment> lines_;
   std::vector<laser_features::Corner> corners_;
   std::vector<laser_features::Opening> openings_;

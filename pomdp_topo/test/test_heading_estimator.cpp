@@ -274,5 +274,40 @@ TEST(HeadingEstimator, ShiftByQuarterTurns) {
   EXPECT_NEAR(normalizeAngle(estimator.theta() - truth), 0.0, 0.02);
 }
 
+
+// ---- HeadingRealigner -----------------------------------------------------------------------------
+
+TEST(HeadingRealigner, ATrustedHeadingIsNeverTurned) {
+  HeadingRealigner r(4, 3);
+  r.setTrusted(true);
+  for (int i = 0; i < 50; ++i) EXPECT_EQ(r.update(1, 0), 0) << "update " << i;
+  EXPECT_TRUE(r.trusted());
+}
+
+TEST(HeadingRealigner, AnUntrustedHeadingIsTurnedAfterTheUpdatesInARowAndThenTrusted) {
+  HeadingRealigner r(4, 3);
+  r.setTrusted(false);
+  EXPECT_EQ(r.update(3, 0), 0);
+  EXPECT_EQ(r.update(3, 0), 0);
+  EXPECT_EQ(r.update(1, 0), 0);  // another disagreement: the count starts over
+  EXPECT_EQ(r.update(1, 0), 0);
+  EXPECT_EQ(r.update(1, 0), 1);  // three in a row: a quarter turn
+  EXPECT_FALSE(r.trusted());
+  // The front end turned: the belief agrees now, and after three agreeing updates it is trusted.
+  EXPECT_EQ(r.update(1, 1), 0);
+  EXPECT_EQ(r.update(1, 1), 0);
+  EXPECT_FALSE(r.trusted());
+  EXPECT_EQ(r.update(1, 1), 0);
+  EXPECT_TRUE(r.trusted());
+  EXPECT_EQ(r.update(2, 1), 0);
+  EXPECT_EQ(r.update(2, 1), 0);
+  EXPECT_EQ(r.update(2, 1), 0);
+  // A kidnapping: untrusted again; the bins wrap (state 0, front end 3: one bin on).
+  r.setTrusted(false);
+  EXPECT_EQ(r.update(0, 3), 0);
+  EXPECT_EQ(r.update(0, 3), 0);
+  EXPECT_EQ(r.update(0, 3), 1);
+}
+
 }  // namespace
 }  // namespace pomdp_topo

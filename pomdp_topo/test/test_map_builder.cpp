@@ -20,6 +20,7 @@ struct Door {
   Eigen::Vector2d center;  // on the wall line
   double normal;           // direction from the hallway into the room (world)
   double width;
+  int axis = -1;           // seen only while driving along x (0) or y (1); -1: always (a wall's door)
 };
 
 // A closed or open polyline of hallway centre lines (axis-aligned), half width 1.1 m, with doors.
@@ -58,7 +59,10 @@ struct SyntheticFloor {
       o.confidence = 0.8;
       openings->push_back(o);
     };
-    for (const Door& d : doors) add(d.center, d.normal, d.width);
+    const int travel_axis = std::abs(std::cos(pose.theta)) > 0.7 ? 0 : 1;
+    for (const Door& d : doors) {
+      if (d.axis < 0 || d.axis == travel_axis) add(d.center, d.normal, d.width);
+    }
     // The branch the robot is about to turn into: an opening beside the turn point.
     if (next_corner >= 1 && next_corner + 1 < int(path.size())) {
       const Eigen::Vector2d c = path[next_corner];
@@ -298,6 +302,31 @@ TEST(MapBuilder, RingWithOneDoorIsClosedAtTheFirstCornerItComesBackTo) {
   EXPECT_EQ(drive.map.nodeCount(), 6u);  // and the start
   EXPECT_GE(double(drive.right) / std::max<size_t>(1, drive.localized), 0.9)
       << drive.right << " of " << drive.localized;
+}
+
+// Two hallways joined at both ends (a ring) and by a stem in the middle, as large_floor's ladder:
+// coming down the stem to the first hallway's T, the new node's openings (the hallway on both sides)
+// are the old node's edges, not its openings, so no loop check starts there. The loop closes at the
+// next door, and the new T is zipped into the old one: one T, not a second T and a second hallway
+// beside the first (as large_floor's hall_0, mapped twice once positions were off by 30 m).
+TEST(MapBuilder, ComingDownAStemToAKnownHallwayGivesOneJunctionThere) {
+  SyntheticFloor floor;
+  floor.doors.push_back({{8.0, 2.1}, 0.5 * kPi, 2.0, 0});  // the stem's mouth, seen from the south hallway
+  floor.doors.push_back({{6.9, 1.0}, kPi, 2.0, 1});         // the south hallway, seen from the stem
+  floor.doors.push_back({{9.1, 1.0}, 0.0, 2.0, 1});
+  floor.doors.push_back({{12.0, 2.1}, 0.5 * kPi, 0.9, 0});  // a door between the T and the corner
+  Drive drive;
+  drive.run(&floor, {{2, 1}, {15, 1}, {15, 11}, {8, 11}, {8, 1}, {15, 1}, {15, 6}}, 0.0);
+  EXPECT_EQ(drive.builder.loopsClosed().size(), 1u);
+  bool zipped = false;
+  for (const std::string& e : drive.builder.takeEvents()) {
+    zipped = zipped || e.find("merged into node 1: the same place") != std::string::npos;  // the old T
+  }
+  EXPECT_TRUE(zipped);
+  EXPECT_EQ(drive.count(NodeType::Junction), 4u);  // two T's, two corners
+  EXPECT_EQ(drive.count(NodeType::Door), 1u);
+  EXPECT_EQ(drive.map.nodeCount(), 6u);  // and the start
+  EXPECT_GE(double(drive.right) / std::max<size_t>(1, drive.localized), 0.9) << drive.right << " of " << drive.localized;
 }
 
 // A door 0.9 m before a hallway's end: the U-turn there makes no node of its own (the door's

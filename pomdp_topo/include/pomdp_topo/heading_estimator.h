@@ -93,4 +93,31 @@ class HeadingEstimator {
   double variance_ = 0.0;
 };
 
+/// When the front end's heading is turned by whole bins to the topological belief's (after a
+/// kidnapping, or on a loaded map whose frame is not the odometry's): when a confident belief keeps
+/// one other heading for `updates` updates in a row. While the dead-reckoned heading is trusted (a
+/// map built in this run, no jump since, or a heading the belief has since agreed with for `updates`
+/// updates), it is not second-guessed: a disagreeing belief is then the wrong one (large_floor: a
+/// re-alignment by a quarter turn after a U-turn at a hallway end sent the robot out of the next
+/// room facing the wall, and the belief was lost).
+class HeadingRealigner {
+ public:
+  HeadingRealigner(int bins, int updates) : bins_(bins > 0 ? bins : 1), updates_(updates) {}
+
+  /// trusted: the dead-reckoned heading is the map's (votes start over).
+  void setTrusted(bool trusted);
+  bool trusted() const { return trusted_; }
+
+  /// One confident belief update: the bin of its most likely state and the front end's bin. Returns
+  /// the bins to turn the front end by (0: none). `updates` agreeing updates make the heading trusted.
+  int update(int state_bin, int front_end_bin);
+
+ private:
+  int bins_;
+  int updates_;
+  bool trusted_ = false;
+  int last_ = 0;   // the disagreement (bins) of the updates counted
+  int votes_ = 0;  // confident updates in a row with that disagreement
+};
+
 }  // namespace pomdp_topo
