@@ -111,6 +111,12 @@ class LocalMapNode {
       reportOnce("no odometry (" + odom_frame_ + " -> " + base_frame_ + ") at the features' time: " + why);
       return;
     }
+    if (origin_stamp_ && msg->header.stamp < *origin_stamp_) {
+      // Taken before the new place's origin (the odometry's latest pose when it was created): the
+      // scan was still on its way. Not the place's; no error.
+      ROS_DEBUG("ekf_local_map: features from before the place's origin skipped");
+      return;
+    }
     if (last_stamp_ && msg->header.stamp < *last_stamp_) {
       reportOnce("features out of time order on '" + features_sub_.getTopic() + "': skipped");
       return;
@@ -231,6 +237,7 @@ class LocalMapNode {
       const auto t = tf_buffer_.lookupTransform(odom_frame_, base_frame_, ros::Time(0));
       last_odom_ = toPose(t.transform);
       last_stamp_ = t.header.stamp;
+      origin_stamp_ = t.header.stamp;
       res.origin_stamp = t.header.stamp;
     } catch (const tf2::TransformException&) {
       last_odom_.reset();  // the first features after this set it
@@ -321,6 +328,7 @@ class LocalMapNode {
   double transform_tolerance_ = 0.1, transform_timeout_ = 0.1;
   std::optional<Pose2D> last_odom_;
   std::optional<ros::Time> last_stamp_;
+  std::optional<ros::Time> origin_stamp_;  // the latest place's origin: features before it are skipped quietly
   std::vector<LineSegment> observations_;
   UpdateReport report_;
   hybrid_slam_msgs::LocalMap local_map_;
