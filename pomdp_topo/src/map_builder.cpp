@@ -445,14 +445,24 @@ bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const
     if (std::find(stretch.begin(), stretch.end(), m.id) != stretch.end()) continue;
     const double d = std::hypot(m.pose.x - fresh->pose.x, m.pose.y - fresh->pose.y);
     if (d > gate) continue;
-    // Every opening of the new node must exist at the old one.
-    const bool openings_match = std::all_of(fresh->openings.begin(), fresh->openings.end(), [&](const NodeOpening& o) {
-      return std::any_of(m.openings.begin(), m.openings.end(), [&](const NodeOpening& k) {
+    // Every opening of the new node must exist at the old one: as an opening, or as an edge. A stem
+    // coming to a known hallway's T sees the hallway both ways as openings, which the T, made along
+    // the hallway, has as its edges (large_floor: no check started there, and the door just past
+    // the T was entered as a new room before the loop closed at the next one).
+    bool openings_match = true, seen_from_another_way = false;
+    for (const NodeOpening& o : fresh->openings) {
+      const bool opening = std::any_of(m.openings.begin(), m.openings.end(), [&](const NodeOpening& k) {
         return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameBearing;
       });
-    });
+      EdgeExit way;
+      const bool edge = !opening && map_->exitWithHeading(m.id, o.bearing, kSameBearing, &way);
+      openings_match = openings_match && (opening || edge);
+      seen_from_another_way = seen_from_another_way || edge;
+    }
     if (!openings_match) continue;
-    if (!fresh->fingerprint.entries.empty() && !m.fingerprint.entries.empty() &&
+    // The fingerprint is the view on arrival: from the stem a T shows other openings than from its
+    // hallway, so it is compared only for a node come to the way the old one was.
+    if (!seen_from_another_way && !fresh->fingerprint.entries.empty() && !m.fingerprint.entries.empty() &&
         fingerprintSimilarity(fresh->fingerprint, m.fingerprint) < params_.loop_fingerprint_min) {
       continue;
     }
