@@ -703,6 +703,15 @@ void MapBuilder::gateByPosition(const Scan& scan) {
   }
 }
 
+bool MapBuilder::farFromDeadReckoning(const Eigen::Vector2d& believed, const PassedLandmark& p, const Scan& scan) const {
+  if (!position_trusted_ || !(params_.position_gate > 0.0) || !(params_.update_position_tolerance > 0.0)) return false;
+  // The landmark lies this far behind the robot along its travel (as in processLoopCheck).
+  const double back = scan.travel - (p.travel + p.landmark.along);
+  const double h = binHeading(p.heading_bin);
+  const Eigen::Vector2d at(scan.pose.x - back * std::cos(h), scan.pose.y - back * std::sin(h));
+  return (at - believed).norm() > params_.update_position_tolerance;
+}
+
 void MapBuilder::processLocalized(const Scan& scan) {
   double travelled = 0.0;
   for (const Action& a : scan.actions) {
@@ -819,6 +828,10 @@ void MapBuilder::addOpeningsAtNode(const PomdpLocalizer::State& st, const Scan& 
     if (binHeading(p.heading_bin) != binHeading(binOf(st.heading))) continue;
     const NodeOpening o = sideOpening(st.heading, p.landmark);
     if (knownOpeningNear({{n->id, reach}}, o.bearing, o.width)) continue;
+    // The belief a node or two off (large_floor: after U-turns on a hallway of doors 2-3 m apart, a
+    // door was added to a node 5.7 m from it, the route turned round for it, and a known room was
+    // entered again as a new one).
+    if (farFromDeadReckoning(Eigen::Vector2d(n->pose.x, n->pose.y), p, scan)) continue;
     n->openings.push_back(o);
     changed = true;
     event("opening added to node " + std::to_string(n->id));
@@ -896,7 +909,13 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       // a second, unexplored opening, and the room was explored twice).
       continue;
     } else if (!near_end) {
-      // A new opening creates a new node (an unknown door on a known stretch).
+      // A new opening creates a new node (an unknown door on a known stretch), where the dead
+      // reckoning agrees.
+      const TopoNode* a = map_->node(e->source);
+      const TopoNode* b = map_->node(e->target);
+      const double f = e->length > 0.0 ? std::clamp(d / e->length, 0.0, 1.0) : 0.0;
+      const Eigen::Vector2d believed = (1.0 - f) * Eigen::Vector2d(a->pose.x, a->pose.y) + f * Eigen::Vector2d(b->pose.x, b->pose.y);
+      if (farFromDeadReckoning(believed, p, scan)) continue;
       const double heading = st.heading;
       splitEdgeWithDoor(e->id, d, p.landmark, heading);
       return;
@@ -912,7 +931,7 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       const bool present = std::any_of(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {
         return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameBearing;
       });
-      if (!present) {
+      if (!present && !farFromDeadReckoning(Eigen::Vector2d(n->pose.x, n->pose.y), p, scan)) {
         n->openings.push_back(o);
         changed = true;
         event("opening added to node " + std::to_string(nid));

@@ -73,6 +73,7 @@ bool validateParams(const TopoParams& p, std::string* error) {
   need(positive(b.loop_verify_distance), "loop_verify_distance must be > 0");
   need(nonneg(b.position_gate), "position_gate must be >= 0");
   need(nonneg(b.position_gate_per_m), "position_gate_per_m must be >= 0");
+  need(nonneg(b.update_position_tolerance), "update_position_tolerance must be >= 0");
   return ok;
 }
 

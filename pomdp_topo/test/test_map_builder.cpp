@@ -79,6 +79,7 @@ struct Drive {
   MapBuilder builder;
   size_t steps = 0, localized = 0, right = 0;
   Eigen::Vector2d shift = Eigen::Vector2d::Zero();   // true position - odometry (a kidnapping sets it)
+  Eigen::Vector2d drift = Eigen::Vector2d::Zero();   // added to shift at every scan (odometry drift)
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> relocations;  // (map's position, truth)
 
   explicit Drive(const MapBuilderParams& params = MapBuilderParams()) : builder(&map, &localizer, params) {}
@@ -94,6 +95,7 @@ struct Drive {
     auto tick = [&](int next) {
       floor->scan(pose, next, path, &lines, &openings);
       actions.clear();
+      shift += drift;
       const Pose2D odometry{pose.x - shift.x(), pose.y - shift.y(), pose.theta};
       ASSERT_TRUE(front_end.process(odometry, lines, corners, openings, &actions));
       if (steps++ == 0) builder.start(front_end);
@@ -173,6 +175,25 @@ TEST(MapBuilder, StraightHallwayDoorsHallwayEndsAndLocalizationOnTheWayBack) {
   EXPECT_GT(drive.localized, 300u);
   EXPECT_GE(double(drive.right) / drive.localized, 0.95) << drive.right << " of " << drive.localized;
   EXPECT_EQ(drive.builder.loopsClosed().size(), 0u);
+}
+
+// A door first seen on the second pass along a known hallway makes a door node on the known edge,
+// where the dead reckoning agrees with the belief; with the dead reckoning 4 m off sideways (the
+// belief, from the hallway's doors, still right) it is not added: a belief a node or two off must
+// not put a phantom opening on the map (update_position_tolerance).
+TEST(MapBuilder, ADoorOnAKnownHallwayIsAddedOnlyWhereTheDeadReckoningAgrees) {
+  for (const bool drifting : {false, true}) {
+    SyntheticFloor floor;
+    for (double x : {4.0, 9.0, 16.0}) floor.doors.push_back({{x, 1.1}, 0.5 * kPi, 0.9});
+    Drive drive;
+    drive.run(&floor, {{1.5, 0}, {20.0, 0}, {1.5, 0}}, 0.0);
+    ASSERT_EQ(drive.count(NodeType::Door), 3u);
+    floor.doors.push_back({{12.5, -1.1}, -0.5 * kPi, 0.9});  // opened since
+    if (drifting) drive.drift = Eigen::Vector2d(0.0, -4.0 / 200.0);  // 4 m north within the first 10 m
+    drive.run(&floor, {{1.5, 0}, {20.0, 0}}, kPi);
+    EXPECT_EQ(drive.count(NodeType::Door), drifting ? 3u : 4u) << (drifting ? "drifting" : "no drift");
+    EXPECT_GE(double(drive.right) / std::max<size_t>(1, drive.localized), 0.9) << drive.right << " of " << drive.localized;
+  }
 }
 
 // A long hallway of look-alike doors (one every 5 m, alternating sides), mapped east and localized

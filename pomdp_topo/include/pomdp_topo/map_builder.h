@@ -52,6 +52,10 @@ struct MapBuilderParams {
                                        // it; a relocation after a jump) get no belief: a look-alike hallway
                                        // 15 m away is no candidate; nodes zipped after a loop closure lie
                                        // within position_gate; 0 = off
+  double update_position_tolerance = 2.5;  // m, while the position gate is on, an opening passed on the
+                                       // known map is added to it (to the belief's node, or as a door node
+                                       // on its edge) only if its dead-reckoned position lies this close to
+                                       // where the belief puts it; 0 = no check
   bool start_node_closed = false;      // -, the start node has no way but its edges and recorded openings (the
                                        // exploration records an open way behind the robot): a belief leaving it
                                        // elsewhere is wrong, as past a hallway end; false when nobody records them
@@ -147,6 +151,9 @@ class MapBuilder {
   bool statePosition(const PomdpLocalizer::State& st, Eigen::Vector2d* p) const;
   /// The position gate (position_gate): the belief restricted to states near the dead-reckoned position.
   void gateByPosition(const Scan& scan);
+  /// update_position_tolerance: the dead-reckoned position of a passed landmark is farther than the
+  /// tolerance from `believed` (where the belief puts it, map frame), while the position gate is on.
+  bool farFromDeadReckoning(const Eigen::Vector2d& believed, const PassedLandmark& p, const Scan& scan) const;
   void decideLoop(bool old_wins, const FrontEnd& fe);
   void updateKnownEdge(const Scan& scan);
   /// A node within min_node_separation + match_distance of `d` along edge `e` (either way, through

@@ -105,6 +105,7 @@ void visitParams(TopoParams* p, Visitor&& visit) {
   visit("loop_verify_distance", &p->builder.loop_verify_distance);
   visit("position_gate", &p->builder.position_gate);
   visit("position_gate_per_m", &p->builder.position_gate_per_m);
+  visit("update_position_tolerance", &p->builder.update_position_tolerance);
   visit("start_node_closed", &p->builder.start_node_closed);
 }
 
