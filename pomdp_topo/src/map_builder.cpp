@@ -102,6 +102,7 @@ void MapBuilder::start(const FrontEnd& fe) {
   // A map built from here on is in the dead reckoning's frame; a loaded one is not (until a jump's
   // relocation moves the front end onto it).
   position_trusted_ = map_->empty();
+  heading_trusted_ = map_->empty();
   trusted_travel_ = fe.travel();
   if (map_->empty()) {
     if (!params_.mapping) {
@@ -169,6 +170,7 @@ void MapBuilder::odometryJump(const FrontEnd& fe) {
   }
   mode_ = Mode::Localized;
   position_trusted_ = false;  // the dead reckoning no longer says where the robot is on the map
+  heading_trusted_ = false;
   refreshLocalizer();
   localizer_->setUniform();
   beyond_ = 0.0;
@@ -194,7 +196,7 @@ void MapBuilder::skipTravel(double metres) {
 
 void MapBuilder::process(const std::vector<Action>& actions, const Observation& observation,
                          const std::vector<PassedLandmark>& passed, const FrontEnd& fe) {
-  Scan scan{actions, observation, passed, fe.travel(), fe.pose()};
+  Scan scan{actions, observation, passed, fe.travel(), fe.pose(), fe.headingBin()};
   dispatch(scan, fe);
 }
 
@@ -670,13 +672,22 @@ bool MapBuilder::statePosition(const PomdpLocalizer::State& st, Eigen::Vector2d*
   return true;
 }
 
-void MapBuilder::gateByPosition(const Scan& scan) {
-  if (!position_trusted_ || !(params_.position_gate > 0.0)) return;
+void MapBuilder::gateByDeadReckoning(const Scan& scan) {
+  const bool by_position = position_trusted_ && params_.position_gate > 0.0;
+  // The heading: a belief whose heading is not the robot's is a wrong one (large_floor: a belief
+  // heading west at a T while the robot drove east left the known graph along the belief's
+  // heading, and the nine doors passed going east were never made nodes: the rooms were mapped
+  // again later). With a trusted heading the belief's must agree; before, the front end was turned
+  // to the belief's (HeadingRealigner, now only for an untrusted heading).
+  const bool by_heading = heading_trusted_ && params_.heading_gate;
+  if (!by_position && !by_heading) return;
   // Heading-corrected dead reckoning drifts little in a rectilinear building, and the map's node
   // positions come from the same dead reckoning: a state far from it is a look-alike elsewhere
   // (large_floor: a belief at the start node 94 m west of the robot at the east end of the same
   // hallway started a new stretch there, and the whole hallway was mapped twice).
-  const double gate = params_.position_gate + params_.position_gate_per_m * std::max(0.0, scan.travel - trusted_travel_);
+  const double gate = by_position
+                          ? params_.position_gate + params_.position_gate_per_m * std::max(0.0, scan.travel - trusted_travel_)
+                          : std::numeric_limits<double>::infinity();
   const Eigen::Vector2d here(scan.pose.x, scan.pose.y);
   const size_t n = localizer_->belief().size();
   if (state_positions_.size() != n || state_positions_revision_ != map_->revision() ||
@@ -689,12 +700,16 @@ void MapBuilder::gateByPosition(const Scan& scan) {
   // A state with no position (NaN) is never gated out.
   auto within = [&](size_t s, double radius) { return !((state_positions_[s] - here).norm() > radius); };
   gate_allowed_.resize(n);
-  for (size_t s = 0; s < n; ++s) gate_allowed_[s] = within(s, gate);
+  for (size_t s = 0; s < n; ++s) {
+    gate_allowed_[s] = within(s, gate) && (!by_heading || binOf(localizer_->state(s).heading) == scan.heading_bin);
+  }
   if (!localizer_->restrictTo(gate_allowed_)) {
-    event("no belief within " + std::to_string(int(std::lround(gate))) +
-          " m of the dead-reckoned position: uniform over the states there");
+    event(by_position ? "no belief within " + std::to_string(int(std::lround(gate))) +
+                            " m of the dead-reckoned position and heading: uniform over the states there"
+                      : "no belief with the dead-reckoned heading: uniform over the states with it");
     return;
   }
+  if (!by_position) return;
   // A confident belief near the dead-reckoned position: the two agree, the drift allowance restarts.
   const int ml = localizer_->mostLikely();
   if (ml >= 0 && localizer_->confident() && std::isfinite(state_positions_[size_t(ml)].x()) &&
@@ -763,7 +778,7 @@ void MapBuilder::processLocalized(const Scan& scan) {
     beyond_ = 0.0;
     localizer_->update(scan.observation);
   }
-  gateByPosition(scan);
+  gateByDeadReckoning(scan);
   const int ml = localizer_->mostLikely();
   if (ml < 0) return;
   const bool sure = localizer_->confident();

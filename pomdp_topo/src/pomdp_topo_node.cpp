@@ -180,6 +180,7 @@ class TopoNodeRos {
       return;
     }
     const Observation observation = front_end_.observation();
+    builder_.setHeadingTrusted(realigner_.trusted());
     builder_.process(actions_, observation, front_end_.takePassed(), front_end_);
     Eigen::Vector2d relocated;
     if (builder_.takeRelocatedPosition(&relocated)) front_end_.setPosition(relocated);

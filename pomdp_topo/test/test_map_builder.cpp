@@ -196,6 +196,35 @@ TEST(MapBuilder, ADoorOnAKnownHallwayIsAddedOnlyWhereTheDeadReckoningAgrees) {
   }
 }
 
+// A belief put on the right node but heading the other way (as a look-alike U-turn can leave it):
+// with the heading trusted (a map built in this run) the heading gate drops it at the next scan;
+// without the gate it stays, and a stretch left along it would ignore every door passed.
+TEST(MapBuilder, TheHeadingGateDropsABeliefHeadingOtherwiseThanTheRobot) {
+  for (const bool gate : {true, false}) {
+    SyntheticFloor floor;
+    for (double x : {4.0, 9.0, 16.0}) floor.doors.push_back({{x, 1.1}, 0.5 * kPi, 0.9});
+    MapBuilderParams params;
+    params.heading_gate = gate;
+    Drive drive(params);
+    drive.run(&floor, {{1.5, 0}, {20.0, 0}, {12.0, 0}}, 0.0);  // back west, past the doors at 16 and 9
+    uint32_t door = 0;
+    for (const auto& kv : drive.map.nodes()) {
+      if (kv.second.type == NodeType::Door && std::abs(kv.second.pose.x - 9.0) < 0.5) door = kv.first;
+    }
+    ASSERT_NE(door, 0u);
+    ASSERT_TRUE(drive.localizer.resetToNode(door, 0.0));  // east, while the robot heads west
+    drive.run(&floor, {{12.0, 0}, {11.5, 0}}, kPi);
+    const int ml = drive.localizer.mostLikely();
+    ASSERT_GE(ml, 0);
+    const double heading = drive.localizer.state(size_t(ml)).heading;
+    if (gate) {
+      EXPECT_LT(std::abs(normalizeAngle(heading - kPi)), 0.1) << "the belief heads " << heading;
+    } else {
+      EXPECT_LT(std::abs(normalizeAngle(heading)), 0.1) << "without the gate the belief heads " << heading;
+    }
+  }
+}
+
 // A long hallway of look-alike doors (one every 5 m, alternating sides), mapped east and localized
 // on the way back; then the belief is lost (uniform). The position gate keeps it within
 // position_gate (+1 % of the travel) of the dead-reckoned position: no look-alike 40 m away gets

@@ -56,6 +56,8 @@ struct MapBuilderParams {
                                        // known map is added to it (to the belief's node, or as a door node
                                        // on its edge) only if its dead-reckoned position lies this close to
                                        // where the belief puts it; 0 = no check
+  bool heading_gate = true;            // -, while the heading is trusted (setHeadingTrusted), states whose
+                                       // heading bin is not the front end's get no belief
   bool start_node_closed = false;      // -, the start node has no way but its edges and recorded openings (the
                                        // exploration records an open way behind the robot): a belief leaving it
                                        // elsewhere is wrong, as past a hallway end; false when nobody records them
@@ -87,7 +89,13 @@ class MapBuilder {
   void odometryJump(const FrontEnd& fe);
   /// The front end refused a scan's odometry (a jump past max_odometry_step, a reset of the
   /// odometry): its position is no longer the map's, and the position gate is off from now on.
-  void positionLost() { position_trusted_ = false; }
+  void positionLost() {
+    position_trusted_ = false;
+    heading_trusted_ = false;
+  }
+  /// The front end's heading is the map's (a map built in this run, no jump since, or agreed with
+  /// since: pomdp_topo_node's HeadingRealigner): the heading gate is on (heading_gate).
+  void setHeadingTrusted(bool trusted) { heading_trusted_ = trusted; }
   /// After an odometry jump, once the belief is confident again: where the map puts the robot (m,
   /// map frame), once; the caller moves the FrontEnd there (FrontEnd::setPosition). False otherwise.
   bool takeRelocatedPosition(Eigen::Vector2d* position);
@@ -133,6 +141,7 @@ class MapBuilder {
     std::vector<PassedLandmark> passed;
     double travel = 0.0;  // FrontEnd::travel() after the scan
     Pose2D pose;          // FrontEnd::pose() after the scan
+    int heading_bin = 0;  // FrontEnd::headingBin() after the scan
   };
 
   void dispatch(const Scan& scan, const FrontEnd& fe);
@@ -149,8 +158,9 @@ class MapBuilder {
   bool startLoopCheck(uint32_t new_node, uint32_t previous_node, const Scan& scan);
   /// The map position of a belief state (a node, or along an edge between its nodes' poses).
   bool statePosition(const PomdpLocalizer::State& st, Eigen::Vector2d* p) const;
-  /// The position gate (position_gate): the belief restricted to states near the dead-reckoned position.
-  void gateByPosition(const Scan& scan);
+  /// The position and heading gates (position_gate, heading_gate): the belief restricted to states
+  /// near the dead-reckoned position and with the dead-reckoned heading.
+  void gateByDeadReckoning(const Scan& scan);
   /// update_position_tolerance: the dead-reckoned position of a passed landmark is farther than the
   /// tolerance from `believed` (where the belief puts it, map frame), while the position gate is on.
   bool farFromDeadReckoning(const Eigen::Vector2d& believed, const PassedLandmark& p, const Scan& scan) const;
@@ -186,6 +196,7 @@ class MapBuilder {
   std::vector<EdgeLandmark> pending_;  // corners on the frontier, distance from from_node_
   double travel_since_localized_ = 0.0;
   bool position_trusted_ = false;   // the front end's position is in the map's frame (see position_gate)
+  bool heading_trusted_ = false;    // the front end's heading is in the map's frame (see heading_gate)
   double trusted_travel_ = 0.0;     // FrontEnd::travel() when it last became so
   // The position gate's per-state positions (NaN: none), kept until the map or the localizer's
   // states change, and its mask: nothing allocated or looked up per scan.

@@ -106,6 +106,7 @@ void visitParams(TopoParams* p, Visitor&& visit) {
   visit("position_gate", &p->builder.position_gate);
   visit("position_gate_per_m", &p->builder.position_gate_per_m);
   visit("update_position_tolerance", &p->builder.update_position_tolerance);
+  visit("heading_gate", &p->builder.heading_gate);
   visit("start_node_closed", &p->builder.start_node_closed);
 }
 
