@@ -763,6 +763,26 @@ void MapBuilder::processLocalized(const Scan& scan) {
           continue;
         }
         if (!closed) {
+          const int twin = beyond_ >= limit ? twinWithWay(st.id, st.heading) : -1;
+          if (twin >= 0) {
+            // The node is a known one recorded twice (large_floor: a crossing reached down a stem
+            // that goes on into an unexplored one starts no loop check, and the hallway was mapped
+            // again from the copy): merged, and on along the twin's edge.
+            std::vector<std::pair<uint32_t, uint32_t>> zipped;
+            map_->mergeNodes(uint32_t(twin), st.id, &zipped, params_.position_gate);
+            event("node " + std::to_string(st.id) + " merged into node " + std::to_string(twin) +
+                  ": the same place by the dead reckoning, and it has the way on");
+            for (const auto& [kept, dropped] : zipped) {
+              event("node " + std::to_string(dropped) + " merged into node " + std::to_string(kept) +
+                    ": the same place, on the stretch beyond");
+            }
+            Action on;
+            on.kind = Action::Travel;
+            on.distance = beyond_;
+            becomeLocalizedAt(uint32_t(twin), binOf(st.heading));
+            localizer_->predict(on);
+            continue;
+          }
           if (beyond_ >= limit) {
             event("leaving the known graph at node " + std::to_string(st.id) + ": new stretch");
             startFrontier(st.id, binOf(st.heading), beyond_, scan.travel);
@@ -798,6 +818,25 @@ void MapBuilder::processLocalized(const Scan& scan) {
     }
   }
   if (sure && params_.mapping && beyond_ == 0.0) updateKnownEdge(scan);
+}
+
+int MapBuilder::twinWithWay(uint32_t id, double heading) const {
+  if (!position_trusted_ || !(params_.position_gate > 0.0) || !(params_.update_position_tolerance > 0.0)) return -1;
+  const TopoNode* n = map_->node(id);
+  if (n == nullptr) return -1;
+  int best = -1;
+  double best_d = params_.update_position_tolerance;
+  for (const auto& entry : map_->nodes()) {
+    const TopoNode& m = entry.second;
+    if (m.id == id || m.type != n->type) continue;
+    const double d = std::hypot(m.pose.x - n->pose.x, m.pose.y - n->pose.y);
+    EdgeExit x;
+    if (d <= best_d && map_->exitWithHeading(m.id, heading, 0.25 * kPi, &x) && x.other != id) {
+      best = int(m.id);
+      best_d = d;
+    }
+  }
+  return best;
 }
 
 bool MapBuilder::knownOpeningNear(const TopoEdge& e, double d, double bearing, double width) const {

@@ -379,6 +379,32 @@ TEST(MapBuilder, ComingDownAStemToAKnownHallwayClosesTheLoopAtItsJunction) {
   EXPECT_GE(double(drive.right) / std::max<size_t>(1, drive.localized), 0.9) << drive.right << " of " << drive.localized;
 }
 
+// The ladder again, with the stem going on south through the first hallway's crossing into an
+// unexplored stem: no loop check can start at the crossing (the old node knows nothing south to
+// verify against), so it is recorded twice. Back from the south stem, turning east at the copy,
+// the robot would leave the known graph there and map the hallway again (large_floor: six rooms of
+// hall_1); the copy is merged into the known crossing, which has the way east.
+TEST(MapBuilder, ACrossingRecordedTwiceIsMergedWhereTheCopyHasNoWayOn) {
+  SyntheticFloor floor;
+  floor.doors.push_back({{8.0, 2.1}, 0.5 * kPi, 2.0, 0});   // the crossing's stems, seen from the hallway
+  floor.doors.push_back({{8.0, -0.1}, -0.5 * kPi, 2.0, 0});
+  floor.doors.push_back({{6.9, 1.0}, kPi, 2.0, 1});          // the hallway, seen from the stems
+  floor.doors.push_back({{9.1, 1.0}, 0.0, 2.0, 1});
+  Drive drive;
+  drive.run(&floor, {{2, 1}, {15, 1}, {15, 11}, {8, 11}, {8, -5}, {8, 1}, {13, 1}}, 0.0);
+  bool merged = false, left = false;
+  for (const std::string& e : drive.builder.takeEvents()) {
+    merged = merged || e.find("the same place by the dead reckoning") != std::string::npos;
+    left = left || e.rfind("leaving the known graph", 0) == 0;
+  }
+  EXPECT_TRUE(merged);
+  EXPECT_FALSE(left);
+  EXPECT_EQ(drive.count(NodeType::Junction), 4u);  // the crossing, two corners, the north T
+  EXPECT_EQ(drive.count(NodeType::HallwayEnd), 1u);
+  EXPECT_EQ(drive.builder.mode(), MapBuilder::Mode::Localized);
+  EXPECT_GE(double(drive.right) / std::max<size_t>(1, drive.localized), 0.9) << drive.right << " of " << drive.localized;
+}
+
 // A door 0.9 m before a hallway's end: the U-turn there makes no node of its own (the door's
 // node is within node_radius), so the door's node has no way on. Coming back to the end is no new
 // stretch (institute's hall_north: a second node beside the door, and a hallway that never ended).

@@ -161,6 +161,9 @@ class MapBuilder {
   /// The position and heading gates (position_gate, heading_gate): the belief restricted to states
   /// near the dead-reckoned position and with the dead-reckoned heading.
   void gateByDeadReckoning(const Scan& scan);
+  /// A node of the same type as `id` within update_position_tolerance of it (position gate on) with
+  /// an edge along `heading`, which `id` lacks: one place recorded twice. -1 if none.
+  int twinWithWay(uint32_t id, double heading) const;
   /// update_position_tolerance: the dead-reckoned position of a passed landmark is farther than the
   /// tolerance from `believed` (where the belief puts it, map frame), while the position gate is on.
   bool farFromDeadReckoning(const Eigen::Vector2d& believed, const PassedLandmark& p, const Scan& scan) const;
