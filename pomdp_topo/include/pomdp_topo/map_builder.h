@@ -55,7 +55,9 @@ struct MapBuilderParams {
   double update_position_tolerance = 2.5;  // m, while the position gate is on, an opening passed on the
                                        // known map is added to it (to the belief's node, or as a door node
                                        // on its edge) only if its dead-reckoned position lies this close to
-                                       // where the belief puts it; 0 = no check
+                                       // where the belief puts it, and a node the belief would leave the
+                                       // known graph from is merged into a node of its type this close
+                                       // that has the way on (twinWithWay); 0 = neither
   bool heading_gate = true;            // -, while the heading is trusted (setHeadingTrusted), states whose
                                        // heading bin is not the front end's get no belief
   bool start_node_closed = false;      // -, the start node has no way but its edges and recorded openings (the
