@@ -662,13 +662,22 @@ void MapBuilder::decideLoop(bool old_wins, const FrontEnd& fe) {
 // ---- Localized ---------------------------------------------------------------------------------
 
 bool MapBuilder::statePosition(const PomdpLocalizer::State& st, Eigen::Vector2d* p) const {
-  const TopoEdge* e = st.kind == PomdpLocalizer::State::Edge ? map_->edge(st.id) : nullptr;
-  const TopoNode* a = map_->node(e != nullptr ? e->source : st.id);
-  const TopoNode* b = e != nullptr ? map_->node(e->target) : nullptr;
-  if (a == nullptr || (e != nullptr && b == nullptr)) return false;
+  if (st.kind == PomdpLocalizer::State::Edge) {
+    const TopoEdge* e = map_->edge(st.id);
+    return e != nullptr && pointOnEdge(*e, st.offset, p);
+  }
+  const TopoNode* n = map_->node(st.id);
+  if (n == nullptr) return false;
+  *p = Eigen::Vector2d(n->pose.x, n->pose.y);
+  return true;
+}
+
+bool MapBuilder::pointOnEdge(const TopoEdge& e, double d, Eigen::Vector2d* p) const {
+  const TopoNode* a = map_->node(e.source);
+  const TopoNode* b = map_->node(e.target);
+  if (a == nullptr || b == nullptr) return false;
   *p = Eigen::Vector2d(a->pose.x, a->pose.y);
-  if (b != nullptr && e->length > 0.0)
-    *p += (Eigen::Vector2d(b->pose.x, b->pose.y) - *p) * std::clamp(st.offset / e->length, 0.0, 1.0);
+  if (e.length > 0.0) *p += (Eigen::Vector2d(b->pose.x, b->pose.y) - *p) * std::clamp(d / e.length, 0.0, 1.0);
   return true;
 }
 
@@ -965,11 +974,8 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
     } else if (!near_end) {
       // A new opening creates a new node (an unknown door on a known stretch), where the dead
       // reckoning agrees.
-      const TopoNode* a = map_->node(e->source);
-      const TopoNode* b = map_->node(e->target);
-      const double f = e->length > 0.0 ? std::clamp(d / e->length, 0.0, 1.0) : 0.0;
-      const Eigen::Vector2d believed = (1.0 - f) * Eigen::Vector2d(a->pose.x, a->pose.y) + f * Eigen::Vector2d(b->pose.x, b->pose.y);
-      if (farFromDeadReckoning(believed, p, scan)) continue;
+      Eigen::Vector2d believed;
+      if (pointOnEdge(*e, d, &believed) && farFromDeadReckoning(believed, p, scan)) continue;
       const double heading = st.heading;
       splitEdgeWithDoor(e->id, d, p.landmark, heading);
       return;

@@ -160,6 +160,9 @@ class MapBuilder {
   bool startLoopCheck(uint32_t new_node, uint32_t previous_node, const Scan& scan);
   /// The map position of a belief state (a node, or along an edge between its nodes' poses).
   bool statePosition(const PomdpLocalizer::State& st, Eigen::Vector2d* p) const;
+  /// The point `d` metres along edge `e` from its source (clamped to the edge), map frame; false for
+  /// an edge whose nodes are unknown.
+  bool pointOnEdge(const TopoEdge& e, double d, Eigen::Vector2d* p) const;
   /// The position and heading gates (position_gate, heading_gate): the belief restricted to states
   /// near the dead-reckoned position and with the dead-reckoned heading.
   void gateByDeadReckoning(const Scan& scan);
