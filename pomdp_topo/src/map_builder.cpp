@@ -702,7 +702,11 @@ void MapBuilder::gateByDeadReckoning(const Scan& scan) {
   if (state_positions_.size() != n || state_positions_revision_ != map_->revision() ||
       state_positions_states_revision_ != localizer_->mapRevision()) {
     state_positions_.assign(n, Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN()));
-    for (size_t s = 0; s < n; ++s) statePosition(localizer_->state(s), &state_positions_[s]);
+    state_bins_.resize(n);
+    for (size_t s = 0; s < n; ++s) {
+      statePosition(localizer_->state(s), &state_positions_[s]);
+      state_bins_[s] = binOf(localizer_->state(s).heading);
+    }
     state_positions_revision_ = map_->revision();
     state_positions_states_revision_ = localizer_->mapRevision();
   }
@@ -710,7 +714,7 @@ void MapBuilder::gateByDeadReckoning(const Scan& scan) {
   auto within = [&](size_t s, double radius) { return !((state_positions_[s] - here).norm() > radius); };
   gate_allowed_.resize(n);
   for (size_t s = 0; s < n; ++s) {
-    gate_allowed_[s] = within(s, gate) && (!by_heading || binOf(localizer_->state(s).heading) == scan.heading_bin);
+    gate_allowed_[s] = within(s, gate) && (!by_heading || state_bins_[s] == scan.heading_bin);
   }
   if (!localizer_->restrictTo(gate_allowed_)) {
     event(by_position ? "no belief within " + std::to_string(int(std::lround(gate))) +

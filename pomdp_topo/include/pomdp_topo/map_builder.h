@@ -206,9 +206,10 @@ class MapBuilder {
   bool position_trusted_ = false;   // the front end's position is in the map's frame (see position_gate)
   bool heading_trusted_ = false;    // the front end's heading is in the map's frame (see heading_gate)
   double trusted_travel_ = 0.0;     // FrontEnd::travel() when it last became so
-  // The position gate's per-state positions (NaN: none), kept until the map or the localizer's
+  // The gates' per-state positions (NaN: none) and heading bins, kept until the map or the localizer's
   // states change, and its mask: nothing allocated or looked up per scan.
   std::vector<Eigen::Vector2d> state_positions_;
+  std::vector<int> state_bins_;  // the heading gate's per-state heading bins, kept with the positions
   uint64_t state_positions_revision_ = ~0ull, state_positions_states_revision_ = ~0ull;
   std::vector<bool> gate_allowed_;
   bool relocation_pending_ = false;     // an odometry jump happened; not yet confident again
