@@ -621,9 +621,10 @@ bool Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) {
   const int n = graph_.nearestNode(topo.position);
   if (n < 0) return false;
   for (const GraphOpening& o : graph_.unexplored(uint32_t(n))) {
-    // A door beside a junction's branch on the same side is not that branch (pomdp_topo keeps
-    // openings more than 0.6 m apart in width apart too: TopologicalMap::kDifferentWidth).
-    if (o.width > 0.0 && door.width > 0.0 && std::abs(o.width - door.width) > 0.6) continue;
+    // A door beside a junction's branch on the same side is not that branch; a door measured
+    // another width is that door (as pomdp_topo's TopologicalMap::differentOpenings).
+    const bool other_kind = (o.width <= params_.door_max_width) != (door.width <= params_.door_max_width);
+    if (o.width > 0.0 && door.width > 0.0 && std::abs(o.width - door.width) > 0.6 && other_kind) continue;
     if (std::abs(normalizeAngle(o.bearing - enter_bearing_)) < 0.5) {
       // A known door not explored yet: the records go to that node and that opening.
       enter_node_ = n;

@@ -24,7 +24,9 @@ NodeOpening sideOpening(double heading, const ObservedLandmark& l) {
 }  // namespace
 
 MapBuilder::MapBuilder(TopologicalMap* map, PomdpLocalizer* localizer, const MapBuilderParams& params)
-    : map_(map), localizer_(localizer), params_(params) {}
+    : map_(map), localizer_(localizer), params_(params) {
+  map_->setDoorMaxWidth(params_.door_max_width);
+}
 
 const char* MapBuilder::toString(Mode mode) {
   switch (mode) {
@@ -870,8 +872,7 @@ bool MapBuilder::knownOpeningNear(std::vector<std::pair<uint32_t, double>> todo,
     const TopoNode* n = map_->node(id);
     if (n == nullptr) continue;
     for (const NodeOpening& o : n->openings) {
-      const bool other_width = o.width > 0.0 && width > 0.0 && std::abs(o.width - width) > TopologicalMap::kDifferentWidth;
-      if (!other_width && std::abs(normalizeAngle(o.bearing - bearing)) < kSameBearing) return true;
+      if (!map_->differentOpenings(o.width, width) && std::abs(normalizeAngle(o.bearing - bearing)) < kSameBearing) return true;
     }
     for (const EdgeExit& x : map_->exits(id)) {
       const TopoEdge* next = map_->edge(x.edge);

@@ -87,11 +87,15 @@ bool TopologicalMap::removeNode(uint32_t id) {
   return true;
 }
 
+bool TopologicalMap::differentOpenings(double width_a, double width_b) const {
+  if (width_a <= 0.0 || width_b <= 0.0 || std::abs(width_a - width_b) <= kDifferentWidth) return false;
+  return (width_a <= door_max_width_) != (width_b <= door_max_width_);
+}
+
 std::vector<NodeOpening>::iterator TopologicalMap::findOpening(TopoNode* n, const NodeOpening& opening,
                                                               double same_bearing) {
   return std::find_if(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {
-    const bool other_width = k.width > 0.0 && opening.width > 0.0 && std::abs(k.width - opening.width) > kDifferentWidth;
-    return std::abs(normalizeAngle(k.bearing - opening.bearing)) < same_bearing && !other_width;
+    return std::abs(normalizeAngle(k.bearing - opening.bearing)) < same_bearing && !differentOpenings(k.width, opening.width);
   });
 }
 

@@ -277,6 +277,24 @@ TEST(MapBuilder, DoorsFacingEachOtherCloseTogetherAreNotAddedToEachOther) {
   }
 }
 
+// large_floor: a door measured 0.66 m wide on the first pass and 1.28 m on a later one (seen from
+// another angle after a U-turn) is the door its node has, not a second opening there or a new door
+// node beside it.
+TEST(MapBuilder, ADoorMeasuredAnotherWidthOnALaterPassIsTheKnownDoor) {
+  SyntheticFloor floor;
+  for (double x : {4.0, 9.0, 16.0}) floor.doors.push_back({{x, 1.1}, 0.5 * kPi, 0.9});
+  floor.doors[1].width = 0.66;
+  Drive drive;
+  drive.run(&floor, {{1.5, 0}, {20.0, 0}, {1.5, 0}}, 0.0);
+  ASSERT_EQ(drive.count(NodeType::Door), 3u);
+  floor.doors[1].width = 1.28;
+  drive.run(&floor, {{1.5, 0}, {20.0, 0}, {1.5, 0}}, kPi);
+  EXPECT_EQ(drive.count(NodeType::Door), 3u);
+  for (const auto& [id, n] : drive.map.nodes()) {
+    if (n.type == NodeType::Door) EXPECT_EQ(n.openings.size(), 1u) << "door node " << id;
+  }
+}
+
 // institute's east end of hall_north: two doors facing each other 0.2 m apart, the robot turning
 // round just past the first before passing the second. The second, passed on the way back while
 // the belief is still at the door node, is added to that node.

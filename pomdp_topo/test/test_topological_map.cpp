@@ -73,6 +73,33 @@ TEST(TopologicalMap, ADoorBesideAJunctionsBranchIsAnotherOpening) {
   EXPECT_EQ(map.node(j)->openings.size(), 2u);
 }
 
+TEST(TopologicalMap, ADoorMeasuredAnotherWidthIsTheSameDoor) {
+  // large_floor: a door measured 0.66 m wide on the first pass and 1.28 m after a U-turn was taken
+  // for a second opening of its own node, and the known room behind it was entered as a new one.
+  TopologicalMap map;
+  map.setDoorMaxWidth(1.3);
+  const uint32_t d = map.addNode(nodeAt(NodeType::Door, 0, 0));
+  NodeOpening first;
+  first.bearing = 0.5 * kPi;
+  first.width = 0.66;
+  first.explored = true;
+  ASSERT_TRUE(map.recordOpening(d, first));
+  NodeOpening again = first;
+  again.width = 1.28;
+  again.explored = false;
+  ASSERT_TRUE(map.recordOpening(d, again));
+  ASSERT_EQ(map.node(d)->openings.size(), 1u) << "one door, measured twice, became two openings";
+  EXPECT_TRUE(map.node(d)->explored);
+  // Door against branch still tells apart; within kDifferentWidth nothing does; nor does no width.
+  EXPECT_TRUE(map.differentOpenings(0.9, 2.18));
+  EXPECT_FALSE(map.differentOpenings(0.66, 1.28));
+  EXPECT_FALSE(map.differentOpenings(1.2, 1.5));
+  EXPECT_FALSE(map.differentOpenings(0.0, 2.18));
+  // The limit is the map's: with doors up to 1.0 m, 0.66 and 1.28 are a door and a branch.
+  map.setDoorMaxWidth(1.0);
+  EXPECT_TRUE(map.differentOpenings(0.66, 1.28));
+}
+
 TEST(TopologicalMap, MergingKeepsAnOpeningExploredFromEitherCopy) {
   TopologicalMap map;
   const uint32_t a = map.addNode(nodeAt(NodeType::Door, 0, 0));

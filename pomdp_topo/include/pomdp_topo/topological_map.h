@@ -118,12 +118,20 @@ class TopologicalMap {
 
   /// Records an opening of node `id` (the exploration's bookkeeping): the opening within
   /// `same_bearing` (rad) of `opening.bearing` is updated (explored stays once set; offset and
-  /// width are taken when it had no width), else `opening` is added; two measured widths more than
-  /// kDifferentWidth apart are two openings (a door beside a junction's branch on the same side
-  /// must not mark the branch explored); the node's `explored` flag
+  /// width are taken when it had no width), else `opening` is added; two widths that
+  /// differentOpenings tells apart are two openings (a door beside a junction's branch on the same
+  /// side must not mark the branch explored); the node's `explored` flag
   /// becomes "every opening explored". No structural change: the revision is not bumped (the
   /// localizer's states stay). False for an unknown node or a non-finite bearing.
   static constexpr double kDifferentWidth = 0.6;  // m
+  /// Two measured widths name two openings at one bearing only where one is a door and the other
+  /// a branch: more than kDifferentWidth apart and on either side of the door width limit (a door
+  /// beside a junction's branch). A door measured 0.7 m wide one time and 1.3 m after a U-turn is
+  /// one door (large_floor: taken for two, the door was added to its own node again and the known
+  /// room was entered as a new one). An unmeasured width (<= 0) tells nothing apart.
+  bool differentOpenings(double width_a, double width_b) const;
+  /// The door width limit (m): pomdp_topo's door_max_width; MapBuilder sets its own.
+  void setDoorMaxWidth(double width) { door_max_width_ = width; }
   bool recordOpening(uint32_t id, const NodeOpening& opening, double same_bearing = 0.4);
   /// Links place `place_id` (its door at `door_in_place` in the place's frame) to node `id` through
   /// the node's opening matching `door` (as recordOpening matches), which becomes the node's first:
@@ -164,7 +172,7 @@ class TopologicalMap {
  private:
   void splitCollinearEdges(uint32_t node, std::vector<std::pair<uint32_t, uint32_t>>* also_merged,
                            double max_zip_distance);
-  static std::vector<NodeOpening>::iterator findOpening(TopoNode* n, const NodeOpening& opening, double same_bearing);
+  std::vector<NodeOpening>::iterator findOpening(TopoNode* n, const NodeOpening& opening, double same_bearing);
   /// Same node type, and an opening on the same side (or neither has one).
   bool sameKind(uint32_t a, uint32_t b) const;
 
@@ -173,6 +181,7 @@ class TopologicalMap {
   uint32_t next_node_id_ = 0;
   uint32_t next_edge_id_ = 0;
   uint64_t revision_ = 0;
+  double door_max_width_ = 1.3;  // m, see setDoorMaxWidth
 };
 
 }  // namespace pomdp_topo
