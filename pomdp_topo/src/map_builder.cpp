@@ -733,13 +733,18 @@ void MapBuilder::gateByDeadReckoning(const Scan& scan) {
   }
 }
 
-bool MapBuilder::farFromDeadReckoning(const Eigen::Vector2d& believed, const PassedLandmark& p, const Scan& scan) const {
+bool MapBuilder::deadReckonedPosition(const PassedLandmark& p, const Scan& scan, Eigen::Vector2d* at) const {
   if (!position_trusted_ || !(params_.position_gate > 0.0) || !(params_.update_position_tolerance > 0.0)) return false;
   // The landmark lies this far behind the robot along its travel (as in processLoopCheck).
   const double back = scan.travel - (p.travel + p.landmark.along);
   const double h = binHeading(p.heading_bin);
-  const Eigen::Vector2d at(scan.pose.x - back * std::cos(h), scan.pose.y - back * std::sin(h));
-  return (at - believed).norm() > params_.update_position_tolerance;
+  *at = Eigen::Vector2d(scan.pose.x - back * std::cos(h), scan.pose.y - back * std::sin(h));
+  return true;
+}
+
+bool MapBuilder::farFromDeadReckoning(const Eigen::Vector2d& believed, const PassedLandmark& p, const Scan& scan) const {
+  Eigen::Vector2d at;
+  return deadReckonedPosition(p, scan, &at) && (at - believed).norm() > params_.update_position_tolerance;
 }
 
 void MapBuilder::processLocalized(const Scan& scan) {
@@ -895,7 +900,19 @@ void MapBuilder::addOpeningsAtNode(const PomdpLocalizer::State& st, const Scan& 
     if (p.landmark.type != LandmarkType::Opening || p.landmark.width > params_.door_max_width) continue;
     if (binHeading(p.heading_bin) != binHeading(binOf(st.heading))) continue;
     const NodeOpening o = sideOpening(st.heading, p.landmark);
-    if (knownOpeningNear({{n->id, reach}}, o.bearing, o.width)) continue;
+    // The nodes near the door by the dead reckoning too: a door passed during a U-turn at a node
+    // lies up to a couple of metres from it (large_floor: room_7_08's door, 1.66 m from node 51,
+    // whose neighbour node 52 has it, beyond the graph reach; it was added to node 51 as a second
+    // opening and the room was entered again).
+    std::vector<std::pair<uint32_t, double>> todo{{n->id, reach}};
+    Eigen::Vector2d at;
+    if (deadReckonedPosition(p, scan, &at)) {
+      for (const auto& [id, k] : map_->nodes()) {
+        const double gap = (Eigen::Vector2d(k.pose.x, k.pose.y) - at).norm();
+        if (id != n->id && gap < reach) todo.push_back({id, reach - gap});
+      }
+    }
+    if (knownOpeningNear(std::move(todo), o.bearing, o.width)) continue;
     // The belief a node or two off (large_floor: after U-turns on a hallway of doors 2-3 m apart, a
     // door was added to a node 5.7 m from it, the route turned round for it, and a known room was
     // entered again as a new one).

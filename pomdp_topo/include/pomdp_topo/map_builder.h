@@ -172,6 +172,9 @@ class MapBuilder {
   /// update_position_tolerance: the dead-reckoned position of a passed landmark is farther than the
   /// tolerance from `believed` (where the belief puts it, map frame), while the position gate is on.
   bool farFromDeadReckoning(const Eigen::Vector2d& believed, const PassedLandmark& p, const Scan& scan) const;
+  /// Where the dead reckoning puts a passed landmark (map frame); false while the position gate is
+  /// off or the dead reckoning is not trusted (as farFromDeadReckoning).
+  bool deadReckonedPosition(const PassedLandmark& p, const Scan& scan, Eigen::Vector2d* at) const;
   void decideLoop(bool old_wins, const FrontEnd& fe);
   void updateKnownEdge(const Scan& scan);
   /// A node within min_node_separation + match_distance of `d` along edge `e` (either way, through
