@@ -388,7 +388,10 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   trackDoors(p, dir_robot);
   DoorTrack door;
   if (doorPassed(p, dir_robot, &door)) {
-    if (mayEnter(topo, door)) {
+    if (justLeft(door)) {
+      ++stats_.doors_passed;
+      state_text_ = "door passed: the one just left";
+    } else if (mayEnter(topo, door)) {
       door_ = door;
       setState(State::StopForDoor, "stopping at a door to enter the room");
       d->stop = true;
@@ -581,6 +584,14 @@ bool Coordinator::doorPassed(const Perception& p, double dir_robot, DoorTrack* d
   return false;
 }
 
+bool Coordinator::justLeft(const DoorTrack& door) const {
+  // Within 10 m of travel the odometry has not drifted by a door's spacing; twice the tracks'
+  // same-door distance, as the door seen again from beside it is seen at a grazing angle.
+  if (!left_door_ || travel_ - left_door_travel_ > 10.0) return false;
+  return (door.centre_odom - left_door_->centre_odom).norm() < 2.0 * params_.door_same_distance &&
+         std::abs(normalizeAngle(door.into_odom - left_door_->into_odom)) < 0.5;
+}
+
 bool Coordinator::beliefPlausible(const TopoView& topo) {
   // A confident belief that jumps to a node farther along the graph than the robot has travelled
   // since it adopted the last trusted one is not acted on (no room entered, no turn for the route)
@@ -755,6 +766,8 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
   bin_ = hallway_bin_;
   have_goal_ = false;
   mode_ = CoordinatorMode::Topological;
+  left_door_ = door_;
+  left_door_travel_ = travel_;
   last_turn_travel_ = travel_;
   // The travel in the room is not travel past the route's goal node: a door facing the one just
   // explored across the hallway (institute's director, opposite printer) was given up at once.

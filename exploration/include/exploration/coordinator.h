@@ -219,6 +219,8 @@ class Coordinator {
   };
 
   void setState(State s, const std::string& text);
+  /// The door passed is the one the robot last came out of (see left_door_).
+  bool justLeft(const DoorTrack& door) const;
   double binHeading(int bin) const;   // map frame
   int binOf(double map_heading) const;
   double odomHeadingOfBin(int bin, const TopoView& topo) const;
@@ -285,6 +287,11 @@ class Coordinator {
   double travel_ = 0.0;
   // Room.
   DoorTrack door_;
+  // The door the robot last came out of, and the travel then: never entered again from just outside
+  // it (large_floor: room_2_12 entered again 1.6 s after leaving it, its door seen anew from beside
+  // it while pomdp_topo was still on the frontier).
+  std::optional<DoorTrack> left_door_;
+  double left_door_travel_ = 0.0;
   double door_bearing_map_ = 0.0;  // rad, map frame, through the door into the room
   double exit_theta_place_ = 0.0;  // rad, the hallway heading in the place frame
   int door_node_ = -1;
