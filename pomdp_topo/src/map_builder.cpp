@@ -329,12 +329,18 @@ uint32_t MapBuilder::createNode(NodeType type, double pos, const Scan& scan, con
   // Two openings on the same side whose centres are nearer than half their widths' sum would
   // overlap: one opening seen twice (institute's hall_link mouth, 2.2 m wide, made two junction
   // nodes 0.97 m apart; the second's "branch" sent the robot round for 600 s and lost it).
+  // A door recorded at a junction lies up to min_node_separation from the junction's centre (its
+  // branch): seen again on a new stretch from that junction it is the same door (large_floor:
+  // room_7_14's door, across the T where a stem meets hall_3, entered from the junction made at the
+  // turn and recorded there; passed 0.98 m from it on a new stretch 5,600 s later, it became a
+  // door node of its own and the room was entered again).
   double join = params_.min_node_separation;
   if (const TopoNode* last = map_->node(from_node_)) {
+    const double slack = last->type == NodeType::Junction ? params_.min_node_separation : 0.0;
     for (const NodeOpening& o : openings) {
       for (const NodeOpening& k : last->openings) {
-        if (std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameBearing && o.width > 0.0 && k.width > 0.0)
-          join = std::max(join, 0.5 * (o.width + k.width));
+        if (std::abs(normalizeAngle(k.bearing - o.bearing)) >= kSameBearing || o.width <= 0.0 || k.width <= 0.0) continue;
+        join = std::max(join, 0.5 * (o.width + k.width) + (map_->differentOpenings(o.width, k.width) ? 0.0 : slack));
       }
     }
   }

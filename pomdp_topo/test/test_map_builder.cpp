@@ -318,6 +318,34 @@ TEST(MapBuilder, ADoorPassedInAUTurnBesideAKnownDoorNodeIsThatNodesDoor) {
   }
 }
 
+// large_floor: a stem comes up to hall_3 at a T; the robot turns west there (a junction node) and
+// enters room_7_14's door across the T, 0.95 m east of the stem's axis; the coordinator records the
+// door at the junction. Later, on a new stretch east from the junction, the door is passed again
+// 0.95 m from it: it is the junction's door, not a new door node (the room was entered again).
+TEST(MapBuilder, ADoorRecordedAtAJunctionIsThatDoorWhenANewStretchFromThereSeesItAgain) {
+  SyntheticFloor floor;
+  floor.doors.push_back({{4.0, 1.1}, 0.5 * kPi, 0.9, 0});
+  floor.doors.push_back({{10.95, 1.1}, 0.5 * kPi, 0.9, 0});  // seen only along the crossing hallway
+  Drive drive;
+  drive.run(&floor, {{10.0, -8.0}, {10.0, 0.0}, {1.5, 0.0}}, 0.5 * kPi);
+  int junction = -1;
+  for (const auto& [id, n] : drive.map.nodes()) {
+    if (n.type == NodeType::Junction && std::abs(n.pose.x - 10.0) < 0.5 && std::abs(n.pose.y) < 0.5) junction = int(id);
+  }
+  ASSERT_GE(junction, 0) << "no junction at the T";
+  NodeOpening door;  // as the coordinator records a door it entered from the junction
+  door.bearing = 0.5 * kPi;
+  door.width = 0.9;
+  door.explored = true;
+  ASSERT_TRUE(drive.map.recordOpening(uint32_t(junction), door));
+  drive.run(&floor, {{1.5, 0.0}, {14.0, 0.0}}, kPi);
+  bool left_graph = false;
+  for (const auto& e : drive.builder.takeEvents()) left_graph |= e.find("leaving the known graph") != std::string::npos;
+  ASSERT_TRUE(left_graph) << "no new stretch east of the junction";
+  EXPECT_EQ(drive.count(NodeType::Door), 1u) << "the junction's door became a door node of its own";
+  EXPECT_EQ(drive.count(NodeType::Junction), 1u);
+}
+
 // institute's east end of hall_north: two doors facing each other 0.2 m apart, the robot turning
 // round just past the first before passing the second. The second, passed on the way back while
 // the belief is still at the door node, is added to that node.
