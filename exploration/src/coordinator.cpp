@@ -113,6 +113,12 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
   last_odom_ = p.odom;
   have_last_odom_ = true;
   stats_.travel = travel_;
+  if (topo.mode != "frontier" || !topo.position.valid || !topo.position.at_node) {
+    frontier_node_ = -1;  // a new stretch from the same node later starts counting again
+  } else if (int(topo.position.id) != frontier_node_) {
+    frontier_node_ = int(topo.position.id);
+    frontier_node_travel_ = travel_;
+  }
 
   if (!idle() && !mission_active_ && params_.max_time > 0.0 && now_ - start_time_ > params_.max_time) {
     finish(false, "time limit reached before the exploration was complete", &d);
@@ -176,6 +182,15 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
         ++stats_.doors_passed;
         setState(State::Follow, topo.mode == "loop_check" ? "door passed: pomdp_topo checks whether it is a known one"
                                                           : "door passed: it is a known one (pomdp_topo closed a loop at it)");
+        break;
+      }
+      if (now_ - state_since_ >= params_.settle_time && enter_node_ < 0 && exploredAtFrontierNode(topo, door_)) {
+        // On a new stretch pomdp_topo took the door for one its current node has, explored: a door
+        // joined to a junction a metre off its centre, seen again from it (large_floor: room_7_14,
+        // entered from junction 39 at 1,786 s, entered again from a stretch leaving 39 at 7,402 s).
+        mode_ = CoordinatorMode::Topological;
+        ++stats_.doors_passed;
+        setState(State::Follow, "door passed: the node's explored one");
         break;
       }
       if (now_ - state_since_ >= params_.settle_time) {
@@ -632,11 +647,7 @@ bool Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) {
   const int n = graph_.nearestNode(topo.position);
   if (n < 0) return false;
   for (const GraphOpening& o : graph_.unexplored(uint32_t(n))) {
-    // A door beside a junction's branch on the same side is not that branch; a door measured
-    // another width is that door (as pomdp_topo's TopologicalMap::differentOpenings).
-    const bool other_kind = (o.width <= params_.door_max_width) != (door.width <= params_.door_max_width);
-    if (o.width > 0.0 && door.width > 0.0 && std::abs(o.width - door.width) > 0.6 && other_kind) continue;
-    if (std::abs(normalizeAngle(o.bearing - enter_bearing_)) < 0.5) {
+    if (sameOpening(o, enter_bearing_, door.width)) {
       // A known door not explored yet: the records go to that node and that opening.
       enter_node_ = n;
       enter_bearing_ = o.bearing;
@@ -644,6 +655,27 @@ bool Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) {
     }
   }
   return false;
+}
+
+bool Coordinator::sameOpening(const GraphOpening& o, double bearing, double width) const {
+  // A door beside a junction's branch on the same side is not that branch; a door measured
+  // another width is that door (as pomdp_topo's TopologicalMap::differentOpenings).
+  const bool other_kind = (o.width <= params_.door_max_width) != (width <= params_.door_max_width);
+  if (o.width > 0.0 && width > 0.0 && std::abs(o.width - width) > 0.6 && other_kind) return false;
+  return std::abs(normalizeAngle(o.bearing - bearing)) < 0.5;
+}
+
+bool Coordinator::exploredAtFrontierNode(const TopoView& topo, const DoorTrack& door) const {
+  if (topo.mode != "frontier" || !topo.position.valid || !topo.position.at_node) return false;
+  // Only near the node (a door joined to it lies within a door's spacing): a new door on the same
+  // side farther on, whose node pomdp_topo has not made yet, is not this one.
+  if (int(topo.position.id) != frontier_node_ || travel_ - frontier_node_travel_ > 2.0 * params_.door_same_distance)
+    return false;
+  const GraphNode* n = graph_.node(topo.position.id);
+  if (n == nullptr) return false;  // a node made for this door, not in the graph received yet
+  const double bearing = normalizeAngle(door.into_odom + topo.heading_offset);
+  return std::any_of(n->openings.begin(), n->openings.end(),
+                     [&](const GraphOpening& o) { return o.explored && sameOpening(o, bearing, door.width); });
 }
 
 void Coordinator::placeCreated(bool ok, int place_id) {

@@ -234,6 +234,11 @@ class Coordinator {
   /// A tracked door beside the robot (within a door's width along) on the side `side` (+1 left, -1 right).
   std::optional<DoorTrack> doorAbeam(const Perception& p, double dir_robot, double side) const;
   bool mayEnter(const TopoView& topo, const DoorTrack& door);
+  /// Opening `o` is the opening at `bearing` (map frame, rad) measured `width` (m) wide.
+  bool sameOpening(const GraphOpening& o, double bearing, double width) const;
+  /// On the frontier, the node pomdp_topo is at has `door` already, explored (pomdp_topo joined
+  /// the door to that node rather than making a new one).
+  bool exploredAtFrontierNode(const TopoView& topo, const DoorTrack& door) const;
   bool beliefPlausible(const TopoView& topo);
   /// The goal of a turn on the spot: where the robot is now, with the turn's heading.
   void turnGoal(const Perception& p, Decision* d) const;
@@ -292,6 +297,9 @@ class Coordinator {
   // it while pomdp_topo was still on the frontier).
   std::optional<DoorTrack> left_door_;
   double left_door_travel_ = 0.0;
+  // The node pomdp_topo's frontier was last at, and the travel when it became so.
+  int frontier_node_ = -1;
+  double frontier_node_travel_ = 0.0;
   double door_bearing_map_ = 0.0;  // rad, map frame, through the door into the room
   double exit_theta_place_ = 0.0;  // rad, the hallway heading in the place frame
   int door_node_ = -1;
