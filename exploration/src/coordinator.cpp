@@ -186,8 +186,8 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
       }
       if (now_ - state_since_ >= params_.settle_time && enter_node_ < 0 && exploredAtFrontierNode(topo, door_)) {
         // On a new stretch pomdp_topo took the door for one its current node has, explored: a door
-        // joined to a junction a metre off its centre, seen again from it (large_floor: room_7_14,
-        // entered from junction 39 at 1,786 s, entered again from a stretch leaving 39 at 7,402 s).
+        // recorded at a junction a metre off its centre, seen again from it (large_floor: room_7_14,
+        // entered from the junction at a T, entered again from a stretch leaving it 5,600 s later).
         mode_ = CoordinatorMode::Topological;
         ++stats_.doors_passed;
         setState(State::Follow, "door passed: the node's explored one");
