@@ -49,8 +49,10 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
   if (!(p.end_distance > 0.5)) return fail("end_distance must be > 0.5 m");
   if (!(p.door_min_width > 0.0 && p.door_max_width > p.door_min_width)) return fail("need 0 < door_min_width < door_max_width");
   if (!(p.door_min_confidence >= 0.0 && p.door_min_confidence <= 1.0)) return fail("door_min_confidence must be in [0, 1]");
-  if (!(p.door_max_lateral > 0.0 && p.door_side_angle > 0.0 && p.door_pass_distance >= 0.0 && p.door_same_distance > 0.0))
-    return fail("door_max_lateral, door_side_angle and door_same_distance must be > 0, door_pass_distance >= 0");
+  if (!(p.door_max_lateral > 0.0 && p.door_side_angle > 0.0 && p.door_pass_distance >= 0.0 && p.door_same_distance > 0.0 &&
+        p.door_wall_tolerance > 0.0))
+    return fail("door_max_lateral, door_side_angle, door_same_distance and door_wall_tolerance must be > 0, "
+                "door_pass_distance >= 0");
   if (!(p.room_replan_period >= 0.0)) return fail("room_replan_period must be >= 0");
   if (!(p.settle_time >= 0.0 && p.room_time_limit > 0.0 && p.exit_time_limit > 0.0 && p.max_time >= 0.0))
     return fail("settle_time and max_time must be >= 0, room_time_limit and exit_time_limit > 0");
@@ -400,7 +402,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   }
 
   // Doors: entered once passed, if new (frontier) or known and unexplored, and the belief is sure.
-  trackDoors(p, dir_robot);
+  trackDoors(p, dir_robot, v);
   DoorTrack door;
   if (doorPassed(p, dir_robot, &door)) {
     if (justLeft(door)) {
@@ -538,7 +540,7 @@ void Coordinator::startTurn(int bin, const Perception& p, const TopoView& topo, 
   setState(State::Turn, "turning");
 }
 
-void Coordinator::trackDoors(const Perception& p, double dir_robot) {
+void Coordinator::trackDoors(const Perception& p, double dir_robot, const HallwayView& v) {
   const Eigen::Vector2d nrm = unit(dir_robot + 0.5 * kPi);
   for (const auto& o : p.openings) {
     if (o.kind == laser_features::OpeningKind::kJunction) continue;
@@ -547,6 +549,12 @@ void Coordinator::trackDoors(const Perception& p, double dir_robot) {
     const double lateral = o.center.dot(nrm);
     if (std::abs(lateral) > params_.door_max_lateral || std::abs(lateral) < 0.4) continue;
     const double side = lateral > 0.0 ? 1.0 : -1.0;
+    // Behind the wall on its side: a gap inside a room seen through its door (large_floor: a
+    // "door" 1.7 m to the left of a hallway whose wall is 1.1 m away, tracked for 3 scans and
+    // stopped for with the real door 0.5 m ahead; the robot drove into the wall).
+    const bool wall = side > 0.0 ? v.left_wall : v.right_wall;
+    const double wall_lateral = side > 0.0 ? v.left_lateral : -v.right_lateral;
+    if (wall && std::abs(lateral) > wall_lateral + params_.door_wall_tolerance) continue;
     const double into = dir_robot + side * 0.5 * kPi;  // robot frame
     if (std::abs(normalizeAngle(o.theta - into)) > params_.door_side_angle) continue;
     const Eigen::Vector2d c = apply(p.odom, o.center);

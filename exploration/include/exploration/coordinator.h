@@ -51,6 +51,7 @@ struct CoordinatorParams {
   double door_max_width = 1.3;       // m, wider side openings are junctions (pomdp_topo's door_max_width)
   double door_min_confidence = 0.5;  // -, laser_features' opening confidence a door needs
   double door_max_lateral = 2.0;     // m, doors farther from the robot's travel line are not this hallway's
+  double door_wall_tolerance = 0.35;  // m, a door lies on its side's wall: one farther behind the wall seen is not tracked
   double door_side_angle = 0.44;     // rad (25 deg), a door's normal within this of +-90 deg of the travel
   double door_pass_distance = 0.3;   // m, a door is entered once this far behind the robot (passed: the
                                      // map builder has made its node; pomdp_topo's pass_lag is 0.2)
@@ -229,7 +230,7 @@ class Coordinator {
   void askRelocation(const laser_features::Pose2D& door_odom, const laser_features::Pose2D& robot_odom, Decision* d);
   void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
   void decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d);
-  void trackDoors(const Perception& p, double dir_robot);
+  void trackDoors(const Perception& p, double dir_robot, const HallwayView& v);
   bool doorPassed(const Perception& p, double dir_robot, DoorTrack* door);
   /// A tracked door beside the robot (within a door's width along) on the side `side` (+1 left, -1 right).
   std::optional<DoorTrack> doorAbeam(const Perception& p, double dir_robot, double side) const;

@@ -48,6 +48,7 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("door_max_width", &c.door_max_width);
   visit("door_min_confidence", &c.door_min_confidence);
   visit("door_max_lateral", &c.door_max_lateral);
+  visit("door_wall_tolerance", &c.door_wall_tolerance);
   visit("door_side_angle", &c.door_side_angle);
   visit("door_pass_distance", &c.door_pass_distance);
   visit("door_same_distance", &c.door_same_distance);
