@@ -411,11 +411,10 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     } else if (mayEnter(topo, door)) {
       door_ = door;
       // Where the door was taken to be (the log tells a door tracked wrongly from a real one).
-      const Eigen::Vector2d rel = door.centre_odom - Eigen::Vector2d(p.odom.x, p.odom.y);
-      const double c = std::cos(p.odom.theta), s = std::sin(p.odom.theta);
+      const Eigen::Vector2d rel = apply(inverse(p.odom), door.centre_odom);  // robot frame
       char where[96];
       std::snprintf(where, sizeof(where), " (%.2f m wide, %d sightings, at %.2f m ahead, %.2f m left)", door.width,
-                    door.sightings, c * rel.x() + s * rel.y(), -s * rel.x() + c * rel.y());
+                    door.sightings, rel.x(), rel.y());
       setState(State::StopForDoor, std::string("stopping at a door to enter the room") + where);
       d->stop = true;
       return;

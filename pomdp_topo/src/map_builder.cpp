@@ -740,7 +740,7 @@ void MapBuilder::gateByDeadReckoning(const Scan& scan) {
 }
 
 bool MapBuilder::deadReckonedPosition(const PassedLandmark& p, const Scan& scan, Eigen::Vector2d* at) const {
-  if (!position_trusted_ || !(params_.position_gate > 0.0) || !(params_.update_position_tolerance > 0.0)) return false;
+  if (!deadReckoningChecks()) return false;
   // The landmark lies this far behind the robot along its travel (as in processLoopCheck).
   const double back = scan.travel - (p.travel + p.landmark.along);
   const double h = binHeading(p.heading_bin);
@@ -847,7 +847,7 @@ void MapBuilder::processLocalized(const Scan& scan) {
 }
 
 int MapBuilder::twinWithWay(uint32_t id, double heading) const {
-  if (!position_trusted_ || !(params_.position_gate > 0.0) || !(params_.update_position_tolerance > 0.0)) return -1;
+  if (!deadReckoningChecks()) return -1;
   const TopoNode* n = map_->node(id);
   if (n == nullptr) return -1;
   int best = -1;

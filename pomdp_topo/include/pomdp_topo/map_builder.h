@@ -175,6 +175,11 @@ class MapBuilder {
   /// Where the dead reckoning puts a passed landmark (map frame); false while the position gate is
   /// off or the dead reckoning is not trusted (as farFromDeadReckoning).
   bool deadReckonedPosition(const PassedLandmark& p, const Scan& scan, Eigen::Vector2d* at) const;
+  /// The map is checked against the dead reckoning (update_position_tolerance): the position gate
+  /// is on, the tolerance set and the front end's position trusted.
+  bool deadReckoningChecks() const {
+    return position_trusted_ && params_.position_gate > 0.0 && params_.update_position_tolerance > 0.0;
+  }
   void decideLoop(bool old_wins, const FrontEnd& fe);
   void updateKnownEdge(const Scan& scan);
   /// A node within min_node_separation + match_distance of `d` along edge `e` (either way, through
