@@ -50,9 +50,9 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
   if (!(p.door_min_width > 0.0 && p.door_max_width > p.door_min_width)) return fail("need 0 < door_min_width < door_max_width");
   if (!(p.door_min_confidence >= 0.0 && p.door_min_confidence <= 1.0)) return fail("door_min_confidence must be in [0, 1]");
   if (!(p.door_max_lateral > 0.0 && p.door_side_angle > 0.0 && p.door_pass_distance >= 0.0 && p.door_same_distance > 0.0 &&
-        p.door_wall_tolerance > 0.0))
+        p.door_wall_tolerance > 0.0 && p.door_wall_memory >= 0.0))
     return fail("door_max_lateral, door_side_angle, door_same_distance and door_wall_tolerance must be > 0, "
-                "door_pass_distance >= 0");
+                "door_pass_distance and door_wall_memory >= 0");
   if (!(p.room_replan_period >= 0.0)) return fail("room_replan_period must be >= 0");
   if (!(p.settle_time >= 0.0 && p.room_time_limit > 0.0 && p.exit_time_limit > 0.0 && p.max_time >= 0.0))
     return fail("settle_time and max_time must be >= 0, room_time_limit and exit_time_limit > 0");
@@ -412,9 +412,11 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
       door_ = door;
       // Where the door was taken to be (the log tells a door tracked wrongly from a real one).
       const Eigen::Vector2d rel = apply(inverse(p.odom), door.centre_odom);  // robot frame
-      char where[96];
-      std::snprintf(where, sizeof(where), " (%.2f m wide, %d sightings, at %.2f m ahead, %.2f m left)", door.width,
-                    door.sightings, rel.x(), rel.y());
+      char where[128];
+      char wall[40] = "no wall known";
+      if (door.wall_lateral >= 0.0) std::snprintf(wall, sizeof(wall), "its wall %.2f m aside", door.wall_lateral);
+      std::snprintf(where, sizeof(where), " (%.2f m wide, %d sightings, at %.2f m ahead, %.2f m left, %s)", door.width,
+                    door.sightings, rel.x(), rel.y(), wall);
       setState(State::StopForDoor, std::string("stopping at a door to enter the room") + where);
       d->stop = true;
       return;
@@ -536,11 +538,26 @@ void Coordinator::startTurn(int bin, const Perception& p, const TopoView& topo, 
   last_goal_ = Eigen::Vector2d(p.odom.x, p.odom.y);
   have_goal_ = true;
   doors_.clear();  // the doors seen so far belong to the hallway being left
+  wall_seen_odom_ = {};  // and so do its walls
   setState(State::Turn, "turning");
+}
+
+std::optional<double> Coordinator::wallLateral(const Perception& p, double dir_robot, const HallwayView& v, int side) {
+  const bool seen = side == 0 ? v.left_wall : v.right_wall;
+  const double lateral = side == 0 ? v.left_lateral : -v.right_lateral;
+  const Eigen::Vector2d nrm = unit(dir_robot + (side == 0 ? 0.5 : -0.5) * kPi);  // robot frame, towards the side
+  if (seen) {
+    wall_seen_odom_[side] = apply(p.odom, Eigen::Vector2d(lateral * nrm));
+    wall_seen_travel_[side] = travel_;
+    return lateral;
+  }
+  if (!wall_seen_odom_[side] || travel_ - wall_seen_travel_[side] > params_.door_wall_memory) return std::nullopt;
+  return apply(inverse(p.odom), *wall_seen_odom_[side]).dot(nrm);
 }
 
 void Coordinator::trackDoors(const Perception& p, double dir_robot, const HallwayView& v) {
   const Eigen::Vector2d nrm = unit(dir_robot + 0.5 * kPi);
+  const std::array<std::optional<double>, 2> walls{{wallLateral(p, dir_robot, v, 0), wallLateral(p, dir_robot, v, 1)}};
   for (const auto& o : p.openings) {
     if (o.kind == laser_features::OpeningKind::kJunction) continue;
     if (o.width < params_.door_min_width || o.width > params_.door_max_width) continue;
@@ -551,9 +568,8 @@ void Coordinator::trackDoors(const Perception& p, double dir_robot, const Hallwa
     // Behind the wall on its side: a gap inside a room seen through its door (large_floor: a
     // "door" 1.7 m to the left of a hallway whose wall is 1.1 m away, tracked for 3 scans and
     // stopped for with the real door 0.5 m ahead; the robot drove into the wall).
-    const bool wall = side > 0.0 ? v.left_wall : v.right_wall;
-    const double wall_lateral = side > 0.0 ? v.left_lateral : -v.right_lateral;
-    if (wall && std::abs(lateral) > wall_lateral + params_.door_wall_tolerance) continue;
+    const std::optional<double>& wall = walls[side > 0.0 ? 0 : 1];
+    if (wall && std::abs(lateral) > *wall + params_.door_wall_tolerance) continue;
     const double into = dir_robot + side * 0.5 * kPi;  // robot frame
     if (std::abs(normalizeAngle(o.theta - into)) > params_.door_side_angle) continue;
     const Eigen::Vector2d c = apply(p.odom, o.center);
@@ -567,6 +583,7 @@ void Coordinator::trackDoors(const Perception& p, double dir_robot, const Hallwa
       t.into_odom = into_odom;
       t.width = o.width;
       t.sightings = 1;
+      t.wall_lateral = wall ? *wall : -1.0;
       doors_.push_back(t);
       continue;
     }
@@ -575,6 +592,7 @@ void Coordinator::trackDoors(const Perception& p, double dir_robot, const Hallwa
     it->centre_odom += k * (c - it->centre_odom);
     it->width += k * (o.width - it->width);
     it->into_odom = into_odom;
+    it->wall_lateral = wall ? *wall : -1.0;
     ++it->sightings;
   }
   const Eigen::Vector2d robot(p.odom.x, p.odom.y);

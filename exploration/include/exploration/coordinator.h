@@ -33,6 +33,7 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <map>
 #include <optional>
 #include <string>
@@ -52,6 +53,7 @@ struct CoordinatorParams {
   double door_min_confidence = 0.5;  // -, laser_features' opening confidence a door needs
   double door_max_lateral = 2.0;     // m, doors farther from the robot's travel line are not this hallway's
   double door_wall_tolerance = 0.35;  // m, a door lies on its side's wall: one farther behind the wall seen is not tracked
+  double door_wall_memory = 3.0;     // m of travel, a side's wall line is kept where the scan no longer sees it
   double door_side_angle = 0.44;     // rad (25 deg), a door's normal within this of +-90 deg of the travel
   double door_pass_distance = 0.3;   // m, a door is entered once this far behind the robot (passed: the
                                      // map builder has made its node; pomdp_topo's pass_lag is 0.2)
@@ -217,6 +219,7 @@ class Coordinator {
     double width = 0.0;       // m
     int sightings = 0;
     bool decided = false;     // entered or passed: never again on this pass
+    double wall_lateral = -1.0;  // m, its side's wall line from the robot when last seen (-1: no wall known)
   };
 
   void setState(State s, const std::string& text);
@@ -231,6 +234,9 @@ class Coordinator {
   void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
   void decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d);
   void trackDoors(const Perception& p, double dir_robot, const HallwayView& v);
+  /// The lateral distance (m) of the wall line on `side` (0 left, 1 right): seen in `v`, or seen
+  /// within door_wall_memory of travel on this stretch; none if neither.
+  std::optional<double> wallLateral(const Perception& p, double dir_robot, const HallwayView& v, int side);
   bool doorPassed(const Perception& p, double dir_robot, DoorTrack* door);
   /// A tracked door beside the robot (within a door's width along) on the side `side` (+1 left, -1 right).
   std::optional<DoorTrack> doorAbeam(const Perception& p, double dir_robot, double side) const;
@@ -274,7 +280,13 @@ class Coordinator {
   bool have_goal_ = false;
   Eigen::Vector2d last_goal_ = Eigen::Vector2d::Zero();
   std::vector<DoorTrack> doors_;
-  int route_behind_ticks_ = 0;
+  // Each side's wall line where last seen (a point on it, odometry frame; 0 left, 1 right) and the
+  // travel then. A wall broken into pieces shorter than wall_min_length by the doors in it is not
+  // seen as a wall, but a gap behind it is still no door (large_floor: a 0.97 m "door" 1.63 m to
+  // the left of a hallway whose wall is 1.1 m away, with no wall seen on that side).
+  std::array<std::optional<Eigen::Vector2d>, 2> wall_seen_odom_;
+  std::array<double, 2> wall_seen_travel_{{0.0, 0.0}};
+  int route_behind_ticks_ = 0;     // consecutive ticks the route pointed back (U-turn hysteresis)
   int trusted_node_ = -1;          // the belief's node when last trusted
   double trusted_travel_ = 0.0;    // m, travel_ when it became the trusted node
   double distrust_until_ = 0.0;    // m, travel_ before which a jumped belief is not acted on
@@ -283,7 +295,7 @@ class Coordinator {
   double goal_pass_travel_ = 0.0;  // m, travel_ when it got there
   std::map<uint32_t, int> route_attempts_;  // U-turns towards each goal node
   int enter_node_ = -1;                     // the known door's node being entered (-1: a new door)
-  double enter_bearing_ = 0.0;              // rad, map frame, its opening's bearing   // consecutive ticks the route pointed back (U-turn hysteresis)
+  double enter_bearing_ = 0.0;              // rad, map frame, its opening's bearing
   double last_turn_travel_ = -1e9;  // m, travel_ at the last turn
   // Turning.
   int turn_bin_ = 0;

@@ -49,6 +49,7 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("door_min_confidence", &c.door_min_confidence);
   visit("door_max_lateral", &c.door_max_lateral);
   visit("door_wall_tolerance", &c.door_wall_tolerance);
+  visit("door_wall_memory", &c.door_wall_memory);
   visit("door_side_angle", &c.door_side_angle);
   visit("door_pass_distance", &c.door_pass_distance);
   visit("door_same_distance", &c.door_same_distance);
