@@ -734,9 +734,14 @@ void Coordinator::room(const Perception& p, Decision* d) {
   Perception q = p;
   if (!p.room_pose_valid || !finite(p.room_pose)) {
     // No EKF pose for this scan (it comes with the place's first features; or the EKF lags):
-    // odometry from the place's origin stands in (rooms are small, its drift too).
+    // the odometry since the EKF's last pose stands in (its drift over a few scans is small).
     q.room_pose = compose(inverse(place_origin_odom_), p.odom);
     q.room_pose_valid = true;
+  } else {
+    // The place in the odometry frame as the EKF places it now, not as at the place's creation or
+    // relocation: missions_small_loop (CI, scans late) stalled 0.15 m from its goal, which moved
+    // by that every other scan between the EKF's pose and the odometry since the relocation.
+    place_origin_odom_ = compose(p.odom, inverse(p.room_pose));
   }
   roomStep(q, d);
 }
@@ -1003,7 +1008,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
     const Pose2D stop = compose(p.room_pose, compose(inverse(p.odom), hallway_pose_odom_));
     hallway_in_place_ = Eigen::Vector2d(stop.x, stop.y);
     exit_theta_place_ = normalizeAngle(p.room_pose.theta + odomHeadingOfBin(hallway_bin_, topo) - p.odom.theta);
-    place_origin_odom_ = compose(p.odom, inverse(p.room_pose));  // stands in for missing EKF poses
+    place_origin_odom_ = compose(p.odom, inverse(p.room_pose));  // stands in for missing EKF poses (see room())
     door_in_place_ = Pose2D{mission_door_.door_in_place[0], mission_door_.door_in_place[1], mission_door_.door_in_place[2]};
     room_.start(door_in_place_, mission_door_.opening.width > 0.0 ? mission_door_.opening.width : door_.width);
     setState(State::ApproachDoor, "relocated in place " + std::to_string(place_id_) + ": entering");

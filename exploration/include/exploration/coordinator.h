@@ -325,7 +325,7 @@ class Coordinator {
   size_t exit_index_ = 0;
   int exit_step_ = 0;               // ExitDoor: 0 inside the door, 1 outside, 2 back on the hallway
   double exit_step_since_ = 0.0;
-  laser_features::Pose2D place_origin_odom_;  // the place's origin in the odometry frame
+  laser_features::Pose2D place_origin_odom_;  // the place's origin in the odometry frame (as the EKF last placed it)
   bool reached_ = false, blocked_ = false;    // the motion controller's last status
   double last_room_plan_ = -1e9;
   std::optional<Eigen::Vector2d> room_goal_;
