@@ -181,7 +181,8 @@ class MissionRunner:
         """The hybrid map as the run left it, for scripts/plot_evaluation.py."""
         if not self.dump:
             return
-        nodes = [{'id': n.id, 'type': n.type, 'x': n.pose.x, 'y': n.pose.y, 'place_id': n.place_id}
+        nodes = [{'id': n.id, 'type': n.type, 'x': n.pose.x, 'y': n.pose.y,
+                  'place_ids': [o.place_id for o in n.openings if o.place_id >= 0]}
                  for n in (self.map.nodes if self.map else [])]
         edges = [[e.source, e.target] for e in (self.map.edges if self.map else [])]
         with open(self.dump, 'w') as f:
@@ -199,14 +200,14 @@ class MissionRunner:
 
     def places(self):
         out = {}
-        for n in (self.map.nodes if self.map else []):
-            if n.place_id >= 0 and n.place_id in self.frames:
-                door = compose(self.frames[n.place_id], (n.door_in_place.x, n.door_in_place.y, n.door_in_place.theta))
+        for o in (o for n in (self.map.nodes if self.map else []) for o in n.openings):
+            if o.place_id >= 0 and o.place_id in self.frames:
+                door = compose(self.frames[o.place_id], (o.door_in_place.x, o.door_in_place.y, o.door_in_place.theta))
                 # The room: the world's room 1 m through the door.
                 room = self.world.room_at(door[0] + math.cos(door[2]), door[1] + math.sin(door[2]))
                 if room is not None:
-                    out[n.place_id] = room
-                    self.doors[n.place_id] = door
+                    out[o.place_id] = room
+                    self.doors[o.place_id] = door
         return out
 
     def reachable_cells(self, place_id, room, cell=0.1):

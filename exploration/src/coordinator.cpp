@@ -872,12 +872,12 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
   if (mission_active_) return refuse("a mission is running (to place " + std::to_string(mission_place_) + ")");
   if (!idle()) return refuse("the exploration is running: missions start once it is done");
   if (!finite(goal)) return refuse("the goal is not finite");
-  const std::optional<PlaceDoor> door = graph_.placeDoor(place_id, params_.door_max_width);
+  const std::optional<PlaceDoor> door = graph_.placeDoor(place_id);
   if (!door) {
     std::ostringstream known;
     const std::set<int> ids = graph_.placeIds();
     for (int id : ids) known << (known.tellp() > 0 ? ", " : "") << id;
-    return refuse("place " + std::to_string(place_id) + " is unknown: no node of the topological map links it (known places: " +
+    return refuse("place " + std::to_string(place_id) + " is unknown: no door of the topological map links it (known places: " +
                   (ids.empty() ? std::string("none") : known.str()) + ")");
   }
   mission_active_ = true;

@@ -99,7 +99,9 @@ class ReplayPlacesNode {
     for (const auto& n : msg.nodes) {
       if (n.type == hybrid_slam_msgs::TopoNode::DOOR) door_nodes_.insert(int(n.id));
       // A door linked to a place (by this run, or a link the map builder carried over a merge).
-      if (n.place_id >= 0) places_.linkDoor(int(n.id), n.place_id);
+      for (const auto& o : n.openings) {
+        if (o.place_id >= 0) places_.linkDoor(int(n.id), o.place_id);
+      }
     }
   }
 

@@ -66,11 +66,10 @@ void fromMsg(const hybrid_slam_msgs::TopologicalMap& msg, TopoGraph* graph) {
     g.type = n.type;
     g.x = n.pose.x;
     g.y = n.pose.y;
-    g.place_id = n.place_id;
-    g.door_x = n.door_in_place.x;
-    g.door_y = n.door_in_place.y;
-    g.door_theta = n.door_in_place.theta;
-    for (const auto& o : n.openings) g.openings.push_back(GraphOpening{o.bearing, o.width, bool(o.explored)});
+    for (const auto& o : n.openings) {
+      g.openings.push_back(GraphOpening{o.bearing, o.width, bool(o.explored), o.place_id,
+                                        {o.door_in_place.x, o.door_in_place.y, o.door_in_place.theta}});
+    }
     graph->addNode(g);
   }
   for (const auto& e : msg.edges) graph->addEdge(GraphEdge{e.id, e.source, e.target, e.heading, e.length});

@@ -105,7 +105,9 @@ double TopoGraph::distance(uint32_t a, uint32_t b) const {
 std::set<int> TopoGraph::placeIds() const {
   std::set<int> ids;
   for (const auto& entry : nodes_) {
-    if (entry.second.place_id >= 0) ids.insert(entry.second.place_id);
+    for (const GraphOpening& o : entry.second.openings) {
+      if (o.place_id >= 0) ids.insert(o.place_id);
+    }
   }
   return ids;
 }
@@ -143,26 +145,17 @@ RouteStep TopoGraph::routeTo(const GraphPosition& pos, uint32_t goal_node, const
   });
 }
 
-std::optional<PlaceDoor> TopoGraph::placeDoor(int place_id, double door_max_width) const {
+std::optional<PlaceDoor> TopoGraph::placeDoor(int place_id) const {
   if (place_id < 0) return std::nullopt;
   for (const auto& entry : nodes_) {
-    const GraphNode& n = entry.second;
-    if (n.place_id != place_id) continue;
-    // The place's door: pomdp_topo puts the linked place's door first among the node's openings
-    // (TopologicalMap::linkPlace), explored (the coordinator marks it when it links the place); the
-    // first explored opening of a door's width, else the first of a door's width.
-    PlaceDoor door;
-    door.node = n.id;
-    door.door_in_place[0] = n.door_x;
-    door.door_in_place[1] = n.door_y;
-    door.door_in_place[2] = n.door_theta;
-    bool found = false;
-    for (const GraphOpening& o : n.openings) {
-      if (o.width > door_max_width) continue;
-      if (!found || (o.explored && !door.opening.explored)) door.opening = o;
-      found = true;
+    for (const GraphOpening& o : entry.second.openings) {
+      if (o.place_id != place_id) continue;
+      PlaceDoor door;
+      door.node = entry.first;
+      door.opening = o;
+      std::copy(o.door_in_place, o.door_in_place + 3, door.door_in_place);
+      return door;
     }
-    if (found) return door;
   }
   return std::nullopt;
 }

@@ -180,9 +180,9 @@ TEST(Coordinator, ADoorWhoseLoopClosedInOneGoIsNotEnteredAgain) {
   // node, took it for a known one and closed the loop in the same scan: the belief is localized at
   // that node, whose door is explored (its room mapped). Not entered; the robot goes on.
   TopoGraph g;
-  g.addNode(GraphNode{0, 4, 0.0, 0.0, -1, {}});
-  g.addNode(GraphNode{2, 0, 5.0, 0.0, 7, {GraphOpening{0.5 * kPi, 0.9, true}}});
-  g.addNode(GraphNode{1, 1, 10.0, 0.0, -1, {GraphOpening{0.5 * kPi, 2.0, false}}});
+  g.addNode(GraphNode{0, 4, 0.0, 0.0, {}});
+  g.addNode(GraphNode{2, 0, 5.0, 0.0, {GraphOpening{0.5 * kPi, 0.9, true, 7}}});
+  g.addNode(GraphNode{1, 1, 10.0, 0.0, {GraphOpening{0.5 * kPi, 2.0, false}}});
   g.addEdge(GraphEdge{0, 0, 2, 0.0, 5.0});
   g.addEdge(GraphEdge{1, 2, 1, 0.0, 5.0});
   Coordinator c;
@@ -216,8 +216,8 @@ TEST(Coordinator, ADoorOnANewStretchThatTheFrontierNodeHasExploredIsNotEntered) 
   // (pomdp_topo made a new one for the door), it is.
   for (const int known : {0, 1, 2}) {  // explored at node 2, unexplored at node 2, node 2 unknown
     TopoGraph g;
-    g.addNode(GraphNode{0, 4, 0.0, 0.0, -1, {}});
-    if (known < 2) g.addNode(GraphNode{2, 1, 4.0, 0.0, known == 0 ? 7 : -1, {GraphOpening{0.5 * kPi, 0.9, known == 0}}});
+    g.addNode(GraphNode{0, 4, 0.0, 0.0, {}});
+    if (known < 2) g.addNode(GraphNode{2, 1, 4.0, 0.0, {GraphOpening{0.5 * kPi, 0.9, known == 0, known == 0 ? 7 : -1}}});
     g.addEdge(GraphEdge{0, 0, 2, 0.0, 4.0});
     Coordinator c;
     c.setGraph(g);
@@ -292,10 +292,10 @@ TEST(Coordinator, AKnownUnexploredDoorIsEnteredButNotRightAfterTheBeliefJumped) 
   // The graph: a hallway 0 -- 10 m -- 1 (east), with a door node 2 at x = 5 in between
   // (0 -> 2 -> 1) whose opening to the north is not explored, and a hallway end 3 40 m west of 0.
   TopoGraph g;
-  g.addNode(GraphNode{0, 4, 0.0, 0.0, -1, {}});
-  g.addNode(GraphNode{2, 0, 5.0, 0.0, -1, {GraphOpening{0.5 * kPi, 0.9, false}}});
-  g.addNode(GraphNode{1, 2, 10.0, 0.0, -1, {}});
-  g.addNode(GraphNode{3, 2, -40.0, 0.0, -1, {}});
+  g.addNode(GraphNode{0, 4, 0.0, 0.0, {}});
+  g.addNode(GraphNode{2, 0, 5.0, 0.0, {GraphOpening{0.5 * kPi, 0.9, false}}});
+  g.addNode(GraphNode{1, 2, 10.0, 0.0, {}});
+  g.addNode(GraphNode{3, 2, -40.0, 0.0, {}});
   g.addEdge(GraphEdge{0, 0, 2, 0.0, 5.0});
   g.addEdge(GraphEdge{1, 2, 1, 0.0, 5.0});
   g.addEdge(GraphEdge{2, 3, 0, 0.0, 40.0});
@@ -337,10 +337,10 @@ TEST(Coordinator, TheRouteTurnsIntoABranchButNotIntoADoorWhereTheBeliefPutsTheBr
   // Start 0 at x = 0, junction 2 at x = 5 with a branch north to node 4 (unexplored beyond), an
   // explored hallway end 1 at x = 10.
   TopoGraph g;
-  g.addNode(GraphNode{0, 4, 0.0, 0.0, -1, {}});
-  g.addNode(GraphNode{2, 1, 5.0, 0.0, -1, {GraphOpening{0.5 * kPi, 2.2, true}}});
-  g.addNode(GraphNode{4, 2, 5.0, 10.0, -1, {GraphOpening{0.5 * kPi, 2.2, false}}});
-  g.addNode(GraphNode{1, 2, 10.0, 0.0, -1, {}});
+  g.addNode(GraphNode{0, 4, 0.0, 0.0, {}});
+  g.addNode(GraphNode{2, 1, 5.0, 0.0, {GraphOpening{0.5 * kPi, 2.2, true}}});
+  g.addNode(GraphNode{4, 2, 5.0, 10.0, {GraphOpening{0.5 * kPi, 2.2, false}}});
+  g.addNode(GraphNode{1, 2, 10.0, 0.0, {}});
   g.addEdge(GraphEdge{0, 0, 2, 0.0, 5.0});
   g.addEdge(GraphEdge{1, 2, 4, 0.5 * kPi, 10.0});
   g.addEdge(GraphEdge{2, 2, 1, 0.0, 5.0});
@@ -380,13 +380,10 @@ namespace {
 // north door (explored) leads to place 4, a hallway end 1 at x = 10.
 TopoGraph exploredHallway() {
   TopoGraph g;
-  g.addNode(GraphNode{0, 4, 0.0, 0.0, -1, {}});
-  GraphNode door{2, 0, 5.0, 0.0, 4, {GraphOpening{0.5 * kPi, 0.9, true}}};
-  door.door_x = 5.0;  // the place's frame is the odometry frame here
-  door.door_y = 1.0;
-  door.door_theta = 0.5 * kPi;
-  g.addNode(door);
-  g.addNode(GraphNode{1, 2, 10.0, 0.0, -1, {}});
+  g.addNode(GraphNode{0, 4, 0.0, 0.0, {}});
+  // The place's frame is the odometry frame here: the door lies at (5, 1) in it, facing north.
+  g.addNode(GraphNode{2, 0, 5.0, 0.0, {GraphOpening{0.5 * kPi, 0.9, true, 4, {5.0, 1.0, 0.5 * kPi}}}});
+  g.addNode(GraphNode{1, 2, 10.0, 0.0, {}});
   g.addEdge(GraphEdge{0, 0, 2, 0.0, 5.0});
   g.addEdge(GraphEdge{1, 2, 1, 0.0, 5.0});
   return g;

@@ -19,10 +19,10 @@ constexpr double kPi = 3.14159265358979323846;
 // -- 3 m -- 3 (hallway end).
 TopoGraph hallway(bool door_explored, bool branch_explored) {
   TopoGraph g;
-  GraphNode n0{0, 4, 0.0, 0.0, -1, {}};
-  GraphNode n1{1, 0, 4.0, 0.0, -1, {GraphOpening{0.5 * kPi, 0.9, door_explored}}};
-  GraphNode n2{2, 1, 10.0, 0.0, -1, {GraphOpening{0.5 * kPi, 2.0, branch_explored}}};
-  GraphNode n3{3, 2, 13.0, 0.0, -1, {}};
+  GraphNode n0{0, 4, 0.0, 0.0, {}};
+  GraphNode n1{1, 0, 4.0, 0.0, {GraphOpening{0.5 * kPi, 0.9, door_explored}}};
+  GraphNode n2{2, 1, 10.0, 0.0, {GraphOpening{0.5 * kPi, 2.0, branch_explored}}};
+  GraphNode n3{3, 2, 13.0, 0.0, {}};
   g.addNode(n0);
   g.addNode(n1);
   g.addNode(n2);
@@ -54,7 +54,7 @@ TEST(TopoRoute, CountsUnexploredOpenings) {
 
 TEST(TopoRoute, ABranchWithAnEdgeInItsBearingIsExplored) {
   TopoGraph g = hallway(true, false);
-  g.addNode(GraphNode{4, 2, 10.0, 5.0, -1, {}});
+  g.addNode(GraphNode{4, 2, 10.0, 5.0, {}});
   g.addEdge(GraphEdge{3, 4, 2, -0.5 * kPi, 5.0});  // reached from the north (a loop): arrives heading south
   EXPECT_EQ(g.unexploredCount(), 0u);
 }
@@ -102,7 +102,7 @@ TEST(TopoRoute, TheHeadingToLeaveTheNextNodeTurnsIntoTheBranch) {
   // From the door (node 1) heading east, the route to a door up the branch of junction 2: at
   // node 2 the robot must turn north.
   TopoGraph g = hallway(true, true);
-  g.addNode(GraphNode{4, 0, 10.0, 6.0, -1, {GraphOpening{kPi, 0.9, false}}});
+  g.addNode(GraphNode{4, 0, 10.0, 6.0, {GraphOpening{kPi, 0.9, false}}});
   g.addEdge(GraphEdge{3, 2, 4, 0.5 * kPi, 6.0});
   const auto r = g.route(onEdge(1, 2.0, 0.0));
   ASSERT_TRUE(r.found);
@@ -136,7 +136,7 @@ TEST(TopoRoute, DistanceAlongTheEdges) {
   EXPECT_NEAR(g.distance(3, 1), 9.0, 1e-9);
   EXPECT_NEAR(g.distance(2, 2), 0.0, 1e-9);
   TopoGraph split = g;
-  split.addNode(GraphNode{9, 2, 50.0, 0.0, -1, {}});  // not connected
+  split.addNode(GraphNode{9, 2, 50.0, 0.0, {}});  // not connected
   EXPECT_TRUE(std::isinf(split.distance(0, 9)));
   EXPECT_TRUE(std::isinf(g.distance(0, 42)));
 }
@@ -163,21 +163,26 @@ TEST(TopoRoute, DistanceToTheNearestNode) {
 
 TEST(TopoRoute, RouteToAMissionsDoorGoesPastNearerUnexploredOpenings) {
   TopoGraph g = hallway(false, false);
-  GraphNode door{4, 0, 12.0, 0.0, 9, {GraphOpening{-0.5 * kPi, 0.8, true}, GraphOpening{0.5 * kPi, 1.8, false}}};
-  door.door_x = 1.0;
-  door.door_y = 2.0;
-  door.door_theta = 0.3;
+  // Doors facing each other across the hallway: one node, each door linking its own room.
+  GraphNode door{4, 0, 12.0, 0.0, {GraphOpening{-0.5 * kPi, 0.8, true, 9, {1.0, 2.0, 0.3}},
+                                   GraphOpening{0.5 * kPi, 0.9, true, 11, {0.5, -1.0, -2.0}}}};
   // Node 4 sits on the edge 2 -- 3 in this test's eyes; only its links matter here.
   g.addNode(door);
   g.addEdge(GraphEdge{3, 3, 4, 0.0, 2.0});
-  const auto pd = g.placeDoor(9, 1.3);
+  const auto pd = g.placeDoor(9);
   ASSERT_TRUE(pd.has_value());
   EXPECT_EQ(pd->node, 4u);
-  EXPECT_NEAR(pd->opening.bearing, -0.5 * kPi, 1e-12) << "the door, not the wide branch";
+  EXPECT_NEAR(pd->opening.bearing, -0.5 * kPi, 1e-12) << "place 9's door, not the one across";
   EXPECT_NEAR(pd->door_in_place[0], 1.0, 1e-12);
   EXPECT_NEAR(pd->door_in_place[2], 0.3, 1e-12);
-  EXPECT_FALSE(g.placeDoor(8, 1.3).has_value());
-  EXPECT_FALSE(g.placeDoor(-1, 1.3).has_value());
+  const auto across = g.placeDoor(11);
+  ASSERT_TRUE(across.has_value());
+  EXPECT_EQ(across->node, 4u);
+  EXPECT_NEAR(across->opening.bearing, 0.5 * kPi, 1e-12);
+  EXPECT_NEAR(across->door_in_place[1], -1.0, 1e-12);
+  EXPECT_EQ(g.placeIds(), (std::set<int>{9, 11}));
+  EXPECT_FALSE(g.placeDoor(8).has_value());
+  EXPECT_FALSE(g.placeDoor(-1).has_value());
 
   // From the start going east: the unexplored door of node 1 is nearer, the mission's is node 4's.
   const auto r = g.routeTo(onEdge(0, 1.0, 0.0), 4, pd->opening);

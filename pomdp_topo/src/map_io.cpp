@@ -17,8 +17,10 @@ using laser_features::kPi;
 using laser_features::normalizeAngle;
 
 // Smallest records, to refuse impossible counts before allocating anything for them.
-constexpr size_t kMinNodeBytes = 4 + 4 + 24 + 4 + 24 + 4 + 4 + 4;
-constexpr size_t kOpeningBytes = 3 * 8 + 4;
+constexpr size_t kMinNodeBytesV1 = 4 + 4 + 24 + 4 + 24 + 4 + 4 + 4;  // with the node's place and door
+constexpr size_t kMinNodeBytes = 4 + 4 + 24 + 4 + 4 + 4;
+constexpr size_t kOpeningBytesV1 = 3 * 8 + 4;
+constexpr size_t kOpeningBytes = 3 * 8 + 4 + 4 + 24;  // with the door's place and pose in it
 constexpr size_t kFingerprintEntryBytes = 4 + 8;
 constexpr size_t kMinEdgeBytes = 3 * 4 + 2 * 8 + 4;
 constexpr size_t kLandmarkBytes = 4 + 4 * 8 + 4;
@@ -45,8 +47,6 @@ void encodeNode(const TopoNode& node, Writer* w) {
   w->u32(node.id);
   w->u32(uint32_t(node.type));
   w->pose(node.pose);
-  w->i32(node.place_id);
-  w->pose(node.door_in_place);
   w->u32(node.explored ? 1u : 0u);
   w->u32(uint32_t(node.openings.size()));
   w->u32(uint32_t(node.fingerprint.entries.size()));
@@ -55,6 +55,8 @@ void encodeNode(const TopoNode& node, Writer* w) {
     w->f64(o.offset);
     w->f64(o.width);
     w->u32(o.explored ? 1u : 0u);
+    w->i32(o.place_id);
+    w->pose(o.door_in_place);
   }
   for (const FingerprintEntry& e : node.fingerprint.entries) {
     w->u32(uint32_t(e.kind));
@@ -109,13 +111,24 @@ std::string edgeContext(size_t index, uint32_t id) {
   return "edge #" + std::to_string(index) + " (id " + std::to_string(id) + ")";
 }
 
-/// Reads one node record; false with the reader's error or `error` set.
-bool decodeNode(Reader* in, size_t index, TopoNode* node, std::string* error) {
+bool validPlaceId(int32_t id, const std::string& where, std::string* error) {
+  if (id >= -1) return true;
+  *error = where + ": place id " + std::to_string(id) + " (expected -1 or a place id >= 0)";
+  return false;
+}
+
+/// Reads one node record of format `version`; false with the reader's error or `error` set.
+bool decodeNode(Reader* in, uint32_t version, size_t index, TopoNode* node, std::string* error) {
   node->id = in->u32("a node id");
   const uint32_t type = in->u32("a node type");
   node->pose = in->pose("a node pose");
-  node->place_id = in->i32("a node's place id");
-  node->door_in_place = in->pose("a node's door pose in its place");
+  // Version 1: one place per node, behind its first opening (the door it was entered by).
+  int32_t v1_place = -1;
+  Pose2D v1_door;
+  if (version == 1) {
+    v1_place = in->i32("a node's place id");
+    v1_door = in->pose("a node's door pose in its place");
+  }
   const uint32_t flags = in->u32("a node's flags");
   const uint32_t num_openings = in->u32("a node's opening count");
   const uint32_t num_entries = in->u32("a node's fingerprint size");
@@ -126,8 +139,9 @@ bool decodeNode(Reader* in, size_t index, TopoNode* node, std::string* error) {
     return false;
   }
   node->type = NodeType(type);
-  if (node->place_id < -1) {
-    *error = where + ": place id " + std::to_string(node->place_id) + " (expected -1 or a place id >= 0)";
+  if (!validPlaceId(v1_place, where, error)) return false;
+  if (v1_place >= 0 && num_openings == 0) {
+    *error = where + ": links place " + std::to_string(v1_place) + " but has no opening (its door)";
     return false;
   }
   if (flags > 1u) {
@@ -135,7 +149,8 @@ bool decodeNode(Reader* in, size_t index, TopoNode* node, std::string* error) {
     return false;
   }
   node->explored = flags & 1u;
-  const uint64_t needed = uint64_t(num_openings) * kOpeningBytes + uint64_t(num_entries) * kFingerprintEntryBytes;
+  const uint64_t needed = uint64_t(num_openings) * (version == 1 ? kOpeningBytesV1 : kOpeningBytes) +
+                         uint64_t(num_entries) * kFingerprintEntryBytes;
   if (needed > in->remaining()) {
     *error = where + ": " + std::to_string(num_openings) + " openings and " + std::to_string(num_entries) +
              " fingerprint entries need " + std::to_string(needed) + " more bytes, the file has " +
@@ -149,7 +164,15 @@ bool decodeNode(Reader* in, size_t index, TopoNode* node, std::string* error) {
     o.offset = in->f64("an opening offset");
     o.width = in->f64("an opening width");
     const uint32_t explored = in->u32("an opening's flags");
+    if (version >= 2) {
+      o.place_id = in->i32("an opening's place id");
+      o.door_in_place = in->pose("an opening's door pose in its place");
+    } else if (i == 0) {
+      o.place_id = v1_place;
+      o.door_in_place = v1_door;
+    }
     if (!in->ok()) return false;
+    if (!validPlaceId(o.place_id, where + ", opening " + std::to_string(i), error)) return false;
     if (o.width < 0.0) {
       *error = where + ", opening " + std::to_string(i) + ": negative width " + std::to_string(o.width);
       return false;
@@ -248,9 +271,9 @@ std::string decode(const std::string& bytes, Decoded* out) {
     return "format version " + std::to_string(version) + " is newer than this build reads (" +
            std::to_string(kTopoMapFormatVersion) + "); update the software";
   }
-  if (version != kTopoMapFormatVersion) {
+  if (version < 1) {
     // Version 1 is the first format; an older number was never written by hybrid_slam.
-    return "format version " + std::to_string(version) + " is older than this build reads (" +
+    return "format version " + std::to_string(version) + " is older than this build reads (1.." +
            std::to_string(kTopoMapFormatVersion) + ") and has no migration; build the map again";
   }
   const size_t body = version_end + 1;
@@ -260,13 +283,14 @@ std::string decode(const std::string& bytes, Decoded* out) {
   Reader in(bytes, body, checksum_at);
   std::string error;
   const uint32_t num_nodes = in.u32("the node count");
-  if (in.ok() && uint64_t(num_nodes) * kMinNodeBytes > in.remaining()) {
-    error = std::to_string(num_nodes) + " nodes need at least " + std::to_string(uint64_t(num_nodes) * kMinNodeBytes) +
+  const size_t min_node_bytes = version == 1 ? kMinNodeBytesV1 : kMinNodeBytes;
+  if (in.ok() && uint64_t(num_nodes) * min_node_bytes > in.remaining()) {
+    error = std::to_string(num_nodes) + " nodes need at least " + std::to_string(uint64_t(num_nodes) * min_node_bytes) +
             " more bytes, the file has " + std::to_string(in.remaining()) + " (truncated?)";
   }
   for (uint32_t k = 0; k < num_nodes && in.ok() && error.empty(); ++k) {
     TopoNode node;
-    if (!decodeNode(&in, k, &node, &error)) break;
+    if (!decodeNode(&in, uint32_t(version), k, &node, &error)) break;
     const uint32_t id = node.id;
     if (!out->nodes.emplace(id, std::move(node)).second) error = "node id " + std::to_string(id) + " appears twice";
   }

@@ -356,11 +356,12 @@ class TopoNodeRos {
     res.success = true;
     res.node = id;
     res.message = "node " + std::to_string(id) + " updated";
-    if (req.place_id >= 0 && !map_.linkPlace(uint32_t(id), o, req.place_id, Pose2D{d.x, d.y, d.theta})) {
-      // Doors facing each other are one node, which links one place: the room is mapped, but
-      // missions cannot name it (the map format has one place per node).
-      res.message += "; place " + std::to_string(req.place_id) + " not linked: the node links place " +
-                     std::to_string(map_.node(uint32_t(id))->place_id);
+    int32_t linked = -1;
+    if (req.place_id >= 0 && !map_.linkPlace(uint32_t(id), o, req.place_id, Pose2D{d.x, d.y, d.theta}, &linked)) {
+      // A door links one place, the first: a room entered again through a known door is mapped
+      // twice, and missions name the first map.
+      res.message += "; place " + std::to_string(req.place_id) + " not linked: the door links place " +
+                     std::to_string(linked);
       ROS_WARN_STREAM("pomdp_topo: " << res.message);
     }
     publishMap();

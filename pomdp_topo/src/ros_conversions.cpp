@@ -116,16 +116,16 @@ void toMsg(const TopologicalMap& map, const std_msgs::Header& header, hybrid_sla
     m.pose.x = n.pose.x;
     m.pose.y = n.pose.y;
     m.pose.theta = n.pose.theta;
-    m.place_id = n.place_id;
-    m.door_in_place.x = n.door_in_place.x;
-    m.door_in_place.y = n.door_in_place.y;
-    m.door_in_place.theta = n.door_in_place.theta;
     for (const NodeOpening& o : n.openings) {
       hybrid_slam_msgs::TopoOpening mo;
       mo.bearing = o.bearing;
       mo.offset = o.offset;
       mo.width = o.width;
       mo.explored = o.explored;
+      mo.place_id = o.place_id;
+      mo.door_in_place.x = o.door_in_place.x;
+      mo.door_in_place.y = o.door_in_place.y;
+      mo.door_in_place.theta = o.door_in_place.theta;
       m.openings.push_back(mo);
     }
     for (const FingerprintEntry& f : n.fingerprint.entries) {

@@ -99,15 +99,26 @@ std::vector<NodeOpening>::iterator TopologicalMap::findOpening(TopoNode* n, cons
   });
 }
 
-bool TopologicalMap::linkPlace(uint32_t id, const NodeOpening& door, int32_t place_id, const Pose2D& door_in_place) {
+bool TopologicalMap::linkPlace(uint32_t id, const NodeOpening& door, int32_t place_id, const Pose2D& door_in_place,
+                               int32_t* linked) {
   TopoNode* n = node(id);
+  if (linked) *linked = -1;
   if (n == nullptr || place_id < 0) return false;
-  if (n->place_id >= 0 && n->place_id != place_id) return false;  // one place per node: the first stays
   auto it = findOpening(n, door, 0.4);
-  if (it != n->openings.end()) std::rotate(n->openings.begin(), it, it + 1);  // the place's door first
-  n->place_id = place_id;
-  n->door_in_place = Pose2D{door_in_place.x, door_in_place.y, normalizeAngle(door_in_place.theta)};
+  if (it == n->openings.end()) return false;
+  if (linked) *linked = it->place_id >= 0 ? it->place_id : place_id;
+  if (it->place_id >= 0 && it->place_id != place_id) return false;  // one place per door: the first stays
+  it->place_id = place_id;
+  it->door_in_place = Pose2D{door_in_place.x, door_in_place.y, normalizeAngle(door_in_place.theta)};
   return true;
+}
+
+const NodeOpening* TopologicalMap::placeDoor(const TopoNode& node, int32_t place_id) {
+  if (place_id < 0) return nullptr;
+  for (const NodeOpening& o : node.openings) {
+    if (o.place_id == place_id) return &o;
+  }
+  return nullptr;
 }
 
 bool TopologicalMap::recordOpening(uint32_t id, const NodeOpening& opening, double same_bearing) {
@@ -124,6 +135,10 @@ bool TopologicalMap::recordOpening(uint32_t id, const NodeOpening& opening, doub
       it->width = opening.width;
       it->offset = opening.offset;
     }
+    if (it->place_id < 0 && opening.place_id >= 0) {  // a merged copy's room
+      it->place_id = opening.place_id;
+      it->door_in_place = opening.door_in_place;
+    }
   }
   n->explored = std::all_of(n->openings.begin(), n->openings.end(), [](const NodeOpening& k) { return k.explored; });
   return true;
@@ -132,15 +147,10 @@ bool TopologicalMap::recordOpening(uint32_t id, const NodeOpening& opening, doub
 bool TopologicalMap::mergeNodes(uint32_t keep, uint32_t drop, std::vector<std::pair<uint32_t, uint32_t>>* also_merged,
                                 double max_zip_distance) {
   if (keep == drop || !nodes_.count(keep) || !nodes_.count(drop)) return false;
-  TopoNode& kept = nodes_.at(keep);
   const TopoNode& dropped = nodes_.at(drop);
   for (const NodeOpening& o : dropped.openings) {
-    recordOpening(keep, o, kSameDirection);  // an opening explored from either copy stays explored
-  }
-  if (kept.place_id < 0 && dropped.place_id >= 0) {
-    // The dropped node's place came with its door, its first opening (linkPlace).
-    linkPlace(keep, dropped.openings.empty() ? NodeOpening() : dropped.openings.front(), dropped.place_id,
-              dropped.door_in_place);
+    // An opening explored from either copy stays explored; a room linked at either stays linked.
+    recordOpening(keep, o, kSameDirection);
   }
   for (auto& entry : edges_) {
     TopoEdge& e = entry.second;

@@ -50,9 +50,7 @@ TopologicalMap fullMap() {
   TopoNode door;
   door.type = NodeType::Door;
   door.pose = {1.25, -3.5, kPi};  // pi itself is inside (-pi, pi]
-  door.place_id = 7;
-  door.door_in_place = {0.3, -0.2, -2.75};
-  door.openings = {{0.5, 0.45, 0.9, true}, {-1.5, 0.0, 1.1, false}};
+  door.openings = {{0.5, 0.45, 0.9, true, 7, {0.3, -0.2, -2.75}}, {-1.5, 0.0, 1.1, true, 0, {-1.0, 4.0, 0.25}}};
   door.fingerprint.entries = {{FingerprintEntry::Corner, -2.5}, {FingerprintEntry::Opening, 0.1},
                               {FingerprintEntry::LineDirection, 1.5707963267948966}};
   door.explored = true;
@@ -72,7 +70,6 @@ TopologicalMap fullMap() {
 
   TopoNode start;
   start.type = NodeType::Start;
-  start.place_id = 0;
   const uint32_t d = map.addNode(start);
   TopoNode place;
   place.type = NodeType::Place;
@@ -104,10 +101,6 @@ void expectSameMaps(const TopologicalMap& a, const TopologicalMap& b) {
     EXPECT_EQ(p.pose.x, q->pose.x);
     EXPECT_EQ(p.pose.y, q->pose.y);
     EXPECT_EQ(p.pose.theta, q->pose.theta);
-    EXPECT_EQ(p.place_id, q->place_id);
-    EXPECT_EQ(p.door_in_place.x, q->door_in_place.x);
-    EXPECT_EQ(p.door_in_place.y, q->door_in_place.y);
-    EXPECT_EQ(p.door_in_place.theta, q->door_in_place.theta);
     EXPECT_EQ(p.explored, q->explored);
     ASSERT_EQ(p.openings.size(), q->openings.size());
     for (size_t i = 0; i < p.openings.size(); ++i) {
@@ -115,6 +108,10 @@ void expectSameMaps(const TopologicalMap& a, const TopologicalMap& b) {
       EXPECT_EQ(p.openings[i].offset, q->openings[i].offset);
       EXPECT_EQ(p.openings[i].width, q->openings[i].width);
       EXPECT_EQ(p.openings[i].explored, q->openings[i].explored);
+      EXPECT_EQ(p.openings[i].place_id, q->openings[i].place_id);
+      EXPECT_EQ(p.openings[i].door_in_place.x, q->openings[i].door_in_place.x);
+      EXPECT_EQ(p.openings[i].door_in_place.y, q->openings[i].door_in_place.y);
+      EXPECT_EQ(p.openings[i].door_in_place.theta, q->openings[i].door_in_place.theta);
     }
     ASSERT_EQ(p.fingerprint.entries.size(), q->fingerprint.entries.size());
     for (size_t i = 0; i < p.fingerprint.entries.size(); ++i) {
@@ -148,7 +145,7 @@ void expectSameMaps(const TopologicalMap& a, const TopologicalMap& b) {
 size_t bodyOffset(const std::string& bytes) { return bytes.find('\n', bytes.find('\n') + 1) + 1; }
 
 size_t nodeRecordSize(const TopoNode& node) {
-  return 72 + 28 * node.openings.size() + 12 * node.fingerprint.entries.size();
+  return 44 + 56 * node.openings.size() + 12 * node.fingerprint.entries.size();
 }
 
 /// Offset of the record of the `index`-th node (in id order).
@@ -191,7 +188,7 @@ TEST(MapIo, RoundTripOfEveryFieldIsExact) {
   ASSERT_TRUE(saved) << saved.error;
   EXPECT_FALSE(exists(path + ".tmp"));
   const std::string bytes = readFile(path);
-  EXPECT_EQ(bytes.rfind("hybrid_slam_topological_map\nversion 1\n", 0), 0u);
+  EXPECT_EQ(bytes.rfind("hybrid_slam_topological_map\nversion 2\n", 0), 0u);
   EXPECT_EQ(bytes, encodeMap(map));
 
   TopologicalMap loaded;
@@ -216,7 +213,7 @@ TEST(MapIo, EmptyMapRoundTrips) {
   EXPECT_EQ(loaded.edgeCount(), 0u);
   EXPECT_EQ(loaded.nextNodeId(), 0u);
   EXPECT_EQ(loaded.nextEdgeId(), 0u);
-  EXPECT_EQ(encodeMap(empty).size(), std::strlen("hybrid_slam_topological_map\nversion 1\n") + 4 * 5);
+  EXPECT_EQ(encodeMap(empty).size(), std::strlen("hybrid_slam_topological_map\nversion 2\n") + 4 * 5);
 
   // Empty, but with ids already used: through a file.
   TopologicalMap emptied;
@@ -240,6 +237,68 @@ TEST(MapIo, AnglesAreNormalizedWhenWritten) {
   ASSERT_TRUE(result) << result.error;
   EXPECT_EQ(loaded.node(0)->pose.theta, kPi);
   EXPECT_NEAR(loaded.node(0)->openings[0].bearing, 0.5, 1e-12);
+}
+
+/// A version-1 file (one place per node, stored with the node) of one door node with two openings
+/// linking place `place` (-1: none), or with no opening.
+std::string versionOneFile(int32_t place, bool openings = true) {
+  std::string b = "hybrid_slam_topological_map\nversion 1\n";
+  auto u32 = [&b](uint32_t v) {
+    for (int k = 0; k < 4; ++k) b.push_back(char((v >> (8 * k)) & 0xffu));
+  };
+  auto f64 = [&b](double v) {
+    uint64_t bits;
+    std::memcpy(&bits, &v, 8);
+    for (int k = 0; k < 8; ++k) b.push_back(char((bits >> (8 * k)) & 0xffu));
+  };
+  u32(1);                                   // node count
+  u32(3), u32(uint32_t(NodeType::Door));    // id, type
+  f64(1.0), f64(2.0), f64(0.5);             // pose
+  u32(uint32_t(place));                     // the node's place
+  f64(0.25), f64(-0.5), f64(1.5);           // its door in the place
+  u32(1);                                   // flags: explored
+  u32(openings ? 2 : 0), u32(0);            // openings, fingerprint entries
+  if (openings) {
+    f64(-1.5), f64(0.4), f64(0.9), u32(1);  // the door entered first (linking put it first)
+    f64(1.6), f64(0.4), f64(1.0), u32(0);   // the door across
+  }
+  u32(0);                                   // edge count
+  u32(4), u32(0);                           // next ids
+  u32(0);                                   // checksum, set below
+  return withValidChecksum(b);
+}
+
+TEST(MapIo, AVersionOneFileIsReadWithItsNodesPlaceOnTheFirstOpening) {
+  TopologicalMap loaded;
+  const IoResult result = decodeMap(versionOneFile(12), "v1", &loaded);
+  ASSERT_TRUE(result) << result.error;
+  const TopoNode* n = loaded.node(3);
+  ASSERT_NE(n, nullptr);
+  ASSERT_EQ(n->openings.size(), 2u);
+  EXPECT_EQ(n->openings[0].place_id, 12);
+  EXPECT_EQ(n->openings[0].door_in_place.x, 0.25);
+  EXPECT_EQ(n->openings[0].door_in_place.theta, 1.5);
+  EXPECT_EQ(n->openings[1].place_id, -1);
+  EXPECT_TRUE(n->explored);
+  EXPECT_EQ(loaded.nextNodeId(), 4u);
+  // Saved again, it is version 2, and reads back the same.
+  const std::string again = encodeMap(loaded);
+  EXPECT_EQ(again.rfind("hybrid_slam_topological_map\nversion 2\n", 0), 0u);
+  TopologicalMap reloaded;
+  ASSERT_TRUE(decodeMap(again, "v2", &reloaded));
+  expectSameMaps(loaded, reloaded);
+  // Without a place: no opening links one.
+  ASSERT_TRUE(decodeMap(versionOneFile(-1), "v1", &loaded));
+  EXPECT_EQ(loaded.node(3)->openings[0].place_id, -1);
+  // A place but no door to put it on, or a place id below -1: refused.
+  TopologicalMap kept;
+  const IoResult no_door = decodeMap(versionOneFile(5, false), "v1", &kept);
+  EXPECT_FALSE(no_door.ok);
+  EXPECT_NE(no_door.error.find("links place 5 but has no opening"), std::string::npos) << no_door.error;
+  const IoResult negative = decodeMap(versionOneFile(-3), "v1", &kept);
+  EXPECT_FALSE(negative.ok);
+  EXPECT_NE(negative.error.find("place id -3"), std::string::npos) << negative.error;
+  EXPECT_TRUE(kept.empty());
 }
 
 class RefusedFile : public ::testing::Test {
@@ -307,14 +366,14 @@ TEST_F(RefusedFile, WrongMagic) {
 }
 
 TEST_F(RefusedFile, NewerOrUnknownVersion) {
-  const size_t at = good_.find("version 1\n");
+  const size_t at = good_.find("version 2\n");
   ASSERT_NE(at, std::string::npos);
   std::string newer = good_;
-  newer[at + 8] = '2';
-  expectRefused(newer, "format version 2 is newer than this build reads (1); update the software");
+  newer[at + 8] = '3';
+  expectRefused(newer, "format version 3 is newer than this build reads (2); update the software");
   std::string older = good_;
   older[at + 8] = '0';
-  expectRefused(older, "format version 0 is older than this build reads (1) and has no migration");
+  expectRefused(older, "format version 0 is older than this build reads (1..2) and has no migration");
   std::string garbage = good_;
   garbage[at + 8] = 'x';
   expectRefused(garbage, "malformed version line");
@@ -355,7 +414,7 @@ TEST_F(RefusedFile, Truncated) {
 
 TEST_F(RefusedFile, ImpossibleCountsAreRefusedBeforeAllocating) {
   expectRefused(patchU32(bodyOffset(good_), 0xffffffffu), "truncated?");
-  expectRefused(patchU32(node(0) + 64, 0x7fffffffu), "openings");  // opening count
+  expectRefused(patchU32(node(0) + 36, 0x7fffffffu), "openings");  // opening count
   expectRefused(patchU32(edge(0) + 28, 0xffffffffu), "landmarks");   // landmark count
 }
 
@@ -368,23 +427,24 @@ TEST_F(RefusedFile, TrailingBytes) {
 
 TEST_F(RefusedFile, NonFiniteNumbers) {
   expectRefused(patchF64(node(0) + 8, std::numeric_limits<double>::quiet_NaN()), "non-finite");   // pose x
-  expectRefused(patchF64(node(1) + 72 + 8, std::numeric_limits<double>::infinity()), "non-finite");  // offset
+  expectRefused(patchF64(node(1) + 44 + 8, std::numeric_limits<double>::infinity()), "non-finite");  // offset
+  expectRefused(patchF64(node(0) + 44 + 32, std::numeric_limits<double>::quiet_NaN()), "non-finite");  // door x
   expectRefused(patchF64(edge(0) + 32 + 12, -std::numeric_limits<double>::infinity()), "non-finite");  // lateral
 }
 
 TEST_F(RefusedFile, AnglesOutsideMinusPiPi) {
   expectRefused(patchF64(node(0) + 24, 3.5), "not in (-pi, pi]");        // pose theta
   expectRefused(patchF64(node(0) + 24, -kPi), "not in (-pi, pi]");       // -pi is excluded
-  expectRefused(patchF64(node(0) + 52, 7.0), "not in (-pi, pi]");        // door_in_place theta
-  expectRefused(patchF64(node(0) + 72, -4.0), "not in (-pi, pi]");       // opening bearing
-  expectRefused(patchF64(node(0) + 72 + 2 * 28 + 4, 4.0), "not in (-pi, pi]");  // fingerprint bearing
+  expectRefused(patchF64(node(0) + 44 + 48, 7.0), "not in (-pi, pi]");   // door_in_place theta
+  expectRefused(patchF64(node(0) + 44, -4.0), "not in (-pi, pi]");       // opening bearing
+  expectRefused(patchF64(node(0) + 44 + 2 * 56 + 4, 4.0), "not in (-pi, pi]");  // fingerprint bearing
   expectRefused(patchF64(edge(0) + 12, 3.2), "not in (-pi, pi]");        // edge heading
   expectRefused(patchF64(edge(0) + 32 + 20, -3.2), "not in (-pi, pi]");  // landmark orientation
 }
 
 TEST_F(RefusedFile, NegativeLengthsAndWidths) {
   expectRefused(patchF64(edge(1) + 20, -0.5), "negative length");
-  expectRefused(patchF64(node(0) + 72 + 16, -0.1), "negative width");
+  expectRefused(patchF64(node(0) + 44 + 16, -0.1), "negative width");
 }
 
 TEST_F(RefusedFile, ProbabilityOutsideZeroOne) {
@@ -395,10 +455,10 @@ TEST_F(RefusedFile, ProbabilityOutsideZeroOne) {
 TEST_F(RefusedFile, UnknownTypesKindsAndFlags) {
   expectRefused(patchU32(node(1) + 4, 5), "unknown node type 5");
   expectRefused(patchU32(edge(0) + 32, 2), "unknown landmark type 2");
-  expectRefused(patchU32(node(0) + 72 + 2 * 28, 3), "unknown kind 3");
-  expectRefused(patchU32(node(0) + 60, 2), "unknown flags");
-  expectRefused(patchU32(node(0) + 72 + 24, 7), "unknown flags");
-  expectRefused(patchU32(node(0) + 32, uint32_t(-2)), "place id -2");
+  expectRefused(patchU32(node(0) + 44 + 2 * 56, 3), "unknown kind 3");
+  expectRefused(patchU32(node(0) + 32, 2), "unknown flags");
+  expectRefused(patchU32(node(0) + 44 + 24, 7), "unknown flags");
+  expectRefused(patchU32(node(0) + 44 + 28, uint32_t(-2)), "place id -2");
 }
 
 TEST_F(RefusedFile, DuplicateIds) {

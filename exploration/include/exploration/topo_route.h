@@ -22,15 +22,15 @@ struct GraphOpening {
   double bearing = 0.0;  // rad, map frame, from the node through the opening
   double width = 0.0;    // m, 0 if not measured
   bool explored = false;
+  int place_id = -1;     // the place behind this door, -1 if none
+  double door_in_place[3] = {0.0, 0.0, 0.0};  // m, m, rad: with place_id >= 0, the door in place_<place_id>
 };
 
 struct GraphNode {
   uint32_t id = 0;
   uint8_t type = 0;  // pomdp_topo's TopoNode type: 0 door, 1 junction, 2 hallway end, 3 place, 4 start
   double x = 0.0, y = 0.0;  // m, display pose (for messages only)
-  int place_id = -1;
-  std::vector<GraphOpening> openings;
-  double door_x = 0.0, door_y = 0.0, door_theta = 0.0;  // with place_id >= 0: the door in place_<place_id>
+  std::vector<GraphOpening> openings;  // each door with the place behind it, if mapped
 };
 
 struct GraphEdge {
@@ -109,9 +109,8 @@ class TopoGraph {
   /// The route from `pos` to one opening of one node (a mission's door).
   RouteStep routeTo(const GraphPosition& pos, uint32_t goal_node, const GraphOpening& opening,
                     double u_turn_cost = 2.0) const;
-  /// The door node linked to a place and the door's opening on it (openings wider than
-  /// `door_max_width` are hallway branches); nothing if no node links the place.
-  std::optional<PlaceDoor> placeDoor(int place_id, double door_max_width) const;
+  /// The door node and opening that link a place; nothing if no door links it.
+  std::optional<PlaceDoor> placeDoor(int place_id) const;
 
  private:
   /// Dijkstra from `pos` to the nearest node where `goal_at` names an opening.

@@ -1,20 +1,20 @@
 // Saving and loading the topological map (DESIGN.md: written atomically, versioned; a corrupt or
 // newer file is refused with a clear error and the map in memory is kept).
 //
-// File format, version 1: two text lines, then little-endian binary (u32: 4-byte unsigned integer,
+// File format, version 2: two text lines, then little-endian binary (u32: 4-byte unsigned integer,
 // i32: 4-byte two's complement, f64: IEEE-754 binary64):
 //
 //   "hybrid_slam_topological_map\n"     magic line
-//   "version 1\n"                       format version, decimal
+//   "version 2\n"                       format version, decimal
 //   u32 node_count
 //   node_count x {
 //     u32 id, u32 type                  type: NodeType (0 door, 1 junction, 2 hallway end, 3 place, 4 start)
 //     f64 x, y, theta                   display pose in the map frame
-//     i32 place_id                      -1: no place yet
-//     f64 x, y, theta                   door_in_place
 //     u32 flags                         bit 0: explored
 //     u32 opening_count o, u32 fingerprint_count f
-//     o x { f64 bearing, offset, width, u32 flags }   flags bit 0: explored
+//     o x { f64 bearing, offset, width, u32 flags,     flags bit 0: explored
+//           i32 place_id,                              the place behind the door, -1: none
+//           f64 x, y, theta }                          door_in_place: the door's pose in that place
 //     f x { u32 kind, f64 bearing }              kind: FingerprintEntry::Kind (0 corner, 1 opening,
 //                                                     2 line direction), in the stored order
 //   }
@@ -36,6 +36,10 @@
 // length or opening width, p_lmap outside [0, 1], a place_id below -1, unknown types, kinds or flag
 // bits, duplicate node or edge ids, an edge referring to a missing node, a self-loop, and next ids
 // not above every id in use. saveMap refuses (and writes nothing) a map that loading would refuse.
+//
+// Version 1 (until stop 19) had one place per node: i32 place_id and f64 x, y, theta door_in_place
+// after the node's pose, and openings without them. It is still read: the node's place becomes its
+// first opening's (the door it was entered by, which linking put first).
 #pragma once
 
 #include "pomdp_topo/topological_map.h"
@@ -45,7 +49,7 @@
 
 namespace pomdp_topo {
 
-constexpr uint32_t kTopoMapFormatVersion = 1;
+constexpr uint32_t kTopoMapFormatVersion = 2;
 constexpr const char* kTopoMapMagic = "hybrid_slam_topological_map";
 
 struct IoResult {

@@ -45,6 +45,9 @@ struct NodeOpening {
   double offset = 0.0;   // m, from the node's centre to the opening's centre along `bearing`
   double width = 0.0;    // m
   bool explored = false; // the robot went through it (a room mapped or a hallway stretch followed)
+  int32_t place_id = -1; // the place (local metric map) behind this door, -1 if none: each door of a
+                         // node links its own (doors facing each other across a hallway are one node)
+  Pose2D door_in_place;  // with place_id >= 0: the door's pose in the frame place_<place_id>
 };
 
 /// One entry of a fingerprint: a feature seen around the robot at the node.
@@ -65,9 +68,7 @@ struct TopoNode {
   uint32_t id = 0;
   NodeType type = NodeType::Junction;
   Pose2D pose;                 // display pose in the map frame (dead reckoning; not metric truth)
-  int32_t place_id = -1;       // local metric map behind the door, -1 if none yet
-  Pose2D door_in_place;        // the door's pose in the frame place_<place_id>
-  std::vector<NodeOpening> openings;
+  std::vector<NodeOpening> openings;  // each door with the place behind it, if mapped
   Fingerprint fingerprint;
   bool explored = false;       // every opening has been visited
 };
@@ -133,12 +134,15 @@ class TopologicalMap {
   /// The door width limit (m): pomdp_topo's door_max_width; MapBuilder sets its own.
   void setDoorMaxWidth(double width) { door_max_width_ = width; }
   bool recordOpening(uint32_t id, const NodeOpening& opening, double same_bearing = 0.4);
-  /// Links place `place_id` (its door at `door_in_place` in the place's frame) to node `id` through
-  /// the node's opening matching `door` (as recordOpening matches), which becomes the node's first:
-  /// the place's door is the node's first opening. A node links one place, the first: false (no
-  /// change) when it links another already (doors facing each other across a hallway are one node;
-  /// the second room is mapped but not linked), an unknown node or a negative id.
-  bool linkPlace(uint32_t id, const NodeOpening& door, int32_t place_id, const Pose2D& door_in_place);
+  /// Links place `place_id` (its door at `door_in_place` in the place's frame) to the opening of
+  /// node `id` that matches `door` (as recordOpening matches; record it first). A door links one
+  /// place, the first: false (no change) when it links another already, for an unknown node, no
+  /// such opening or a negative id. Doors facing each other across a hallway are one node with two
+  /// openings, each linking its own room. `linked` (if given) gets the place the door links after the call.
+  bool linkPlace(uint32_t id, const NodeOpening& door, int32_t place_id, const Pose2D& door_in_place,
+                 int32_t* linked = nullptr);
+  /// The node's opening that links place `place_id`, nullptr if none.
+  static const NodeOpening* placeDoor(const TopoNode& node, int32_t place_id);
 
   const TopoNode* node(uint32_t id) const;
   TopoNode* node(uint32_t id);
