@@ -245,6 +245,9 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
       d.requests.push_back(add);
       room_.start(door_in_place_, door_.width);
       room_goal_.reset();
+      door_tracked_in_place_ = c;
+      door_shift_ = 0.0;
+      door_seen_.clear();
       ++stats_.places;
       ++stats_.doors_entered;
       setState(State::ApproachDoor, "entering the room of place " + std::to_string(place_id_));
@@ -746,8 +749,45 @@ void Coordinator::room(const Perception& p, Decision* d) {
   roomStep(q, d);
 }
 
+bool Coordinator::refineDoor(const Perception& p) {
+  // The door seen now: an opening of a door's width facing the same way, within door_same_distance
+  // of the door as tracked; the mean of its sightings on the approach replaces the door (its
+  // direction, the hallway's normal, is kept) once it differs by more than 5 cm.
+  const Eigen::Vector2d tracked = door_tracked_in_place_;
+  double nearest = params_.door_same_distance;
+  std::optional<Eigen::Vector2d> seen;
+  for (const laser_features::Opening& o : p.openings) {
+    if (o.kind == laser_features::OpeningKind::kJunction) continue;
+    if (o.width < params_.door_min_width || o.width > params_.door_max_width) continue;
+    if (std::abs(normalizeAngle(o.theta + p.room_pose.theta - door_in_place_.theta)) > params_.door_side_angle) continue;
+    const Eigen::Vector2d c = apply(p.room_pose, o.center);
+    const double off = (c - tracked).norm();
+    if (off < nearest) {
+      nearest = off;
+      seen = c;
+    }
+  }
+  if (!seen) return false;
+  door_seen_.push_back(*seen);
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& c : door_seen_) mean += c;
+  mean /= double(door_seen_.size());
+  if ((mean - Eigen::Vector2d(door_in_place_.x, door_in_place_.y)).norm() <= 0.05) return false;
+  door_in_place_.x = mean.x();
+  door_in_place_.y = mean.y();
+  return true;
+}
+
 void Coordinator::roomStep(const Perception& p, Decision* d) {
   const Pose2D sensor = compose(p.room_pose, p.sensor_in_robot);
+  // A new room's door as seen on the way to it: the track from the hallway may lie half a metre
+  // along the wall from it, and the robot then meets the jamb (large_floor: tracked while the robot
+  // came out of the room across the hallway and turned, 0.5 m east of the door; the robot stood
+  // before the east jamb, "explored" the hallway, and the room was missed).
+  if (state_ == State::ApproachDoor && !mission_active_ && refineDoor(p)) {
+    door_shift_ = (Eigen::Vector2d(door_in_place_.x, door_in_place_.y) - door_tracked_in_place_).norm();
+    room_.start(door_in_place_, door_.width);  // nothing of the room is seen yet
+  }
   if (!p.ranges.empty()) room_.addScan(sensor, p.ranges, p.angle_min, p.angle_increment);
   const Eigen::Vector2d robot(p.room_pose.x, p.room_pose.y);
   const Eigen::Vector2d door(door_in_place_.x, door_in_place_.y);
@@ -757,8 +797,23 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
     const Eigen::Vector2d a = door - 0.6 * into;
     goalInPlace(p, a, door_in_place_.theta, d);
     if ((robot - a).norm() < 0.15 || now_ - state_since_ > 30.0) {
-      if (mission_active_) beginGoToGoal("driving to the mission's goal in place " + std::to_string(place_id_), false);
-      else setState(State::Room, "exploring the room");
+      if (mission_active_) {
+        beginGoToGoal("driving to the mission's goal in place " + std::to_string(place_id_), false);
+      } else {
+        if (door_shift_ > 0.0) {
+          // The place keeps the door where it was seen from in front of it (the EKF's door of the
+          // place, for the exit and for relocations on missions).
+          Request add;
+          add.kind = Request::AddDoor;
+          add.door_id = std::max(0, door_node_);
+          add.place_id = place_id_;
+          add.pose = compose(inverse(p.room_pose), door_in_place_);
+          d->requests.push_back(add);
+        }
+        char text[96];
+        std::snprintf(text, sizeof(text), "exploring the room (its door refined by %.2f m)", door_shift_);
+        setState(State::Room, door_shift_ > 0.0 ? text : "exploring the room");
+      }
     }
     return;
   }

@@ -277,6 +277,69 @@ TEST(Coordinator, TheDoorJustLeftIsNotEnteredAgain) {
   EXPECT_EQ(c.stats().doors_entered, 1);
 }
 
+TEST(Coordinator, ANewRoomsDoorIsTakenAsSeenFromInFrontOfIt) {
+  // large_floor: room_3_18's door, tracked while the robot came out of the room across the hallway
+  // and turned, lay 0.5 m east of where it is; the robot went to a point before the east jamb,
+  // "explored" the hallway there and the room was missed. Here the door (5.0 m) is tracked at 5.5 m
+  // from the hallway and seen where it is from the way to it: the robot goes through at 5.0 m.
+  Coordinator c;
+  Hallway h;
+  Pose2D robot{0.0, 0.0, 0.0}, origin;
+  bool created = false;
+  double x_in_front = NAN;
+  std::vector<Request> adds;
+  double t = 0.0;
+  for (int ticks = 0; ticks < 3000 && std::isnan(x_in_front); ++ticks, t += 0.1) {
+    Perception p = h.perceive(robot.x, t);
+    p.odom = robot;
+    p.room_pose_valid = created;
+    p.room_pose = laser_features::compose(laser_features::inverse(origin), robot);
+    // The door's opening as seen from the robot's pose: 0.5 m east of it while on the hallway
+    // (before the place is made), where it is once the robot goes to it.
+    p.openings.clear();
+    const double seen_x = created ? 5.0 : 5.5;
+    laser_features::Opening o;
+    o.center = laser_features::transformPoint(laser_features::inverse(robot), Eigen::Vector2d(seen_x, 1.0));
+    o.left = o.center;  // (unused by the coordinator's door track)
+    o.right = o.center;
+    o.theta = laser_features::normalizeAngle(0.5 * kPi - robot.theta);
+    o.width = 0.9;
+    o.kind = laser_features::OpeningKind::kDoor;
+    o.confidence = 0.9;
+    if (std::abs(seen_x - robot.x) < 6.0) p.openings.push_back(o);
+    const Decision d = c.update(p, view("frontier", true), false, false);
+    for (const Request& q : d.requests) {
+      if (q.kind == Request::CreatePlace) {
+        origin = robot;
+        created = true;
+        c.placeCreated(true, 0);
+      }
+      if (q.kind == Request::AddDoor) adds.push_back(q);
+    }
+    if (c.state().rfind("exploring the room", 0) == 0) x_in_front = robot.x;
+    if (d.stop || !d.has_goal) continue;
+    const Eigen::Vector2d to = Eigen::Vector2d(d.x, d.y) - Eigen::Vector2d(robot.x, robot.y);
+    if (to.norm() > 0.01) {
+      const Eigen::Vector2d step = to.norm() > 0.05 ? Eigen::Vector2d(0.05 * to.normalized()) : to;
+      robot.x += step.x();
+      robot.y += step.y();
+      robot.theta = std::atan2(to.y(), to.x());
+    } else if (d.theta) {
+      robot.theta += std::max(-0.1, std::min(0.1, laser_features::normalizeAngle(*d.theta - robot.theta)));
+    }
+  }
+  ASSERT_TRUE(created) << "the door was never stopped for";
+  ASSERT_FALSE(std::isnan(x_in_front)) << c.state();
+  // The approach ends within 0.15 m of the point 0.6 m before the door on its axis.
+  EXPECT_NEAR(x_in_front, 5.0, 0.16) << "in front of the door as tracked, not as it is";
+  EXPECT_NE(c.state().find("door refined by"), std::string::npos) << c.state();
+  // The place keeps the door as seen: the last AddDoor (robot frame) puts it at x = 5.0.
+  ASSERT_GE(adds.size(), 2u);
+  const Pose2D door_in_place = laser_features::compose(laser_features::compose(laser_features::inverse(origin), robot),
+                                                       adds.back().pose);
+  EXPECT_NEAR(laser_features::transformPoint(origin, Eigen::Vector2d(door_in_place.x, door_in_place.y)).x(), 5.0, 0.05);
+}
+
 TEST(Coordinator, NeverMetricWhileTheBeliefIsUnconfident) {
   Coordinator c;
   const DriveResult r = drive(&c, 0.0, 8.0, [](double) { return view("localized", false); });

@@ -251,6 +251,9 @@ class Coordinator {
   void turnGoal(const Perception& p, Decision* d) const;
   void startTurn(int bin, const Perception& p, const TopoView& topo, std::vector<int> not_taken);
   void room(const Perception& p, Decision* d);
+  /// On the way to a new room's door: the door as seen now (the mean of its sightings on the
+  /// approach) replaces door_in_place_ when it differs by more than 5 cm; true if it did.
+  bool refineDoor(const Perception& p);
   void roomStep(const Perception& p, Decision* d);  // with the robot's pose in the place
   void goalInPlace(const Perception& p, const Eigen::Vector2d& g, std::optional<double> theta, Decision* d) const;
   void finish(bool success, const std::string& why, Decision* d);
@@ -319,6 +322,9 @@ class Coordinator {
   int place_id_ = -1;
   laser_features::Pose2D hallway_pose_odom_;  // where the robot left the hallway
   laser_features::Pose2D door_in_place_;
+  Eigen::Vector2d door_tracked_in_place_ = Eigen::Vector2d::Zero();  // the new room's door as tracked from the hallway
+  std::vector<Eigen::Vector2d> door_seen_;  // its sightings on the approach (place frame)
+  double door_shift_ = 0.0;                 // m, how far they moved it
   int hallway_bin_ = 0;
   bool place_ok_ = false;
   std::vector<Eigen::Vector2d> exit_path_;  // place frame
