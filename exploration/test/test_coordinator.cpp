@@ -115,6 +115,21 @@ DriveResult drive(Coordinator* c, double x0, double x1, ViewAt view_at, const Ha
   return r;
 }
 
+// An ideal robot free to move anywhere, one 0.1 s tick of it: 0.05 m towards the goal, facing that
+// way, or at the goal 0.1 rad towards its heading. Nothing when the coordinator stops it.
+void stepTowardsGoal(const Decision& d, Pose2D* robot) {
+  if (d.stop || !d.has_goal) return;
+  const Eigen::Vector2d to = Eigen::Vector2d(d.x, d.y) - Eigen::Vector2d(robot->x, robot->y);
+  if (to.norm() > 0.01) {
+    const Eigen::Vector2d step = to.norm() > 0.05 ? Eigen::Vector2d(0.05 * to.normalized()) : to;
+    robot->x += step.x();
+    robot->y += step.y();
+    robot->theta = std::atan2(to.y(), to.x());
+  } else if (d.theta) {
+    robot->theta += std::max(-0.1, std::min(0.1, laser_features::normalizeAngle(*d.theta - robot->theta)));
+  }
+}
+
 }  // namespace
 
 TEST(Coordinator, ADoorPassedOnANewStretchIsEntered) {
@@ -260,16 +275,7 @@ TEST(Coordinator, TheDoorJustLeftIsNotEnteredAgain) {
       c.placeCreated(true, places++);
       visited = true;
     }
-    if (d.stop || !d.has_goal) continue;
-    const Eigen::Vector2d to = Eigen::Vector2d(d.x, d.y) - Eigen::Vector2d(robot.x, robot.y);
-    if (to.norm() > 0.01) {
-      const Eigen::Vector2d step = to.norm() > 0.05 ? Eigen::Vector2d(0.05 * to.normalized()) : to;
-      robot.x += step.x();
-      robot.y += step.y();
-      robot.theta = std::atan2(to.y(), to.x());
-    } else if (d.theta) {
-      robot.theta += std::max(-0.1, std::min(0.1, laser_features::normalizeAngle(*d.theta - robot.theta)));
-    }
+    stepTowardsGoal(d, &robot);
   }
   ASSERT_TRUE(visited) << "the door was never entered";
   EXPECT_GE(robot.x, 12.0) << "the robot did not go on along the hallway (" << ticks << " ticks)";
@@ -317,16 +323,7 @@ TEST(Coordinator, ANewRoomsDoorIsTakenAsSeenFromInFrontOfIt) {
       if (q.kind == Request::AddDoor) adds.push_back(q);
     }
     if (c.state().rfind("exploring the room", 0) == 0) x_in_front = robot.x;
-    if (d.stop || !d.has_goal) continue;
-    const Eigen::Vector2d to = Eigen::Vector2d(d.x, d.y) - Eigen::Vector2d(robot.x, robot.y);
-    if (to.norm() > 0.01) {
-      const Eigen::Vector2d step = to.norm() > 0.05 ? Eigen::Vector2d(0.05 * to.normalized()) : to;
-      robot.x += step.x();
-      robot.y += step.y();
-      robot.theta = std::atan2(to.y(), to.x());
-    } else if (d.theta) {
-      robot.theta += std::max(-0.1, std::min(0.1, laser_features::normalizeAngle(*d.theta - robot.theta)));
-    }
+    stepTowardsGoal(d, &robot);
   }
   ASSERT_TRUE(created) << "the door was never stopped for";
   ASSERT_FALSE(std::isnan(x_in_front)) << c.state();
