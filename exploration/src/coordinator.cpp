@@ -801,9 +801,9 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
         beginGoToGoal("driving to the mission's goal in place " + std::to_string(place_id_), false);
       } else {
         // The place's door in the EKF stays the door as tracked from the hallway: a mission's
-        // relocation measures the robot from the door tracked the same way, and the two biases
-        // cancel (stored as seen from in front, small_loop's missions ended 0.1-0.2 m off the goal
-        // and one relocation failed). The door as seen is what the graph links (the way in).
+        // relocation measures the robot from the door tracked the same way, so their biases cancel
+        // (with the door as seen stored instead, one small_loop relocation failed three times,
+        // jointly incompatible). The door as seen is what the graph links: the way in.
         char text[96];
         std::snprintf(text, sizeof(text), "exploring the room (its door refined by %.2f m)", door_shift_);
         setState(State::Room, door_shift_ > 0.0 ? text : "exploring the room");
