@@ -50,6 +50,7 @@ class ExplorationEvaluator:
         self.truth = None
         self.travel = 0.0
         self.place_regions = collections.defaultdict(collections.Counter)
+        self.metric_places = set()  # every place the robot was METRIC in
         self.status = None
         self.map = None
         self.t0 = None
@@ -108,6 +109,7 @@ class ExplorationEvaluator:
         if self.t0 is None:
             self.t0 = msg.header.stamp.to_sec()
         if self.status is not None and self.status.mode == METRIC and self.status.current_place >= 0:
+            self.metric_places.add(self.status.current_place)
             r = self.region_at(p.x, p.y)
             if r is not None and self.kinds[r] == 'room':
                 self.place_regions[self.status.current_place][r] += 1
@@ -187,7 +189,8 @@ class ExplorationEvaluator:
             'rooms_mapped_twice': {r: n for r, n in per_room.items() if n > 1},
             'rooms_unreachable': unreachable,
             'place_rooms': {str(k): v for k, v in sorted(place_room.items())},
-            'places': s.places if s else 0, 'places_in_no_room': sorted(k for k in range(s.places if s else 0)
+            # Every place the robot was in, linked or not (the status counts the linked ones).
+            'places': s.places if s else 0, 'places_in_no_room': sorted(k for k in self.metric_places
                                                                         if k not in place_room),
             'hallway_doors': len(doors), 'doors_found': found, 'doors_missed': missed,
             'spurious_door_nodes': [n.id for n in door_nodes if not any(u[0] == n.id for u in used)],
