@@ -246,8 +246,8 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
       room_.start(door_in_place_, door_.width);
       room_goal_.reset();
       door_tracked_in_place_ = c;
-      door_shift_ = 0.0;
-      door_seen_.clear();
+      door_seen_sum_ = Eigen::Vector2d::Zero();
+      door_seen_count_ = 0;
       ++stats_.places;
       ++stats_.doors_entered;
       setState(State::ApproachDoor, "entering the room of place " + std::to_string(place_id_));
@@ -318,7 +318,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
         return;
       }
       const Eigen::Vector2d goal(mission_goal_.x, mission_goal_.y);
-      const Eigen::Vector2d door(mission_door_.door_in_place[0], mission_door_.door_in_place[1]);
+      const Eigen::Vector2d door(mission_door_.opening.door_in_place[0], mission_door_.opening.door_in_place[1]);
       mission_distance_left_ = route.distance + (goal - door).norm();
     }
     // At the goal node with its opening to a side that never opens (a door the laser does not show
@@ -768,10 +768,9 @@ bool Coordinator::refineDoor(const Perception& p) {
     }
   }
   if (!seen) return false;
-  door_seen_.push_back(*seen);
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const Eigen::Vector2d& c : door_seen_) mean += c;
-  mean /= double(door_seen_.size());
+  door_seen_sum_ += *seen;
+  ++door_seen_count_;
+  const Eigen::Vector2d mean = door_seen_sum_ / double(door_seen_count_);
   if ((mean - Eigen::Vector2d(door_in_place_.x, door_in_place_.y)).norm() <= 0.05) return false;
   door_in_place_.x = mean.x();
   door_in_place_.y = mean.y();
@@ -784,10 +783,8 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
   // along the wall from it, and the robot then meets the jamb (large_floor: tracked while the robot
   // came out of the room across the hallway and turned, 0.5 m east of the door; the robot stood
   // before the east jamb, "explored" the hallway, and the room was missed).
-  if (state_ == State::ApproachDoor && !mission_active_ && refineDoor(p)) {
-    door_shift_ = (Eigen::Vector2d(door_in_place_.x, door_in_place_.y) - door_tracked_in_place_).norm();
+  if (state_ == State::ApproachDoor && !mission_active_ && refineDoor(p))
     room_.start(door_in_place_, door_.width);  // nothing of the room is seen yet
-  }
   if (!p.ranges.empty()) room_.addScan(sensor, p.ranges, p.angle_min, p.angle_increment);
   const Eigen::Vector2d robot(p.room_pose.x, p.room_pose.y);
   const Eigen::Vector2d door(door_in_place_.x, door_in_place_.y);
@@ -804,9 +801,10 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
         // relocation measures the robot from the door tracked the same way, so their biases cancel
         // (with the door as seen stored instead, one small_loop relocation failed three times,
         // jointly incompatible). The door as seen is what the graph links: the way in.
+        const double shift = (Eigen::Vector2d(door_in_place_.x, door_in_place_.y) - door_tracked_in_place_).norm();
         char text[96];
-        std::snprintf(text, sizeof(text), "exploring the room (its door refined by %.2f m)", door_shift_);
-        setState(State::Room, door_shift_ > 0.0 ? text : "exploring the room");
+        std::snprintf(text, sizeof(text), "exploring the room (its door refined by %.2f m)", shift);
+        setState(State::Room, shift > 0.0 ? text : "exploring the room");
       }
     }
     return;
@@ -1058,7 +1056,8 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
     hallway_in_place_ = Eigen::Vector2d(stop.x, stop.y);
     exit_theta_place_ = normalizeAngle(p.room_pose.theta + odomHeadingOfBin(hallway_bin_, topo) - p.odom.theta);
     place_origin_odom_ = compose(p.odom, inverse(p.room_pose));  // stands in for missing EKF poses (see room())
-    door_in_place_ = Pose2D{mission_door_.door_in_place[0], mission_door_.door_in_place[1], mission_door_.door_in_place[2]};
+    const double* door_pose = mission_door_.opening.door_in_place;
+    door_in_place_ = Pose2D{door_pose[0], door_pose[1], door_pose[2]};
     room_.start(door_in_place_, mission_door_.opening.width > 0.0 ? mission_door_.opening.width : door_.width);
     setState(State::ApproachDoor, "relocated in place " + std::to_string(place_id_) + ": entering");
     return;

@@ -150,11 +150,7 @@ std::optional<PlaceDoor> TopoGraph::placeDoor(int place_id) const {
   for (const auto& entry : nodes_) {
     for (const GraphOpening& o : entry.second.openings) {
       if (o.place_id != place_id) continue;
-      PlaceDoor door;
-      door.node = entry.first;
-      door.opening = o;
-      std::copy(o.door_in_place, o.door_in_place + 3, door.door_in_place);
-      return door;
+      return PlaceDoor{entry.first, o};
     }
   }
   return std::nullopt;

@@ -173,13 +173,13 @@ TEST(TopoRoute, RouteToAMissionsDoorGoesPastNearerUnexploredOpenings) {
   ASSERT_TRUE(pd.has_value());
   EXPECT_EQ(pd->node, 4u);
   EXPECT_NEAR(pd->opening.bearing, -0.5 * kPi, 1e-12) << "place 9's door, not the one across";
-  EXPECT_NEAR(pd->door_in_place[0], 1.0, 1e-12);
-  EXPECT_NEAR(pd->door_in_place[2], 0.3, 1e-12);
+  EXPECT_NEAR(pd->opening.door_in_place[0], 1.0, 1e-12);
+  EXPECT_NEAR(pd->opening.door_in_place[2], 0.3, 1e-12);
   const auto across = g.placeDoor(11);
   ASSERT_TRUE(across.has_value());
   EXPECT_EQ(across->node, 4u);
   EXPECT_NEAR(across->opening.bearing, 0.5 * kPi, 1e-12);
-  EXPECT_NEAR(across->door_in_place[1], -1.0, 1e-12);
+  EXPECT_NEAR(across->opening.door_in_place[1], -1.0, 1e-12);
   EXPECT_EQ(g.placeIds(), (std::set<int>{9, 11}));
   EXPECT_FALSE(g.placeDoor(8).has_value());
   EXPECT_FALSE(g.placeDoor(-1).has_value());

@@ -323,8 +323,8 @@ class Coordinator {
   laser_features::Pose2D hallway_pose_odom_;  // where the robot left the hallway
   laser_features::Pose2D door_in_place_;
   Eigen::Vector2d door_tracked_in_place_ = Eigen::Vector2d::Zero();  // the new room's door as tracked from the hallway
-  std::vector<Eigen::Vector2d> door_seen_;  // its sightings on the approach (place frame)
-  double door_shift_ = 0.0;                 // m, how far they moved it
+  Eigen::Vector2d door_seen_sum_ = Eigen::Vector2d::Zero();  // its sightings on the approach (place frame)
+  int door_seen_count_ = 0;
   int hallway_bin_ = 0;
   bool place_ok_ = false;
   std::vector<Eigen::Vector2d> exit_path_;  // place frame

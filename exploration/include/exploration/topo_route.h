@@ -41,11 +41,11 @@ struct GraphEdge {
   double length = 0.0;   // m
 };
 
-/// The door of a place, as the graph links it: the door node, the opening, the door's pose in the place.
+/// The door of a place, as the graph links it: the door node and its opening (which holds the
+/// door's pose in the place).
 struct PlaceDoor {
   uint32_t node = 0;
   GraphOpening opening;
-  double door_in_place[3] = {0.0, 0.0, 0.0};  // m, m, rad
 };
 
 /// Where the belief puts the robot: at a node, or on an edge at an offset from its source.
