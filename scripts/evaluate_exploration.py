@@ -4,9 +4,9 @@
 Ground truth is read here only (never by the stack): the rooms and doors of the world file, the
 simulator's ground_truth odometry. While the coordinator is METRIC in place k, the regions the robot
 is in say which room place k maps; the topological map's door nodes are matched to the world's
-doors (display poses in the start frame, within 1.5 m). Doors closed in the world file or by
-~closed_doors (the simulator's parameter) are walls: the rooms they cut off from the start are
-reported as unreachable and not counted as missed. At the end (status DONE, or shutdown) it
+doors (display poses in the start frame, within 1.5 m along the door's wall and 2 m across).
+Doors closed in the world file or by ~closed_doors (the simulator's parameter) are walls: the
+rooms they cut off from the start are reported as unreachable and not counted as missed. At the end (status DONE, or shutdown) it
 writes a JSON file: rooms mapped / missed / mapped twice, doors found / missed, spurious door
 nodes, travel, times, map file sizes and bytes per square metre of floor. Next to it,
 <output>.trace.csv holds where the robot truly was (region and pose) at each change of the
@@ -30,6 +30,32 @@ METRIC, DONE = 1, 3
 def area(polygon):
     return 0.5 * abs(sum(polygon[i][0] * polygon[(i + 1) % len(polygon)][1] -
                          polygon[(i + 1) % len(polygon)][0] * polygon[i][1] for i in range(len(polygon))))
+
+
+# A node finds a door when it lies within DOOR_ALONG of the door's centre along the door's wall and
+# within DOOR_ACROSS of it across (a node on the mid-line of a 2.2 m hallway is 1.1 m across; two
+# doors facing each other, or beside a junction, are openings of one node, which may lie a door's
+# width along from the second one).
+DOOR_ALONG, DOOR_ACROSS, DOOR_BEARING = 1.5, 2.0, 0.6  # m, m, rad
+
+
+def door_opening(x, y, into, nodes, used=()):
+    """The (node id, opening index) that finds the door at (x, y) whose room lies at heading `into`
+    (map frame): an opening, not in `used`, whose bearing points into the room, on the nearest node
+    within the door gate; None if there is none. Each opening counts for one door."""
+    best = None
+    for n in nodes:
+        dx, dy = n.pose.x - x, n.pose.y - y
+        across = abs(dx * math.cos(into) + dy * math.sin(into))
+        along = abs(-dx * math.sin(into) + dy * math.cos(into))
+        if along > DOOR_ALONG or across > DOOR_ACROSS:
+            continue
+        dist = math.hypot(dx, dy)
+        for k, o in enumerate(n.openings):
+            off = abs(math.atan2(math.sin(o.bearing - into), math.cos(o.bearing - into)))
+            if (n.id, k) not in used and off < DOOR_BEARING and (best is None or dist < best[0]):
+                best = (dist, (n.id, k))
+    return best[1] if best else None
 
 
 class ExplorationEvaluator:
@@ -151,29 +177,16 @@ class ExplorationEvaluator:
         # Doors between a room and a hallway: the ones a hallway exploration can find.
         doors = [d for d in self.open_doors if d['between'][0] in self.reachable and
                  sorted(self.kinds.get(b) for b in d['between']) == ['hallway', 'room']]
-        # A door is found when a node within 1.5 m has an opening into its room (doors facing each
-        # other across a hallway, or beside a junction, are openings of one node); each opening
-        # counts for one door. A door node none of whose openings is a door is spurious.
         nodes = list(self.map.nodes) if self.map else []
         door_nodes = [n for n in nodes if n.type == 0]
-        used = set()
-        found, missed = 0, []
+        found, missed, used = 0, [], set()
         for d in doors:
             mx, my = self.to_map(*d['center'])
-            into = self.into_room(d) - self.start[2]
-            best = None
-            for n in nodes:
-                dist = math.hypot(n.pose.x - mx, n.pose.y - my)
-                if dist > 1.5:
-                    continue
-                for k, o in enumerate(n.openings):
-                    off = abs(math.atan2(math.sin(o.bearing - into), math.cos(o.bearing - into)))
-                    if (n.id, k) not in used and off < 0.6 and (best is None or dist < best[0]):
-                        best = (dist, (n.id, k))
-            if best is None:
+            match = door_opening(mx, my, self.into_room(d) - self.start[2], nodes, used)
+            if match is None:
                 missed.append(d['between'])
             else:
-                used.add(best[1])
+                used.add(match)
                 found += 1
         floor = sum(area(r['polygon']) for r in self.regions)
         sizes = {}

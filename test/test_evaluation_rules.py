@@ -1,0 +1,48 @@
+#!/usr/bin/python3
+"""rostest: the evaluation's door rule on hand-made nodes (see the .test)."""
+import math
+import os
+import sys
+import types
+import unittest
+
+import rostest
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'scripts'))
+from evaluate_exploration import door_opening  # noqa: E402
+
+NORTH, SOUTH = 0.5 * math.pi, -0.5 * math.pi
+
+
+def node(node_id, x, y, *bearings):
+    return types.SimpleNamespace(id=node_id, pose=types.SimpleNamespace(x=x, y=y),
+                                 openings=[types.SimpleNamespace(bearing=b) for b in bearings])
+
+
+class DoorRule(unittest.TestCase):
+    def test_a_node_a_door_width_along_from_the_door_finds_it(self):
+        # large_floor run 9: doors facing each other 0.8 m apart along a 2.2 m hallway are two
+        # openings of one node, 1.05 m along and 1.2 m across from the second door (1.59 m away).
+        n = node(41, 1.05, -1.2, SOUTH, NORTH)
+        self.assertEqual(door_opening(0.0, 0.0, NORTH, [n]), (41, 1))
+
+    def test_a_node_too_far_along_or_across_does_not(self):
+        self.assertIsNone(door_opening(0.0, 0.0, NORTH, [node(1, 1.6, -1.1, NORTH)]))
+        self.assertIsNone(door_opening(0.0, 0.0, NORTH, [node(1, 0.0, -2.1, NORTH)]))
+        # The door's wall runs north-south here: along is y, across is x.
+        self.assertEqual(door_opening(0.0, 0.0, 0.0, [node(1, -1.8, 1.2, 0.0)]), (1, 0))
+        self.assertIsNone(door_opening(0.0, 0.0, 0.0, [node(1, -1.2, 1.8, 0.0)]))
+
+    def test_an_opening_away_from_the_room_does_not(self):
+        self.assertIsNone(door_opening(0.0, 0.0, NORTH, [node(1, 0.0, -1.1, SOUTH, 0.0)]))
+
+    def test_each_opening_counts_for_one_door_and_the_nearest_node_wins(self):
+        near, far = node(1, 0.2, -1.1, NORTH), node(2, 1.0, -1.1, NORTH)
+        first = door_opening(0.0, 0.0, NORTH, [far, near])
+        self.assertEqual(first, (1, 0))
+        self.assertEqual(door_opening(0.0, 0.0, NORTH, [far, near], {first}), (2, 0))
+        self.assertIsNone(door_opening(0.0, 0.0, NORTH, [near], {first}))
+
+
+if __name__ == '__main__':
+    rostest.rosrun('hybrid_slam', 'evaluation_rules', DoorRule)
