@@ -753,6 +753,17 @@ bool MapBuilder::farFromDeadReckoning(const Eigen::Vector2d& believed, const Pas
   return deadReckonedPosition(p, scan, &at) && (at - believed).norm() > params_.update_position_tolerance;
 }
 
+bool MapBuilder::farFromNode(const TopoNode& n, const PassedLandmark& p, const Scan& scan) const {
+  // An opening a node lacks lies beside it, within the reach a node's openings are looked for in
+  // (min_node_separation + match_distance), not update_position_tolerance: with the belief a node
+  // off, the door is the next node's (large_floor: after U-turns on a hallway of doors 2-3 m apart
+  // a door was added to a node 5.7 m from it; room_7_14's door to the node 1.8-1.9 m before the
+  // junction that has it; each time a known room was entered again as a new one).
+  Eigen::Vector2d at;
+  return deadReckonedPosition(p, scan, &at) &&
+         (at - Eigen::Vector2d(n.pose.x, n.pose.y)).norm() > params_.min_node_separation + params_.match_distance;
+}
+
 void MapBuilder::processLocalized(const Scan& scan) {
   double travelled = 0.0;
   for (const Action& a : scan.actions) {
@@ -865,15 +876,36 @@ int MapBuilder::twinWithWay(uint32_t id, double heading) const {
   return best;
 }
 
-bool MapBuilder::knownOpeningNear(const TopoEdge& e, double d, double bearing, double width) const {
+bool MapBuilder::knownOpeningNear(const TopoEdge& e, double d, const PassedLandmark& p, const Scan& scan,
+                                  double bearing, double width) const {
   // Nodes within reach of d along the graph: the edge's ends, and their neighbours as far as the
   // reach goes on (short edges between doors facing each other across a hallway).
   const double reach = params_.min_node_separation + params_.match_distance;
-  return knownOpeningNear({{e.source, reach - std::max(0.0, d)}, {e.target, reach - std::max(0.0, e.length - d)}},
-                          bearing, width);
+  return knownOpeningNear({{e.source, reach - std::max(0.0, d)}, {e.target, reach - std::max(0.0, e.length - d)}}, p,
+                          scan, bearing, width);
 }
 
-bool MapBuilder::knownOpeningNear(std::vector<std::pair<uint32_t, double>> todo, double bearing, double width) const {
+bool MapBuilder::knownOpeningNear(std::vector<std::pair<uint32_t, double>> todo, const PassedLandmark& p,
+                                  const Scan& scan, double bearing, double width) const {
+  // The nodes near the opening by the dead reckoning too: the belief may lag or lead by a node
+  // (large_floor: room_7_08's door passed in a U-turn at the node before it, 1.66 m from the node
+  // that has it; room_7_14's door, 0.8 m from the junction that has it, passed with the belief
+  // still on the door node 2.5 m before).
+  const double reach = params_.min_node_separation + params_.match_distance;
+  Eigen::Vector2d at;
+  if (deadReckonedPosition(p, scan, &at)) {
+    for (const auto& [id, k] : map_->nodes()) {
+      const double gap = (Eigen::Vector2d(k.pose.x, k.pose.y) - at).norm();
+      if (gap >= reach) continue;
+      // A node listed already by the graph (an edge's end) keeps the larger reach left.
+      auto listed = std::find_if(todo.begin(), todo.end(), [&](const auto& t) { return t.first == id; });
+      if (listed == todo.end()) {
+        todo.push_back({id, reach - gap});
+      } else {
+        listed->second = std::max(listed->second, reach - gap);
+      }
+    }
+  }
   std::vector<uint32_t> seen;
   while (!todo.empty()) {
     const auto [id, left] = todo.back();
@@ -906,23 +938,8 @@ void MapBuilder::addOpeningsAtNode(const PomdpLocalizer::State& st, const Scan& 
     if (p.landmark.type != LandmarkType::Opening || p.landmark.width > params_.door_max_width) continue;
     if (binHeading(p.heading_bin) != binHeading(binOf(st.heading))) continue;
     const NodeOpening o = sideOpening(st.heading, p.landmark);
-    // The nodes near the door by the dead reckoning too: a door passed during a U-turn at a node
-    // lies up to a couple of metres from it (large_floor: room_7_08's door, 1.66 m from node 51,
-    // whose neighbour node 52 has it, beyond the graph reach; it was added to node 51 as a second
-    // opening and the room was entered again).
-    std::vector<std::pair<uint32_t, double>> todo{{n->id, reach}};
-    Eigen::Vector2d at;
-    if (deadReckonedPosition(p, scan, &at)) {
-      for (const auto& [id, k] : map_->nodes()) {
-        const double gap = (Eigen::Vector2d(k.pose.x, k.pose.y) - at).norm();
-        if (id != n->id && gap < reach) todo.push_back({id, reach - gap});
-      }
-    }
-    if (knownOpeningNear(std::move(todo), o.bearing, o.width)) continue;
-    // The belief a node or two off (large_floor: after U-turns on a hallway of doors 2-3 m apart, a
-    // door was added to a node 5.7 m from it, the route turned round for it, and a known room was
-    // entered again as a new one).
-    if (farFromDeadReckoning(Eigen::Vector2d(n->pose.x, n->pose.y), p, scan)) continue;
+    if (knownOpeningNear({{n->id, reach}}, p, scan, o.bearing, o.width)) continue;
+    if (farFromNode(*n, p, scan)) continue;
     n->openings.push_back(o);
     changed = true;
     event("opening added to node " + std::to_string(n->id));
@@ -994,7 +1011,7 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       // unlikely (hallway branches are seen from afar); a gap beside a pillar or a wide view into
       // a room is not. Not a node.
       continue;
-    } else if (knownOpeningNear(*e, d, sideOpening(st.heading, p.landmark).bearing, p.landmark.width)) {
+    } else if (knownOpeningNear(*e, d, p, scan, sideOpening(st.heading, p.landmark).bearing, p.landmark.width)) {
       // A door a node near here already has: the belief is a little off along the edge (institute:
       // office_10's door, 0.84 m from seminar's across the hallway, was added to seminar's node as
       // a second, unexplored opening, and the room was explored twice).
@@ -1019,7 +1036,7 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       const bool present = std::any_of(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {
         return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameBearing;
       });
-      if (!present && !farFromDeadReckoning(Eigen::Vector2d(n->pose.x, n->pose.y), p, scan)) {
+      if (!present && !farFromNode(*n, p, scan)) {
         n->openings.push_back(o);
         changed = true;
         event("opening added to node " + std::to_string(nid));

@@ -183,10 +183,16 @@ class MapBuilder {
   void decideLoop(bool old_wins, const FrontEnd& fe);
   void updateKnownEdge(const Scan& scan);
   /// A node within min_node_separation + match_distance of `d` along edge `e` (either way, through
-  /// short edges) has an opening at `bearing` (map frame) of a compatible `width`.
-  bool knownOpeningNear(const TopoEdge& e, double d, double bearing, double width) const;
+  /// short edges), or of where the dead reckoning puts the passed opening `p`, has an opening at
+  /// `bearing` (map frame) of a compatible `width`.
+  bool knownOpeningNear(const TopoEdge& e, double d, const PassedLandmark& p, const Scan& scan, double bearing,
+                        double width) const;
   /// The same from a list of (node, reach left in m).
-  bool knownOpeningNear(std::vector<std::pair<uint32_t, double>> todo, double bearing, double width) const;
+  bool knownOpeningNear(std::vector<std::pair<uint32_t, double>> todo, const PassedLandmark& p, const Scan& scan,
+                        double bearing, double width) const;
+  /// The dead reckoning puts the passed opening `p` farther than min_node_separation +
+  /// match_distance from node `n`: it is not an opening `n` lacks. False without dead reckoning.
+  bool farFromNode(const TopoNode& n, const PassedLandmark& p, const Scan& scan) const;
   /// Doors passed while the belief is at node `st` that no node within reach has: added to it.
   void addOpeningsAtNode(const PomdpLocalizer::State& st, const Scan& scan);
   void splitEdgeWithDoor(uint32_t edge, double distance, const ObservedLandmark& opening, double heading);
