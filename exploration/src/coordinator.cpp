@@ -405,9 +405,9 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   }
 
   // Doors: entered once passed, if new (frontier) or known and unexplored, and the belief is sure.
-  trackDoors(p, dir_robot, v);
+  const Walls walls = trackDoors(p, dir_robot, v);
   DoorTrack door;
-  if (doorPassed(p, dir_robot, &door)) {
+  if (doorPassed(p, dir_robot, walls, &door)) {
     if (justLeft(door)) {
       ++stats_.doors_passed;
       state_text_ = "door passed: the one just left";
@@ -558,9 +558,9 @@ std::optional<double> Coordinator::wallLateral(const Perception& p, double dir_r
   return apply(inverse(p.odom), *wall_seen_odom_[side]).dot(nrm);
 }
 
-void Coordinator::trackDoors(const Perception& p, double dir_robot, const HallwayView& v) {
+Coordinator::Walls Coordinator::trackDoors(const Perception& p, double dir_robot, const HallwayView& v) {
   const Eigen::Vector2d nrm = unit(dir_robot + 0.5 * kPi);
-  const std::array<std::optional<double>, 2> walls{{wallLateral(p, dir_robot, v, 0), wallLateral(p, dir_robot, v, 1)}};
+  const Walls walls{{wallLateral(p, dir_robot, v, 0), wallLateral(p, dir_robot, v, 1)}};
   for (const auto& o : p.openings) {
     if (o.kind == laser_features::OpeningKind::kJunction) continue;
     if (o.width < params_.door_min_width || o.width > params_.door_max_width) continue;
@@ -577,8 +577,14 @@ void Coordinator::trackDoors(const Perception& p, double dir_robot, const Hallwa
     if (std::abs(normalizeAngle(o.theta - into)) > params_.door_side_angle) continue;
     const Eigen::Vector2d c = apply(p.odom, o.center);
     const double into_odom = normalizeAngle(into + p.odom.theta);
+    // The same door: near it, and as far aside within the wall tolerance (a gap behind the wall
+    // tracked while no wall was known must not pull the door's track behind the wall: large_floor,
+    // room_6_02's track ended 2.01 m aside, its wall 1.04 m).
+    const Eigen::Vector2d nrm_odom = unit(dir_robot + p.odom.theta + 0.5 * kPi);
     auto it = std::find_if(doors_.begin(), doors_.end(), [&](const DoorTrack& t) {
-      return (t.centre_odom - c).norm() < params_.door_same_distance;
+      const double t_lateral = (t.centre_odom - Eigen::Vector2d(p.odom.x, p.odom.y)).dot(nrm_odom);
+      return (t.centre_odom - c).norm() < params_.door_same_distance &&
+             std::abs(t_lateral - lateral) <= params_.door_wall_tolerance;
     });
     if (it == doors_.end()) {
       DoorTrack t;
@@ -587,6 +593,10 @@ void Coordinator::trackDoors(const Perception& p, double dir_robot, const Hallwa
       t.width = o.width;
       t.sightings = 1;
       t.wall_lateral = wall ? *wall : -1.0;
+      // First seen already passed: behind where this stretch started, seen in the turn into it
+      // (large_floor: a known room's door 1.2 m behind the T where the robot turned into hall_3,
+      // entered as new 0.4 s after the turn).
+      t.decided = o.center.dot(unit(dir_robot)) < -params_.door_pass_distance;
       doors_.push_back(t);
       continue;
     }
@@ -602,6 +612,7 @@ void Coordinator::trackDoors(const Perception& p, double dir_robot, const Hallwa
   doors_.erase(std::remove_if(doors_.begin(), doors_.end(),
                               [&](const DoorTrack& t) { return (t.centre_odom - robot).norm() > 8.0; }),
                doors_.end());
+  return walls;
 }
 
 std::optional<Coordinator::DoorTrack> Coordinator::doorAbeam(const Perception& p, double dir_robot, double side) const {
@@ -618,15 +629,21 @@ std::optional<Coordinator::DoorTrack> Coordinator::doorAbeam(const Perception& p
   return std::nullopt;
 }
 
-bool Coordinator::doorPassed(const Perception& p, double dir_robot, DoorTrack* door) {
+bool Coordinator::doorPassed(const Perception& p, double dir_robot, const Walls& walls, DoorTrack* door) {
   const Eigen::Vector2d robot(p.odom.x, p.odom.y);
-  const Eigen::Vector2d u = unit(normalizeAngle(dir_robot + p.odom.theta));
+  const double heading = normalizeAngle(dir_robot + p.odom.theta);
+  const Eigen::Vector2d u = unit(heading), nrm = unit(heading + 0.5 * kPi);
   for (DoorTrack& t : doors_) {
     if (t.decided || t.sightings < 3) continue;
     const double along = (t.centre_odom - robot).dot(u);
     if (along > -params_.door_pass_distance) continue;
     t.decided = true;
     if (along < -params_.door_pass_distance - 1.0) continue;  // seen only from behind: too late
+    // Behind the wall known now, though tracked while none was (large_floor: just after a turn into
+    // a hallway, a gap 1.58 m aside with the wall found 1.04 m aside by the time it was passed).
+    const double lateral = (t.centre_odom - robot).dot(nrm);
+    const std::optional<double>& wall = walls[lateral > 0.0 ? 0 : 1];
+    if (wall && std::abs(lateral) > *wall + params_.door_wall_tolerance) continue;
     *door = t;
     return true;
   }

@@ -233,11 +233,14 @@ class Coordinator {
   void askRelocation(const laser_features::Pose2D& door_odom, const laser_features::Pose2D& robot_odom, Decision* d);
   void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
   void decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d);
-  void trackDoors(const Perception& p, double dir_robot, const HallwayView& v);
+  using Walls = std::array<std::optional<double>, 2>;  // wallLateral of the left and the right side
+  /// Tracks the doors in view; returns the walls it gated them with.
+  Walls trackDoors(const Perception& p, double dir_robot, const HallwayView& v);
   /// The lateral distance (m) of the wall line on `side` (0 left, 1 right): seen in `v`, or seen
   /// within door_wall_memory of travel on this stretch; none if neither.
   std::optional<double> wallLateral(const Perception& p, double dir_robot, const HallwayView& v, int side);
-  bool doorPassed(const Perception& p, double dir_robot, DoorTrack* door);
+  /// A door passed (door_pass_distance behind), not behind its side's wall in `walls`.
+  bool doorPassed(const Perception& p, double dir_robot, const Walls& walls, DoorTrack* door);
   /// A tracked door beside the robot (within a door's width along) on the side `side` (+1 left, -1 right).
   std::optional<DoorTrack> doorAbeam(const Perception& p, double dir_robot, double side) const;
   bool mayEnter(const TopoView& topo, const DoorTrack& door);
