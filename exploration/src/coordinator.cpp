@@ -577,14 +577,8 @@ Coordinator::Walls Coordinator::trackDoors(const Perception& p, double dir_robot
     if (std::abs(normalizeAngle(o.theta - into)) > params_.door_side_angle) continue;
     const Eigen::Vector2d c = apply(p.odom, o.center);
     const double into_odom = normalizeAngle(into + p.odom.theta);
-    // The same door: near it, and as far aside within the wall tolerance (a gap behind the wall
-    // tracked while no wall was known must not pull the door's track behind the wall: large_floor,
-    // room_6_02's track ended 2.01 m aside, its wall 1.04 m).
-    const Eigen::Vector2d nrm_odom = unit(dir_robot + p.odom.theta + 0.5 * kPi);
     auto it = std::find_if(doors_.begin(), doors_.end(), [&](const DoorTrack& t) {
-      const double t_lateral = (t.centre_odom - Eigen::Vector2d(p.odom.x, p.odom.y)).dot(nrm_odom);
-      return (t.centre_odom - c).norm() < params_.door_same_distance &&
-             std::abs(t_lateral - lateral) <= params_.door_wall_tolerance;
+      return (t.centre_odom - c).norm() < params_.door_same_distance;
     });
     if (it == doors_.end()) {
       DoorTrack t;
