@@ -318,6 +318,22 @@ TEST(MapBuilder, ADoorPassedInAUTurnBesideAKnownDoorNodeIsThatNodesDoor) {
   }
 }
 
+// Up a stem from the south to a T with hallway x (at x = 10), west along it, and the door across
+// the T (north) recorded at the T's junction, as the coordinator records a door it entered there.
+void upTheStemAndIntoTheTsDoor(SyntheticFloor* floor, Drive* drive) {
+  drive->run(floor, {{10.0, -8.0}, {10.0, 0.0}, {1.5, 0.0}}, 0.5 * kPi);
+  int junction = -1;
+  for (const auto& [id, n] : drive->map.nodes()) {
+    if (n.type == NodeType::Junction && std::abs(n.pose.x - 10.0) < 0.5 && std::abs(n.pose.y) < 0.5) junction = int(id);
+  }
+  ASSERT_GE(junction, 0) << "no junction at the T";
+  NodeOpening door;
+  door.bearing = 0.5 * kPi;
+  door.width = 0.9;
+  door.explored = true;
+  ASSERT_TRUE(drive->map.recordOpening(uint32_t(junction), door));
+}
+
 // large_floor: a stem comes up to hall_3 at a T; the robot turns west there (a junction node) and
 // enters room_7_14's door across the T, 0.95 m east of the stem's axis; the coordinator records the
 // door at the junction. Later, on a new stretch east from the junction, the door is passed again
@@ -327,17 +343,8 @@ TEST(MapBuilder, ADoorRecordedAtAJunctionIsThatDoorWhenANewStretchFromThereSeesI
   floor.doors.push_back({{4.0, 1.1}, 0.5 * kPi, 0.9, 0});
   floor.doors.push_back({{10.95, 1.1}, 0.5 * kPi, 0.9, 0});  // seen only along the crossing hallway
   Drive drive;
-  drive.run(&floor, {{10.0, -8.0}, {10.0, 0.0}, {1.5, 0.0}}, 0.5 * kPi);
-  int junction = -1;
-  for (const auto& [id, n] : drive.map.nodes()) {
-    if (n.type == NodeType::Junction && std::abs(n.pose.x - 10.0) < 0.5 && std::abs(n.pose.y) < 0.5) junction = int(id);
-  }
-  ASSERT_GE(junction, 0) << "no junction at the T";
-  NodeOpening door;  // as the coordinator records a door it entered from the junction
-  door.bearing = 0.5 * kPi;
-  door.width = 0.9;
-  door.explored = true;
-  ASSERT_TRUE(drive.map.recordOpening(uint32_t(junction), door));
+  upTheStemAndIntoTheTsDoor(&floor, &drive);
+  if (::testing::Test::HasFatalFailure()) return;
   drive.run(&floor, {{1.5, 0.0}, {14.0, 0.0}}, kPi);
   bool left_graph = false;
   for (const auto& e : drive.builder.takeEvents()) left_graph |= e.find("leaving the known graph") != std::string::npos;
@@ -360,17 +367,8 @@ TEST(MapBuilder, AJunctionsDoorPassedWithTheBeliefStillAtTheNodeBeforeIsTheJunct
   floor.doors.push_back({{12.8, -1.1}, -0.5 * kPi, 1.1, 0});
   floor.doors.push_back({{17.0, 1.1}, 0.5 * kPi, 1.0, 0});
   Drive drive;
-  drive.run(&floor, {{10.0, -8.0}, {10.0, 0.0}, {1.5, 0.0}}, 0.5 * kPi);
-  int junction = -1;
-  for (const auto& [id, n] : drive.map.nodes()) {
-    if (n.type == NodeType::Junction && std::abs(n.pose.x - 10.0) < 0.5 && std::abs(n.pose.y) < 0.5) junction = int(id);
-  }
-  ASSERT_GE(junction, 0) << "no junction at the T";
-  NodeOpening door;  // as the coordinator records a door it entered from the junction
-  door.bearing = 0.5 * kPi;
-  door.width = 0.9;
-  door.explored = true;
-  ASSERT_TRUE(drive.map.recordOpening(uint32_t(junction), door));
+  upTheStemAndIntoTheTsDoor(&floor, &drive);
+  if (::testing::Test::HasFatalFailure()) return;
   drive.run(&floor, {{1.5, 0.0}, {20.0, 0.0}, {1.5, 0.0}}, kPi);
   for (const auto& [id, n] : drive.map.nodes()) {
     if (n.type == NodeType::Door) EXPECT_EQ(n.openings.size(), 1u) << "door node " << id << " at x " << n.pose.x;
