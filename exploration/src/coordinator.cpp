@@ -638,6 +638,16 @@ bool Coordinator::doorPassed(const Perception& p, double dir_robot, const Walls&
     const double lateral = (t.centre_odom - robot).dot(nrm);
     const std::optional<double>& wall = walls[lateral > 0.0 ? 0 : 1];
     if (wall && std::abs(lateral) > *wall + params_.door_wall_tolerance) continue;
+    // A door taken already on this stretch, tracked a second time: its first sightings from afar
+    // lay beyond door_same_distance of the later ones (large_floor run 14: room_4_16's door entered
+    // by a track of 5 sightings, and again by one of 97, 0.24 m from it, after visiting the room
+    // across the hallway). Doors on one side are farther apart than a door's width.
+    const bool taken_before = std::any_of(doors_.begin(), doors_.end(), [&](const DoorTrack& k) {
+      return k.taken && (k.centre_odom - t.centre_odom).norm() < params_.door_max_width &&
+             std::abs(normalizeAngle(k.into_odom - t.into_odom)) < 0.5;
+    });
+    if (taken_before) continue;
+    t.taken = true;
     *door = t;
     return true;
   }

@@ -32,6 +32,8 @@ struct Hallway {
   bool gap_in_room = false;  // a 1.1 m gap 1.7 m to the left, 0.8 m before the door, seen from within 1 m
   bool left_wall_in_pieces = false;  // within 3 m of the door the left wall's lines are 0.5 m pieces (no wall)
   double left_wall_seen_from = -1e9;  // with the robot before this x, all of the left wall is in pieces
+  double right_door_x = -1e9;         // a door on the right too (0.9 m wide), if set
+  double right_door_far_shift = 0.0;  // seen from farther than 2.5 m, it appears this far further along
 
   Perception perceive(double x, double t) const {
     Perception p;
@@ -58,7 +60,9 @@ struct Hallway {
     const double half = branch ? 1.1 : 0.5 * door_width;
     wall(-20.0, door_x - half, 1.0);
     wall(door_x + half, 40.0, 1.0);
-    wall(-20.0, 40.0, -1.0);
+    const bool right_door = right_door_x > -1e8;
+    wall(-20.0, right_door ? right_door_x - 0.45 : 40.0, -1.0);
+    if (right_door) wall(right_door_x + 0.45, 40.0, -1.0);
     // The room behind the door: its far wall 4 m away (the branch: 8 m of it in view).
     for (double wx = door_x - 2.0; wx <= door_x + 2.0; wx += 0.05) p.points.emplace_back(wx - x, branch ? 9.0 : 5.0);
     laser_features::Opening o;
@@ -70,6 +74,17 @@ struct Hallway {
     o.kind = branch ? laser_features::OpeningKind::kJunction : laser_features::OpeningKind::kDoor;
     o.confidence = 0.9;
     if (std::abs(door_x - x) < 6.0) p.openings.push_back(o);
+    if (right_door && std::abs(right_door_x - x) < 6.0) {
+      laser_features::Opening r = o;
+      const double rx = right_door_x + (std::abs(right_door_x - x) > 2.5 ? right_door_far_shift : 0.0);
+      r.center = Eigen::Vector2d(rx - x, -1.0);
+      r.left = Eigen::Vector2d(rx - x + 0.45, -1.0);
+      r.right = Eigen::Vector2d(rx - x - 0.45, -1.0);
+      r.theta = -0.5 * kPi;
+      r.width = 0.9;
+      r.kind = laser_features::OpeningKind::kDoor;
+      p.openings.push_back(r);
+    }
     const double gap_x = door_x - 0.8;
     if (gap_in_room && std::abs(gap_x - x) < 1.0) {
       laser_features::Opening g = o;
@@ -313,6 +328,37 @@ TEST(Coordinator, TheDoorJustLeftIsNotEnteredAgain) {
   EXPECT_GE(robot.x, 12.0) << "the robot did not go on along the hallway (" << ticks << " ticks)";
   EXPECT_EQ(places, 1) << "the room was entered again";
   EXPECT_EQ(c.stats().doors_entered, 1);
+}
+
+TEST(Coordinator, ADoorTrackedTwiceIsEnteredOnce) {
+  // large_floor run 14: hall_2's room_4_16 door (right) seen first from afar made a track that its
+  // later sightings fell beyond; the robot entered the room by the second track, then the room
+  // across (left), and coming back out stopped for the first track and mapped room_4_16 again.
+  exploration::CoordinatorParams params;
+  params.room_time_limit = 15.0;
+  Coordinator c(params);
+  Hallway h;
+  h.door_x = 5.2;
+  h.right_door_x = 4.8;
+  h.right_door_far_shift = 1.05;
+  Pose2D robot{0.0, 0.0, 0.0}, origin;
+  int places = 0, ticks = 0;
+  double t = 0.0;
+  for (; ticks < 9000 && robot.x < 12.0; ++ticks, t += 0.1) {
+    Perception p = h.perceive(robot.x, t);
+    p.odom = robot;
+    p.room_pose_valid = c.currentPlace() >= 0;
+    p.room_pose = laser_features::compose(laser_features::inverse(origin), robot);
+    const Decision d = c.update(p, view("frontier", true), false, false);
+    for (const Request& q : d.requests) {
+      if (q.kind != Request::CreatePlace) continue;
+      origin = robot;
+      c.placeCreated(true, places++);
+    }
+    stepTowardsGoal(d, &robot);
+  }
+  EXPECT_GE(robot.x, 12.0) << "the robot did not go on along the hallway (" << ticks << " ticks)";
+  EXPECT_EQ(places, 2) << "a room was entered again";
 }
 
 TEST(Coordinator, ANewRoomsDoorIsTakenAsSeenFromInFrontOfIt) {

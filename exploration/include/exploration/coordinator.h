@@ -219,6 +219,7 @@ class Coordinator {
     double width = 0.0;       // m
     int sightings = 0;
     bool decided = false;     // entered or passed: never again on this pass
+    bool taken = false;       // passed and offered for entering (entered, or refused as known)
     double wall_lateral = -1.0;  // m, its side's wall line from the robot when last seen (-1: no wall known)
   };
 
