@@ -347,9 +347,10 @@ uint32_t MapBuilder::createNode(NodeType type, double pos, const Scan& scan, con
   const double back = s_ - pos;  // the node lies this far behind the robot along the heading
   const Pose2D pose{scan.pose.x - back * std::cos(h), scan.pose.y - back * std::sin(h), h};
   // How far from the last node: the travel since the stretch left it, or, with the dead reckoning
-  // in the map's frame, where it puts the node if nearer (large_floor: the stretch left junction 40
-  // with the belief 0.7 m behind the robot; room_7_14's door, 0.8 m from the junction that has it,
-  // was 1.77 m by the travel, made a door node of its own and the room entered again).
+  // in the map's frame, where it puts the node if nearer. The travel is counted from where the
+  // belief reached the node, up to a node radius before it (large_floor: room_7_14's door, 0.6 m
+  // from the junction that has it by the dead reckoning, was 1.77 m by the travel, made a door node
+  // of its own and the room was entered again).
   double from_last = pos;
   if (const TopoNode* last = map_->node(from_node_); last != nullptr && deadReckoningChecks()) {
     from_last = std::min(pos, std::hypot(pose.x - last->pose.x, pose.y - last->pose.y));
