@@ -8,7 +8,8 @@ doors (display poses in the start frame, within 1.5 m along the door's wall and 
 Doors closed in the world file or by ~closed_doors (the simulator's parameter) are walls: the
 rooms they cut off from the start are reported as unreachable and not counted as missed. At the end (status DONE, or shutdown) it
 writes a JSON file: rooms mapped / missed / mapped twice, doors found / missed, spurious door
-nodes, travel, times, map file sizes and bytes per square metre of floor. Next to it,
+nodes, travel, times, map file sizes and bytes per square metre of floor; <output>.map.json holds
+the topological map's nodes and edges at their display poses (for pictures). Next to it,
 <output>.trace.csv holds where the robot truly was (region and pose) at each change of the
 coordinator's state and every 5 s of sim time, written as it goes: what went wrong where.
 """
@@ -56,6 +57,28 @@ def door_opening(x, y, into, nodes, used=()):
             if (n.id, k) not in used and off < DOOR_BEARING and (best is None or dist < best[0]):
                 best = (dist, (n.id, k))
     return best[1] if best else None
+
+
+def into_polygon(polygon, c):
+    """Heading from the point c on (or next to) the polygon's boundary into the polygon: the normal
+    of the nearest edge, turned to the side where a point 0.3 m away lies inside."""
+    best = None
+    for i in range(len(polygon)):
+        (x1, y1), (x2, y2) = polygon[i], polygon[(i + 1) % len(polygon)]
+        dx, dy = x2 - x1, y2 - y1
+        L2 = dx * dx + dy * dy
+        if L2 <= 0.0:
+            continue
+        t = max(0.0, min(1.0, ((c[0] - x1) * dx + (c[1] - y1) * dy) / L2))
+        d = math.hypot(x1 + t * dx - c[0], y1 + t * dy - c[1])
+        if best is None or d < best[0]:
+            best = (d, math.atan2(dy, dx))
+    if best is None:
+        return 0.0
+    for heading in (best[1] + 0.5 * math.pi, best[1] - 0.5 * math.pi):
+        if inside(polygon, c[0] + 0.3 * math.cos(heading), c[1] + 0.3 * math.sin(heading)):
+            return math.atan2(math.sin(heading), math.cos(heading))
+    return 0.0
 
 
 class ExplorationEvaluator:
@@ -107,15 +130,10 @@ class ExplorationEvaluator:
         return seen
 
     def into_room(self, door):
-        """World heading from a hallway door's centre into its room (the door lies in an axis-aligned wall)."""
+        """World heading from a hallway door's centre into its room: the normal of the room's
+        polygon edge the door lies on, on the room's side (walls at any angle)."""
         room = next(r for r in self.regions if r['name'] in door['between'] and self.kinds[r['name']] == 'room')
-        cx, cy = door['center']
-        for heading in (0.0, 0.5 * math.pi, math.pi, -0.5 * math.pi):
-            dx, dy = 0.3 * math.cos(heading), 0.3 * math.sin(heading)
-            # (along the wall both sides test the same: a point on the boundary may count as inside)
-            if inside(room['polygon'], cx + dx, cy + dy) and not inside(room['polygon'], cx - dx, cy - dy):
-                return heading
-        return 0.0
+        return into_polygon(room['polygon'], door['center'])
 
     def region_at(self, x, y):
         for r in self.regions:
@@ -219,6 +237,16 @@ class ExplorationEvaluator:
         out.update(sizes)
         return out
 
+    def graph(self):
+        """The topological map as drawn over the ground truth: nodes at their display poses (the
+        map frame is the start's), edges; for pictures (scripts/benchmark_exploration)."""
+        m = self.map
+        return {
+            'start': self.start,
+            'nodes': [{'id': n.id, 'type': n.type, 'x': n.pose.x, 'y': n.pose.y} for n in m.nodes] if m else [],
+            'edges': [[e.source, e.target] for e in m.edges] if m else [],
+        }
+
     def write(self):
         if self.written:
             return
@@ -227,6 +255,8 @@ class ExplorationEvaluator:
         if self.output:
             with open(self.output, 'w') as f:
                 json.dump(out, f, indent=1)
+            with open(self.output + '.map.json', 'w') as f:
+                json.dump(self.graph(), f)
         rospy.loginfo('evaluate_exploration: %s', json.dumps(out))
 
 
