@@ -20,6 +20,7 @@ add_library(laser_features_core
   ${LASER_FEATURES_CORE_DIR}/src/opening_extractor.cpp
   ${LASER_FEATURES_CORE_DIR}/src/feature_extractor.cpp
   ${LASER_FEATURES_CORE_DIR}/src/odometry_consistency.cpp
+  ${LASER_FEATURES_CORE_DIR}/src/building_axes.cpp
 )
 target_include_directories(laser_features_core PUBLIC
   $<BUILD_INTERFACE:${LASER_FEATURES_CORE_DIR}/include>

@@ -43,8 +43,6 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
     if (error) *error = why;
     return false;
   };
-  if (p.heading_bins < 4 || p.heading_bins % 4 != 0) return fail("heading_bins must be a positive multiple of 4");
-  if (!std::isfinite(p.axis_angle)) return fail("axis_angle must be finite");
   if (!(p.lookahead > 0.3)) return fail("lookahead must be > 0.3 m");
   if (!(p.end_distance > 0.5)) return fail("end_distance must be > 0.5 m");
   if (!(p.door_min_width > 0.0 && p.door_max_width > p.door_min_width)) return fail("need 0 < door_min_width < door_max_width");
@@ -82,16 +80,9 @@ void Coordinator::setState(State s, const std::string& text) {
   state_text_ = text;
 }
 
-double Coordinator::binHeading(int bin) const {
-  const int n = params_.heading_bins;
-  return normalizeAngle(params_.axis_angle + 2.0 * kPi * double(((bin % n) + n) % n) / n);
-}
+double Coordinator::binHeading(int bin) const { return bins_.heading(bin); }
 
-int Coordinator::binOf(double map_heading) const {
-  const int n = params_.heading_bins;
-  const int b = int(std::lround(normalizeAngle(map_heading - params_.axis_angle) * n / (2.0 * kPi)));
-  return ((b % n) + n) % n;
-}
+int Coordinator::binOf(double map_heading) const { return bins_.bin(map_heading); }
 
 double Coordinator::odomHeadingOfBin(int bin, const TopoView& topo) const {
   return normalizeAngle(binHeading(bin) - (topo.heading_valid ? topo.heading_offset : 0.0));
@@ -137,13 +128,13 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
           setState(State::Idle, "waiting for a mission");
           break;
         }
-        const double back = normalizeAngle(odomHeadingOfBin(bin_ + params_.heading_bins / 2, topo) - p.odom.theta);
+        const double back = normalizeAngle(odomHeadingOfBin(bin_ + bins_.bins / 2, topo) - p.odom.theta);
         const double free_back = freeDistance(p.points, back, params_.hallway.ahead_sector, 15.0);
         if (topo.mode == "frontier" && free_back > params_.end_distance + 1.0) {
           // The robot starts mid-hallway: the way behind it is an unexplored opening of the start node.
           Request r;
           r.kind = Request::RecordOpening;
-          r.bearing = binHeading(bin_ + params_.heading_bins / 2);
+          r.bearing = binHeading(bin_ + bins_.bins / 2);
           d.requests.push_back(r);
         }
         setState(State::Follow, "following the hallway");
@@ -392,7 +383,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
           return;
         }
         ++stats_.u_turns;
-        startTurn(bin_ + params_.heading_bins / 2, p, topo, {});
+        startTurn(bin_ + bins_.bins / 2, p, topo, {});
         state_text_ = "turning round towards node " + std::to_string(route.goal_node) + " (" +
                       std::to_string(route.distance) + " m, from " + (topo.position.at_node ? "node " : "edge ") +
                       std::to_string(topo.position.id) + ")";
@@ -433,7 +424,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   const bool door_next = mission_active_ && route.next_node == route.goal_node;
   if (route.found && sure && !door_next) {
     const int route_bin = binOf(route.next_heading);
-    const int n = params_.heading_bins;
+    const int n = bins_.bins;
     const bool left = route_bin == (bin_ + n / 4) % n, right = route_bin == (bin_ + 3 * n / 4) % n;
     const int near = graph_.nearestNode(topo.position);
     // At the node as the belief says, or within 2 m of the goal node: the belief may be off by a
@@ -490,7 +481,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
 
 void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d) {
   (void)d;
-  const int n = params_.heading_bins;
+  const int n = bins_.bins;
   const int left = (bin_ + n / 4) % n, right = (bin_ + 3 * n / 4) % n, back = (bin_ + n / 2) % n;
   std::vector<int> open;
   if (v.end_open_left) open.push_back(left);
@@ -534,7 +525,7 @@ void Coordinator::turnGoal(const Perception& p, Decision* d) const {
 }
 
 void Coordinator::startTurn(int bin, const Perception& p, const TopoView& topo, std::vector<int> not_taken) {
-  turn_bin_ = ((bin % params_.heading_bins) + params_.heading_bins) % params_.heading_bins;
+  turn_bin_ = bins_.wrap(bin);
   turn_odom_heading_ = odomHeadingOfBin(turn_bin_, topo);
   pending_branches_ = std::move(not_taken);
   pending_branch_travel_ = -1.0;
@@ -971,7 +962,7 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
     at_door.id = uint32_t(std::max(0, door_node_));
     at_door.heading = binHeading(hallway_bin_);
     const RouteStep r = graph_.routeTo(at_door, mission_door_.node, mission_door_.opening, params_.u_turn_cost);
-    const int n = params_.heading_bins;
+    const int n = bins_.bins;
     if (r.found && door_node_ >= 0 && uint32_t(door_node_) != mission_door_.node) {
       const int rb = binOf(r.heading);
       if (rb == (hallway_bin_ + n / 2) % n) {

@@ -6,6 +6,7 @@
 #include <actionlib/server/simple_action_server.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <geometry_msgs/Twist.h>
+#include <hybrid_slam_msgs/BuildingAxes.h>
 #include <hybrid_slam_msgs/AddDoor.h>
 #include <hybrid_slam_msgs/CreatePlace.h>
 #include <hybrid_slam_msgs/ExplorationStatus.h>
@@ -77,6 +78,7 @@ class ExplorationNode {
     belief_sub_ = nh_.subscribe("topological_belief", 10, &ExplorationNode::onBelief, this);
     confident_sub_ = nh_.subscribe("topo_confident", 10, &ExplorationNode::onConfident, this);
     heading_sub_ = nh_.subscribe("topo_heading", 10, &ExplorationNode::onHeading, this);
+    axes_sub_ = nh_.subscribe("building_axes", 1, &ExplorationNode::onAxes, this);
     mode_sub_ = nh_.subscribe("topo_mode", 10, &ExplorationNode::onMode, this);
     pose_sub_ = nh_.subscribe("local_pose", 10, &ExplorationNode::onLocalPose, this);
     bumper_sub_ = control_nh_.subscribe("bumper", 10, &ExplorationNode::onBumper, this);
@@ -128,6 +130,11 @@ class ExplorationNode {
       }
     }
     if (!scan || !have_sensor_) return;
+    if (!axes_known_) {
+      // The hallways' headings are the building's axes, which pomdp_topo finds from the first scans.
+      ROS_INFO_THROTTLE(5.0, "exploration: waiting for the building's axes on %s (pomdp_topo)", axes_sub_.getTopic().c_str());
+      return;
+    }
     Perception p;
     p.stamp = msg->header.stamp.toSec();
     if (!lookup(odom_frame_, base_frame_, msg->header.stamp, &p.odom)) return;
@@ -429,6 +436,16 @@ class ExplorationNode {
     topo_.confident = msg->data;
     topo_.valid = true;
   }
+  void onAxes(const hybrid_slam_msgs::BuildingAxes::ConstPtr& msg) {
+    if (!std::isfinite(msg->axis_angle) || msg->heading_bins < 4 || msg->heading_bins % 4 != 0) {
+      ROS_ERROR_THROTTLE(5.0, "exploration: building axes on %s refused: axis %f, %u heading bins (a multiple of 4 wanted)",
+                         axes_sub_.getTopic().c_str(), msg->axis_angle, msg->heading_bins);
+      return;
+    }
+    coordinator_->setHeadingBins({msg->axis_angle, int(msg->heading_bins)});
+    axes_known_ = true;
+  }
+
   void onHeading(const std_msgs::Float64::ConstPtr& msg) {
     if (!std::isfinite(msg->data)) return;
     // pomdp_topo publishes the heading right after the features it came from: pair it with the
@@ -513,6 +530,8 @@ class ExplorationNode {
   double entropy_ = 0.0;
   geometry_msgs::PoseWithCovarianceStamped last_local_msg_;
   ros::Publisher cmd_pub_, status_pub_, markers_pub_;
+  bool axes_known_ = false;  // the building's axes from pomdp_topo, before the coordinator runs
+  ros::Subscriber axes_sub_;
   ros::Subscriber scan_sub_, features_sub_, map_sub_, belief_sub_, confident_sub_, heading_sub_, mode_sub_, pose_sub_,
       bumper_sub_;
   ros::Timer timer_;

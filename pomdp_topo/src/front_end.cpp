@@ -11,19 +11,13 @@ using laser_features::normalizeAngle;
 FrontEnd::FrontEnd(const FrontEndParams& params, const HeadingEstimatorParams& heading_params)
     : params_(params), heading_(heading_params) {}
 
-double FrontEnd::binHeading(int bin) const {
-  return normalizeAngle(params_.axis_angle + bin * 2.0 * kPi / params_.heading_bins);
-}
-
 void FrontEnd::reset(const Pose2D& odom, double theta, double variance) {
   heading_.reset(theta, variance);
   last_odom_ = odom;
   // The map frame is the odometry frame at the first scan, whenever that scan comes: a robot that
   // drove off before pomdp_topo started maps where it is, not at the origin.
   pose_ = Pose2D{odom.x, odom.y, heading_.theta()};
-  const double step = 2.0 * kPi / params_.heading_bins;
-  bin_ = int(std::lround(normalizeAngle(theta - params_.axis_angle) / step));
-  bin_ = ((bin_ % params_.heading_bins) + params_.heading_bins) % params_.heading_bins;
+  bin_ = headingBins().bin(theta);
   travel_ = 0.0;
   pending_ = 0.0;
   turning_ = false;
@@ -35,13 +29,13 @@ void FrontEnd::reset(const Pose2D& odom, double theta, double variance) {
 void FrontEnd::shiftHeading(int bins) {
   heading_.shift(bins * 4 / params_.heading_bins);  // the estimator shifts by quarter turns
   pose_.theta = heading_.theta();
-  bin_ = ((bin_ + bins) % params_.heading_bins + params_.heading_bins) % params_.heading_bins;
+  bin_ = headingBins().wrap(bin_ + bins);
   // Tracks are kept in the corrected frame, which has just rotated: they no longer line up.
   tracks_.clear();
 }
 
 void FrontEnd::setHeadingBin(int bin, double pending) {
-  bin_ = ((bin % params_.heading_bins) + params_.heading_bins) % params_.heading_bins;
+  bin_ = headingBins().wrap(bin);
   turning_ = false;
   pending_ = std::isfinite(pending) ? pending : 0.0;
 }
@@ -93,7 +87,7 @@ bool FrontEnd::process(const Pose2D& odom, const std::vector<laser_features::Lin
   // Turns: once the heading left the current bin by more than half a bin plus the hysteresis, the
   // turn is under way; it is emitted as one action when the rotation settles near a bin's heading
   // (so that a U-turn on the spot is one Turn of two bins, not two quarter turns).
-  const double bin_width = 2.0 * kPi / params_.heading_bins;
+  const double bin_width = headingBins().width();
   const double off = normalizeAngle(heading_.theta() - hb);
   if (!turning_ && std::abs(off) > 0.5 * bin_width + params_.turn_hysteresis) turning_ = true;
   if (turning_) {
@@ -103,7 +97,7 @@ bool FrontEnd::process(const Pose2D& odom, const std::vector<laser_features::Lin
       turning_ = false;
       if (k != 0) {
         actions->push_back({Action::Turn, 0.0, k});
-        bin_ = ((bin_ + k) % params_.heading_bins + params_.heading_bins) % params_.heading_bins;
+        bin_ = headingBins().wrap(bin_ + k);
         pending_ = 0.0;  // travel before the turn that did not make a step is dropped
       }
     }

@@ -37,15 +37,9 @@ const char* MapBuilder::toString(Mode mode) {
   return "unknown";
 }
 
-double MapBuilder::binHeading(int bin) const {
-  return normalizeAngle(fe_params_.axis_angle + bin * 2.0 * kPi / fe_params_.heading_bins);
-}
+double MapBuilder::binHeading(int bin) const { return headingBins().heading(bin); }
 
-int MapBuilder::binOf(double heading) const {
-  const int bins = fe_params_.heading_bins;
-  const int b = int(std::lround(normalizeAngle(heading - fe_params_.axis_angle) / (2.0 * kPi / bins)));
-  return ((b % bins) + bins) % bins;
-}
+int MapBuilder::binOf(double heading) const { return headingBins().bin(heading); }
 
 void MapBuilder::refreshLocalizer() { localizer_->setMap(*map_); }
 

@@ -70,12 +70,11 @@ bool PomdpLocalizer::validate(const PomdpParams& p, std::string* error) {
 }
 
 int PomdpLocalizer::headingBin(double heading) const {
-  const long k = std::lround(normalizeAngle(heading - params_.axis_angle) / bin_width_);
-  return int(((k % bins_) + bins_) % bins_);
+  return laser_features::HeadingBins{params_.axis_angle, bins_}.bin(heading);
 }
 
 double PomdpLocalizer::binHeading(int bin) const {
-  return normalizeAngle(params_.axis_angle + bin * bin_width_);
+  return laser_features::HeadingBins{params_.axis_angle, bins_}.heading(bin);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -2,6 +2,7 @@
 // the core the features of each scan and the odometry (tf odom -> base_link at the scan's stamp);
 // builds the graph, localizes on it with the POMDP, closes loops; publishes the map, the belief and
 // markers; saves and loads the map.
+#include <hybrid_slam_msgs/BuildingAxes.h>
 #include <hybrid_slam_msgs/ExplorationStatus.h>
 #include <hybrid_slam_msgs/LoadMap.h>
 #include <hybrid_slam_msgs/ResetBelief.h>
@@ -65,6 +66,7 @@ class TopoNodeRos {
         front_end_(params_.front_end, params_.heading),
         builder_(&map_, &localizer_, params_.builder),
         realigner_(params_.pomdp.heading_bins, readRealignUpdates(pnh)),
+        axis_estimator_(params_.axis),
         tf_listener_(tf_buffer_) {
     pnh.param<std::string>("map_frame", map_frame_, "map");
     pnh.param<std::string>("odom_frame", odom_frame_, "odom");
@@ -83,6 +85,7 @@ class TopoNodeRos {
     events_pub_ = nh_.advertise<std_msgs::String>("topo_events", 100);
     mode_pub_ = nh_.advertise<std_msgs::String>("topo_mode", 1, true);
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("topo_markers", 2, true);
+    axes_pub_ = nh_.advertise<hybrid_slam_msgs::BuildingAxes>("building_axes", 1, true);
     features_sub_ = nh_.subscribe("features", 20, &TopoNodeRos::onFeatures, this);
     status_sub_ = nh_.subscribe("exploration_status", 10, &TopoNodeRos::onStatus, this);
     services_ = {
@@ -101,6 +104,8 @@ class TopoNodeRos {
         ROS_ERROR("pomdp_topo: %s; starting with an empty map", r.error.c_str());
       }
     }
+    if (!params_.axis_from_walls) setAxes(params_.pomdp.axis_angle, hybrid_slam_msgs::BuildingAxes::PARAMETER);
+    else if (map_.edgeCount() > 0) setAxesFromMap();
     publishMap();
   }
 
@@ -128,6 +133,63 @@ class TopoNodeRos {
     paused_ = paused;
   }
 
+  // The building's axis, the heading of bin 0 for everything mapped (BuildingAxisEstimator): set
+  // in every piece that bins headings, and published for the other nodes.
+  void setAxes(double axis, uint8_t source, double agreement = 0.0, double wall_length = 0.0) {
+    params_.pomdp.axis_angle = axis;
+    params_.sync();
+    front_end_.setAxis(axis);
+    builder_.setAxis(axis);
+    localizer_.setAxis(axis);
+    axes_known_ = true;
+    hybrid_slam_msgs::BuildingAxes msg;
+    msg.header.stamp = last_stamp_.isZero() ? ros::Time::now() : last_stamp_;
+    msg.header.frame_id = map_frame_;
+    msg.axis_angle = axis;
+    msg.heading_bins = uint32_t(params_.pomdp.heading_bins);
+    msg.source = source;
+    msg.agreement = agreement;
+    msg.wall_length = wall_length;
+    axes_pub_.publish(msg);
+    const char* from = source == hybrid_slam_msgs::BuildingAxes::ESTIMATED ? "the walls"
+                       : source == hybrid_slam_msgs::BuildingAxes::FROM_MAP ? "the loaded map's edges"
+                                                                              : "the axis_angle parameter";
+    ROS_INFO("pomdp_topo: the building's axis is %.1f deg in the map frame (from %s; agreement %.3f over %.1f m of wall)",
+             axis * 180.0 / M_PI, from, agreement, wall_length);
+  }
+
+  void setAxesFromMap() {
+    std::vector<double> headings, lengths;
+    for (const auto& kv : map_.edges()) {
+      headings.push_back(kv.second.heading);
+      lengths.push_back(std::max(kv.second.length, 1e-3));
+    }
+    setAxes(laser_features::dominantAxis(headings, lengths), hybrid_slam_msgs::BuildingAxes::FROM_MAP);
+  }
+
+  /// Feeds the wall lines of a scan to the axis estimate; true once the axis is known. The map
+  /// frame is the odometry frame until the first scan is processed, so a line's normal in it is the
+  /// odometry heading plus the line's alpha in the robot frame.
+  bool findAxes(const Pose2D& odom) {
+    for (const auto& l : lines_) axis_estimator_.add(odom.theta + l.line.alpha, l.line.cov(0, 0), l.length());
+    ++axis_scans_;
+    if (axis_estimator_.ready()) {
+      setAxes(axis_estimator_.axis(), hybrid_slam_msgs::BuildingAxes::ESTIMATED, axis_estimator_.agreement(),
+              axis_estimator_.totalLength());
+      return true;
+    }
+    if (axis_scans_ >= params_.axis_max_scans) {
+      ROS_WARN("pomdp_topo: no agreed walls in %d scans (%.1f m of lines, agreement %.2f < %.2f); the building's axis is "
+               "the axis_angle parameter", axis_scans_, axis_estimator_.totalLength(), axis_estimator_.agreement(),
+               params_.axis.min_agreement);
+      setAxes(params_.pomdp.axis_angle, hybrid_slam_msgs::BuildingAxes::PARAMETER);
+      return true;
+    }
+    ROS_INFO_THROTTLE(2.0, "pomdp_topo: finding the building's axis from the walls (%.1f m of lines so far)",
+                      axis_estimator_.totalLength());
+    return false;
+  }
+
   void onFeatures(const hybrid_slam_msgs::LaserFeatures::ConstPtr& msg) {
     if (!last_stamp_.isZero() && msg->header.stamp <= last_stamp_) {
       ROS_WARN_THROTTLE(5.0, "pomdp_topo: features at %.3f are not newer than the last ones (%.3f) on %s; dropped",
@@ -149,6 +211,8 @@ class TopoNodeRos {
       ROS_WARN_THROTTLE(10.0, "pomdp_topo: %zu feature(s) with non-finite numbers dropped from %s", dropped,
                         features_sub_.getTopic().c_str());
     }
+    // Nothing is mapped before the building's axis is known: every heading is binned along it.
+    if (!axes_known_ && !findAxes(odom)) return;
     const bool first = !front_end_.initialized();
     if (first) front_end_.reset(odom, odom.theta, params_.heading.initial_variance);
     actions_.clear();
@@ -286,6 +350,7 @@ class TopoNodeRos {
       return true;
     }
     res.message = "loaded " + std::to_string(map_.nodeCount()) + " nodes and " + std::to_string(map_.edgeCount()) + " edges";
+    if (params_.axis_from_walls && map_.edgeCount() > 0) setAxesFromMap();
     if (front_end_.initialized()) builder_.start(front_end_);  // localized, uniform belief
     else localizer_.setMap(map_);
     realigner_.setTrusted(false);  // the loaded map's frame is not the odometry's
@@ -376,13 +441,16 @@ class TopoNodeRos {
   FrontEnd front_end_;
   MapBuilder builder_;
   HeadingRealigner realigner_;
+  laser_features::BuildingAxisEstimator axis_estimator_;
+  bool axes_known_ = false;
+  int axis_scans_ = 0;  // scans fed to axis_estimator_
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   std::string map_frame_, odom_frame_, base_frame_, map_file_;
   bool load_on_start_ = true, autosave_ = true;
   double transform_timeout_ = 0.1, markers_period_ = 0.5;
   double kidnap_consistency_ = 0.75;
-  ros::Publisher map_pub_, belief_pub_, confident_pub_, heading_pub_, events_pub_, mode_pub_, markers_pub_;
+  ros::Publisher map_pub_, belief_pub_, confident_pub_, heading_pub_, events_pub_, mode_pub_, markers_pub_, axes_pub_;
   std::string last_mode_;
   ros::Subscriber features_sub_, status_sub_;
   std::vector<ros::ServiceServer> services_;

@@ -27,6 +27,7 @@
 #include "exploration/hallway_view.h"
 #include "exploration/room_explorer.h"
 #include "exploration/topo_route.h"
+#include "laser_features/building_axes.h"
 #include "laser_features/geometry.h"
 #include "laser_features/line_extractor.h"
 #include "laser_features/opening_extractor.h"
@@ -44,8 +45,6 @@ namespace exploration {
 struct CoordinatorParams {
   HallwayViewParams hallway;
   RoomExplorerParams room;
-  int heading_bins = 4;              // -, the building's headings (pomdp_topo's heading_bins)
-  double axis_angle = 0.0;           // rad, heading of bin 0 in the map frame (pomdp_topo's axis_angle)
   double lookahead = 1.5;            // m, the hallway goal lies this far ahead on the mid-line
   double end_distance = 1.3;         // m, the hallway ends when the free distance ahead is below this
   double door_min_width = 0.6;       // m, narrower openings are no doors
@@ -172,6 +171,11 @@ class Coordinator {
   static bool validate(const CoordinatorParams& params, std::string* error = nullptr);
   const CoordinatorParams& params() const { return params_; }
 
+  /// The building's axes as pomdp_topo found them (its building_axes topic): the discrete
+  /// headings of the hallways. Set before the first update().
+  void setHeadingBins(const laser_features::HeadingBins& bins) { bins_ = bins; }
+  const laser_features::HeadingBins& headingBins() const { return bins_; }
+
   /// The topological map as last published.
   void setGraph(const TopoGraph& graph) { graph_ = graph; }
   const TopoGraph& graph() const { return graph_; }
@@ -270,6 +274,7 @@ class Coordinator {
   void beginGoToGoal(const std::string& text, bool inside);
 
   CoordinatorParams params_;
+  laser_features::HeadingBins bins_;  // pomdp_topo's, from building_axes
   TopoGraph graph_;
   RoomExplorer room_;
   State state_ = State::Init;

@@ -40,8 +40,6 @@ void visitMotionParams(MotionParams* m, Visitor&& visit) {
 template <typename Visitor>
 void visitParams(ExplorationParams* p, Visitor&& visit) {
   CoordinatorParams& c = p->coordinator;
-  visit("heading_bins", &c.heading_bins);
-  visit("axis_angle", &c.axis_angle);
   visit("lookahead", &c.lookahead);
   visit("end_distance", &c.end_distance);
   visit("door_min_width", &c.door_min_width);

@@ -74,8 +74,16 @@ class FrontEnd {
   /// Corrected dead-reckoning pose (map-aligned: heading from the estimator).
   Pose2D pose() const { return pose_; }
   int headingBin() const { return bin_; }
-  double binHeading(int bin) const;
+  /// The discrete headings along the building's axes (the one conversion, laser_features).
+  laser_features::HeadingBins headingBins() const { return {params_.axis_angle, params_.heading_bins}; }
+  double binHeading(int bin) const { return headingBins().heading(bin); }
   double travelHeading() const { return binHeading(bin_); }
+  /// The building's axis (rad, map frame), once it is known (before the first scan is processed:
+  /// the heading bins of everything mapped are along it).
+  void setAxis(double axis_angle) {
+    params_.axis_angle = axis_angle;
+    heading_.setAxis(axis_angle);
+  }
   /// Total signed travel along the travel headings, m.
   double travel() const { return travel_; }
   /// Travel not yet emitted as an action (below one resolution step), m.

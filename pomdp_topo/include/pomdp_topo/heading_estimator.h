@@ -22,7 +22,7 @@
 // ROS-free: the standard library and laser_features only.
 #pragma once
 
-#include "laser_features/geometry.h"
+#include "laser_features/building_axes.h"
 
 #include <string>
 #include <vector>
@@ -83,6 +83,8 @@ class HeadingEstimator {
   double theta() const { return theta_; }
   double variance() const { return variance_; }
   const HeadingEstimatorParams& params() const { return params_; }
+  /// The building's axis (rad, map frame) the walls are expected along, once it is known.
+  void setAxis(double axis_angle) { params_.axis_angle = axis_angle; }
 
   /// The innovation of a line against the nearest axis for the current theta, in [-pi/4, pi/4].
   double innovation(double alpha) const;

@@ -74,6 +74,13 @@ class MapBuilder {
   /// Mapping on or off while running (missions on a finished map: localization only). Off takes
   /// effect at the next frontier: the robot off the graph relocalizes instead of mapping on.
   void setMapping(bool on) { params_.mapping = on; }
+  /// The building's axis (rad, map frame), once it is known: the bins of every heading mapped from
+  /// then on. The per-state bins kept for the heading gate are computed again.
+  void setAxis(double axis_angle) {
+    fe_params_.axis_angle = axis_angle;
+    state_bins_.clear();
+    state_positions_.clear();
+  }
 
   /// Starts: an empty map gets a Start node at the robot and a Frontier along its heading; a
   /// loaded map starts Localized with a uniform belief (global localization).
@@ -198,6 +205,7 @@ class MapBuilder {
   void splitEdgeWithDoor(uint32_t edge, double distance, const ObservedLandmark& opening, double heading);
   Fingerprint fingerprintAt(const Eigen::Vector2d& position, const FrontEnd& fe) const;
   double fingerprintSimilarity(const Fingerprint& a, const Fingerprint& b) const;
+  laser_features::HeadingBins headingBins() const { return {fe_params_.axis_angle, fe_params_.heading_bins}; }
   double binHeading(int bin) const;
   int binOf(double heading) const;
   void refreshLocalizer();

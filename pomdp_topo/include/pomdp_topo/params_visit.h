@@ -1,7 +1,8 @@
 // Every tunable parameter of pomdp_topo's core with its name in config/pomdp_topo.yaml, in one list:
 // the node reads them with it, the tests check the YAML's defaults against the code's with it.
-// Parameters several pieces share (resolution, heading bins, building axis, node radius) have one
-// key; sync() copies them into every piece.
+// Parameters several pieces share (resolution, heading bins, building axis, node radius, the line
+// quality the heading estimator and the axis estimator use) have one key; sync() copies them into
+// every piece.
 #pragma once
 
 #include <string>
@@ -18,6 +19,9 @@ struct TopoParams {
   FrontEndParams front_end;
   HeadingEstimatorParams heading;
   MapBuilderParams builder;
+  laser_features::BuildingAxisParams axis;  // the building's axis from the first scans' walls
+  bool axis_from_walls = true;              // false: axis_angle as given
+  int axis_max_scans = 50;                  // scans without agreed walls before axis_angle is used
 
   /// Copies the shared values (held in `pomdp`) into the other pieces.
   void sync() {
@@ -26,6 +30,8 @@ struct TopoParams {
     front_end.axis_angle = pomdp.axis_angle;
     heading.axis_angle = pomdp.axis_angle;
     builder.node_radius = pomdp.node_radius;
+    axis.min_line_length = heading.min_line_length;
+    axis.max_alpha_sigma = heading.max_alpha_sigma;
   }
 };
 
@@ -69,6 +75,11 @@ void visitParams(TopoParams* p, Visitor&& visit) {
   visit("heading_min_line_length", &p->heading.min_line_length);
   visit("heading_initial_variance", &p->heading.initial_variance);
   visit("heading_max_alpha_sigma", &p->heading.max_alpha_sigma);
+  // The building's axis.
+  visit("axis_from_walls", &p->axis_from_walls);
+  visit("axis_min_wall_length", &p->axis.min_wall_length);
+  visit("axis_min_agreement", &p->axis.min_agreement);
+  visit("axis_max_scans", &p->axis_max_scans);
   // Front end (tracking, actions).
   visit("turn_hysteresis", &p->front_end.turn_hysteresis);
   visit("turn_settle_angle", &p->front_end.turn_settle_angle);

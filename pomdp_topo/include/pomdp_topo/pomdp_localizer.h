@@ -11,6 +11,7 @@
 // ROS-free; predict() and update() do not allocate in the steady state.
 #pragma once
 
+#include "laser_features/building_axes.h"
 #include "pomdp_topo/observation.h"
 #include "pomdp_topo/topological_map.h"
 
@@ -76,6 +77,9 @@ class PomdpLocalizer {
   explicit PomdpLocalizer(const PomdpParams& params = PomdpParams());
   static bool validate(const PomdpParams& params, std::string* error = nullptr);
   const PomdpParams& params() const { return params_; }
+  /// The building's axis (rad, map frame): bin k has heading axis + k 2 pi / heading_bins. Takes
+  /// effect with the next setMap (the node states' headings are made there).
+  void setAxis(double axis_angle) { params_.axis_angle = axis_angle; }
 
   /// Rebuilds the states (call again when map.revision() changes). The belief is carried over by
   /// (edge id, direction, offset) and (node id, bin); new states get 0; uniform if nothing carried.
