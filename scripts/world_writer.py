@@ -157,35 +157,27 @@ class World:
                 o.append("  - points: [%s, %s]" % (fpt(s[0]), fpt(s[1])))
                 if line["thickness"] is not None:
                     o.append("    thickness: %s" % fmt(line["thickness"]))
-        o.append("boxes:")
-        last = None
-        for g, c, s, yaw, com in self.boxes:
-            group_comment(g)
-            last = g
-            o.append("  - {center: %s, size: %s, yaw: %s}%s"
-                     % (fpt(c), fpt(s), fmt(yaw), ("  # " + com) if com else ""))
-        o.append("cylinders:")
-        last = None
-        for g, c, r, com in self.cylinders:
-            group_comment(g)
-            last = g
-            o.append("  - {center: %s, radius: %s}%s"
-                     % (fpt(c), fmt(r), ("  # " + com) if com else ""))
+        def section(title, items, text):
+            o.append(title)
+            previous = None
+            for item in items:
+                if item[0] and item[0] != previous:
+                    o.append("  # %s" % item[0])
+                previous = item[0]
+                o.append(text(*item[1:]))
+
+        def note(com):
+            return ("  # " + com) if com else ""
+
+        section("boxes:", self.boxes, lambda c, s, yaw, com: "  - {center: %s, size: %s, yaw: %s}%s"
+                % (fpt(c), fpt(s), fmt(yaw), note(com)))
+        section("cylinders:", self.cylinders, lambda c, r, com: "  - {center: %s, radius: %s}%s"
+                % (fpt(c), fmt(r), note(com)))
         o.append("robot:")
         o.append("  start: [%s, %s, %s]" % tuple(fmt(v) for v in self.start))
         o.append("# Ground truth for evaluation only - never read by mapping or localization:")
-        o.append("regions:")
-        last = None
-        for g, n, k, poly, com in self.regions:
-            group_comment(g)
-            last = g
-            o.append("  - {name: %s, kind: %s, polygon: [%s]}%s"
-                     % (n, k, ", ".join(fpt(p) for p in poly), ("  # " + com) if com else ""))
-        o.append("doors:")
-        last = None
-        for g, a, b, c, w, com in self.doors:
-            group_comment(g)
-            last = g
-            o.append("  - {between: [%s, %s], center: %s, width: %s}%s"
-                     % (a, b, fpt(c), fmt(w), ("  # " + com) if com else ""))
+        section("regions:", self.regions, lambda n, k, poly, com: "  - {name: %s, kind: %s, polygon: [%s]}%s"
+                % (n, k, ", ".join(fpt(p) for p in poly), note(com)))
+        section("doors:", self.doors, lambda a, b, c, w, com: "  - {between: [%s, %s], center: %s, width: %s}%s"
+                % (a, b, fpt(c), fmt(w), note(com)))
         return "\n".join(o) + "\n"
