@@ -45,7 +45,7 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
   };
   if (!(p.lookahead > 0.3)) return fail("lookahead must be > 0.3 m");
   if (!(p.end_distance > 0.5)) return fail("end_distance must be > 0.5 m");
-  if (!(p.door_min_width > 0.0 && p.door_max_width > p.door_min_width)) return fail("need 0 < door_min_width < door_max_width");
+  if (!p.rules.valid()) return fail("need 0 < building/door_min_width < building/door_max_width");
   if (!(p.door_min_confidence >= 0.0 && p.door_min_confidence <= 1.0)) return fail("door_min_confidence must be in [0, 1]");
   if (!(p.door_max_lateral > 0.0 && p.door_side_angle > 0.0 && p.door_pass_distance >= 0.0 && p.door_same_distance > 0.0 &&
         p.door_wall_tolerance > 0.0 && p.door_wall_memory >= 0.0))
@@ -83,6 +83,23 @@ void Coordinator::setState(State s, const std::string& text) {
 double Coordinator::binHeading(int bin) const { return bins_.heading(bin); }
 
 int Coordinator::binOf(double map_heading) const { return bins_.bin(map_heading); }
+
+int Coordinator::startBin(const Perception& p, const TopoView& topo) const {
+  // The robot may start facing any way. A hallway is longer than it is wide: when the way ahead is
+  // shorter than a way to the side, the robot stands across the hallway and sets off along the bin
+  // whose way is free the farthest; else along its own bin.
+  const auto free = [&](int bin) {
+    return freeDistance(p.points, normalizeAngle(odomHeadingOfBin(bin, topo) - p.odom.theta), params_.hallway.ahead_sector,
+                        15.0);
+  };
+  const int quarter = bins_.bins / 4;
+  if (free(bin_) >= std::max(free(bin_ + quarter), free(bin_ - quarter))) return bin_;
+  int best = bin_;
+  for (int k = 1; k < bins_.bins; ++k) {
+    if (free(bin_ + k) > free(best)) best = bins_.wrap(bin_ + k);
+  }
+  return best;
+}
 
 double Coordinator::odomHeadingOfBin(int bin, const TopoView& topo) const {
   return normalizeAngle(binHeading(bin) - (topo.heading_valid ? topo.heading_offset : 0.0));
@@ -128,16 +145,18 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
           setState(State::Idle, "waiting for a mission");
           break;
         }
-        const double back = normalizeAngle(odomHeadingOfBin(bin_ + bins_.bins / 2, topo) - p.odom.theta);
+        const int along = startBin(p, topo);
+        const double back = normalizeAngle(odomHeadingOfBin(along + bins_.bins / 2, topo) - p.odom.theta);
         const double free_back = freeDistance(p.points, back, params_.hallway.ahead_sector, 15.0);
         if (topo.mode == "frontier" && free_back > params_.end_distance + 1.0) {
           // The robot starts mid-hallway: the way behind it is an unexplored opening of the start node.
           Request r;
           r.kind = Request::RecordOpening;
-          r.bearing = binHeading(bin_ + bins_.bins / 2);
+          r.bearing = binHeading(along + bins_.bins / 2);
           d.requests.push_back(r);
         }
-        setState(State::Follow, "following the hallway");
+        if (along != bin_) startTurn(along, p, topo, {});
+        else setState(State::Follow, "following the hallway");
       }
       break;
     case State::Follow:
@@ -318,7 +337,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     const int near = graph_.nearestNode(topo.position);
     // Doors only: a hallway branch is never given up this way (the north half of institute lies
     // behind one); the robot turns into it when its side opens (below).
-    const bool door_goal = route.goal_width > 0.0 && route.goal_width <= params_.door_max_width;
+    const bool door_goal = route.goal_width > 0.0 && params_.rules.doorWide(route.goal_width);
     // Counted from within kAtNodeDistance of it: the nearest node changes half-way along an edge
     // (institute's printer door, 1.5 m before hall_north's east end: given up 3 m after the middle
     // of its 6.5 m edge, before the robot had reached it or turned round at the end to pass it).
@@ -554,7 +573,7 @@ Coordinator::Walls Coordinator::trackDoors(const Perception& p, double dir_robot
   const Walls walls{{wallLateral(p, dir_robot, v, 0), wallLateral(p, dir_robot, v, 1)}};
   for (const auto& o : p.openings) {
     if (o.kind == laser_features::OpeningKind::kJunction) continue;
-    if (o.width < params_.door_min_width || o.width > params_.door_max_width) continue;
+    if (!params_.rules.isDoorWidth(o.width)) continue;
     if (o.confidence < params_.door_min_confidence) continue;
     const double lateral = o.center.dot(nrm);
     if (std::abs(lateral) > params_.door_max_lateral || std::abs(lateral) < 0.4) continue;
@@ -609,7 +628,7 @@ std::optional<Coordinator::DoorTrack> Coordinator::doorAbeam(const Perception& p
     const Eigen::Vector2d rel = t.centre_odom - robot;
     // Within a door's width along: a branch's mouth (a hallway wide) and a door beside it on the
     // same side are farther apart than that (half-widths and the wall between).
-    if (std::abs(rel.dot(u)) <= params_.door_max_width && rel.dot(nrm) * side > 0.0) return t;
+    if (std::abs(rel.dot(u)) <= params_.rules.door_max_width && rel.dot(nrm) * side > 0.0) return t;
   }
   return std::nullopt;
 }
@@ -634,7 +653,7 @@ bool Coordinator::doorPassed(const Perception& p, double dir_robot, const Walls&
     // by a track of 5 sightings, and again by one of 97, 0.24 m from it, after visiting the room
     // across the hallway). Doors on one side are farther apart than a door's width.
     const bool taken_before = std::any_of(doors_.begin(), doors_.end(), [&](const DoorTrack& k) {
-      return k.taken && (k.centre_odom - t.centre_odom).norm() < params_.door_max_width &&
+      return k.taken && (k.centre_odom - t.centre_odom).norm() < params_.rules.door_max_width &&
              std::abs(normalizeAngle(k.into_odom - t.into_odom)) < 0.5;
     });
     if (taken_before) continue;
@@ -706,7 +725,7 @@ bool Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) {
 bool Coordinator::sameOpening(const GraphOpening& o, double bearing, double width) const {
   // A door beside a junction's branch on the same side is not that branch; a door measured
   // another width is that door (as pomdp_topo's TopologicalMap::differentOpenings).
-  const bool other_kind = (o.width <= params_.door_max_width) != (width <= params_.door_max_width);
+  const bool other_kind = params_.rules.doorWide(o.width) != params_.rules.doorWide(width);
   if (o.width > 0.0 && width > 0.0 && std::abs(o.width - width) > 0.6 && other_kind) return false;
   return std::abs(normalizeAngle(o.bearing - bearing)) < 0.5;
 }
@@ -770,7 +789,7 @@ bool Coordinator::refineDoor(const Perception& p) {
   std::optional<Eigen::Vector2d> seen;
   for (const laser_features::Opening& o : p.openings) {
     if (o.kind == laser_features::OpeningKind::kJunction) continue;
-    if (o.width < params_.door_min_width || o.width > params_.door_max_width) continue;
+    if (!params_.rules.isDoorWidth(o.width)) continue;
     if (std::abs(normalizeAngle(o.theta + p.room_pose.theta - door_in_place_.theta)) > params_.door_side_angle) continue;
     const Eigen::Vector2d c = apply(p.room_pose, o.center);
     const double off = (c - tracked).norm();
@@ -830,7 +849,7 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
     // Other doors seen from inside the room are closed with a virtual wall: the room's map stays
     // the room's (they remain openings of the place).
     for (const auto& o : p.openings) {
-      if (o.width < params_.door_min_width || o.width > params_.door_max_width) continue;
+      if (!params_.rules.isDoorWidth(o.width)) continue;
       const Eigen::Vector2d l = apply(p.room_pose, o.left), r = apply(p.room_pose, o.right);
       if ((0.5 * (l + r) - door).norm() < 0.8) continue;
       room_.blockOpening(l, r);

@@ -34,6 +34,7 @@
 #include <mutex>
 
 #include "exploration/params_visit.h"
+#include "laser_features/building_rules_ros.h"
 #include "ros_conversions.h"
 
 namespace exploration {
@@ -45,6 +46,7 @@ class ExplorationNode {
  public:
   ExplorationNode() : nh_(), pnh_("~"), tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_) {
     visitParams(&params_, ParamReader{pnh_});
+    params_.coordinator.rules = laser_features::readBuildingRules(nh_);
     std::string why;
     if (!Coordinator::validate(params_.coordinator, &why) || !MotionController::validate(params_.motion, &why)) {
       ROS_FATAL("exploration: bad parameter: %s", why.c_str());

@@ -1,6 +1,7 @@
 // The coordinator's mode switching on a synthetic hallway: a door passed on a new stretch is
 // entered (METRIC, a place requested); never while the belief is unconfident, nor right after the
 // belief jumped across the graph (the paper's rule: no topological-to-metric switch unless sure).
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -187,6 +188,41 @@ RoomVisits driveVisitingRooms(Coordinator* c, Hallway* h, int max_ticks,
 }
 
 }  // namespace
+
+// The robot seen by a turned scanner: the hallway's points and lines in the frame of a robot at x
+// facing `yaw` (map frame = odometry frame, as the Hallway is drawn).
+Perception perceiveFacing(const Hallway& h, double x, double yaw) {
+  Perception p = h.perceive(x, 0.0);
+  const Eigen::Rotation2Dd to_robot(-yaw);
+  for (auto& q : p.points) q = to_robot * q;
+  for (auto& l : p.lines) {
+    l.start = to_robot * l.start;
+    l.end = to_robot * l.end;
+  }
+  p.openings.clear();
+  p.odom.theta = yaw;
+  return p;
+}
+
+// A robot that starts facing across the hallway (a wall 1 m ahead, 21 deg off the bin across it,
+// the way to either side 8 m) sets off along the hallway; one that starts facing along it sets off
+// the way it faces.
+TEST(Coordinator, AStartFacingAcrossTheHallwaySetsOffAlongIt) {
+  Hallway h;
+  h.door_x = 30.0;  // no door in view
+  Coordinator across;
+  const Perception facing_wall = perceiveFacing(h, 10.0, 0.5 * kPi - 0.37);
+  across.update(facing_wall, view("frontier", true), false, false);  // the start: decides
+  const Decision d = across.update(facing_wall, view("frontier", true), false, false);
+  ASSERT_TRUE(d.has_goal && d.theta.has_value()) << across.state();
+  EXPECT_EQ(across.state(), "turning");
+  EXPECT_LT(std::abs(std::sin(*d.theta)), 1e-9) << *d.theta;  // along x, one way or the other
+  Coordinator along;
+  along.update(perceiveFacing(h, 10.0, 0.3), view("frontier", true), false, false);
+  const Decision e = along.update(perceiveFacing(h, 10.0, 0.3), view("frontier", true), false, false);
+  EXPECT_NE(along.state(), "turning");
+  EXPECT_FALSE(e.theta.has_value() && std::abs(std::sin(*e.theta)) > 0.5);
+}
 
 TEST(Coordinator, ADoorPassedOnANewStretchIsEntered) {
   Coordinator c;

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "laser_features/feature_extractor.h"
+#include "laser_features/building_rules_ros.h"
 #include "laser_features/params_visit.h"
 #include "laser_features/tf_lookup.h"
 #include "ros_conversions.h"
@@ -27,16 +28,17 @@ struct RosParamReader {
   }
 };
 
-FeatureExtractor::Params readParams(const ros::NodeHandle& pnh) {
+FeatureExtractor::Params readParams(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) {
   FeatureExtractor::Params p;
   visitParams(&p, RosParamReader{pnh});
+  p.openings.rules = readBuildingRules(nh);
   return p;
 }
 
 class FeaturesNode {
  public:
   FeaturesNode(ros::NodeHandle nh, ros::NodeHandle pnh)
-      : extractor_(readParams(pnh)), consistency_(extractor_.params().odometry_consistency), tf_listener_(tf_buffer_) {
+      : extractor_(readParams(nh, pnh)), consistency_(extractor_.params().odometry_consistency), tf_listener_(tf_buffer_) {
     pnh.param<std::string>("base_frame", base_frame_, "base_link");
     pnh.param<std::string>("odom_frame", odom_frame_, "odom");
     pnh.param("require_transform", require_transform_, true);

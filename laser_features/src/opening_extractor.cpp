@@ -32,7 +32,7 @@ OpeningExtractor::OpeningExtractor(const Params& params) : params_(params) { res
 void OpeningExtractor::reserve(size_t beams) { beam_line_.reserve(beams); }
 
 double OpeningExtractor::minWidth() const {
-  return std::max(params_.min_width, 2.0 * params_.robot_radius);
+  return std::max(params_.rules.door_min_width, 2.0 * params_.robot_radius);
 }
 
 void OpeningExtractor::labelBeams(const ScanPoints& points, const std::vector<LineSegment>& lines) {
@@ -162,7 +162,7 @@ bool OpeningExtractor::makeOpening(const ScanPoints& points, const Eigen::Vector
   opening->left = a_is_left ? edge_a : edge_b;
   opening->right = a_is_left ? edge_b : edge_a;
   opening->width = width;
-  opening->kind = width <= params_.door_max_width ? OpeningKind::kDoor : OpeningKind::kJunction;
+  opening->kind = params_.rules.doorWide(width) ? OpeningKind::kDoor : OpeningKind::kJunction;
   opening->source = source;
   const double depth_score = std::min(1.0, passage.depth / (2.0 * params_.min_depth));
   opening->confidence = std::clamp(depth_score * support, 0.0, 1.0);

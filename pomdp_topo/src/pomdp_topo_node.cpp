@@ -21,6 +21,7 @@
 
 #include <cmath>
 
+#include "laser_features/building_rules_ros.h"
 #include "laser_features/tf_lookup.h"
 #include "pomdp_topo/map_io.h"
 #include "pomdp_topo/params_visit.h"
@@ -36,9 +37,10 @@ struct RosParamReader {
   void operator()(const char* name, int* value) const { nh.param(name, *value, *value); }
 };
 
-TopoParams readParams(const ros::NodeHandle& pnh) {
+TopoParams readParams(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) {
   TopoParams p;
   visitParams(&p, RosParamReader{pnh});
+  p.builder.rules = laser_features::readBuildingRules(nh);
   p.sync();
   std::string why;
   if (!validateParams(p, &why)) throw std::invalid_argument("parameter " + why);
@@ -61,7 +63,7 @@ class TopoNodeRos {
  public:
   TopoNodeRos(ros::NodeHandle nh, ros::NodeHandle pnh)
       : nh_(nh),
-        params_(readParams(pnh)),
+        params_(readParams(nh, pnh)),
         localizer_(params_.pomdp),
         front_end_(params_.front_end, params_.heading),
         builder_(&map_, &localizer_, params_.builder),

@@ -89,7 +89,7 @@ bool TopologicalMap::removeNode(uint32_t id) {
 
 bool TopologicalMap::differentOpenings(double width_a, double width_b) const {
   if (width_a <= 0.0 || width_b <= 0.0 || std::abs(width_a - width_b) <= kDifferentWidth) return false;
-  return (width_a <= door_max_width_) != (width_b <= door_max_width_);
+  return rules_.doorWide(width_a) != rules_.doorWide(width_b);
 }
 
 std::vector<NodeOpening>::iterator TopologicalMap::findOpening(TopoNode* n, const NodeOpening& opening,

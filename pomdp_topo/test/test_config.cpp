@@ -54,7 +54,7 @@ TEST(Config, OutOfRangeValuesAreRefusedWithTheirName) {
     void (*spoil)(pomdp_topo::TopoParams*);
   };
   const Case cases[] = {
-      {"door_max_width", [](pomdp_topo::TopoParams* p) { p->builder.door_max_width = -1.0; }},
+      {"building/door_max_width", [](pomdp_topo::TopoParams* p) { p->builder.rules.door_max_width = -1.0; }},
       {"loop_new_place_prior", [](pomdp_topo::TopoParams* p) { p->builder.loop_new_place_prior = 0.0; }},
       {"loop_verify_distance", [](pomdp_topo::TopoParams* p) { p->builder.loop_verify_distance = std::nan(""); }},
       {"p_lmap_min_observations", [](pomdp_topo::TopoParams* p) { p->builder.p_lmap_min_observations = 0; }},

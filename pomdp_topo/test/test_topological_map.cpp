@@ -76,8 +76,7 @@ TEST(TopologicalMap, ADoorBesideAJunctionsBranchIsAnotherOpening) {
 TEST(TopologicalMap, ADoorMeasuredAnotherWidthIsTheSameDoor) {
   // large_floor: a door measured 0.66 m wide on the first pass and 1.28 m after a U-turn was taken
   // for a second opening of its own node, and the known room behind it was entered as a new one.
-  TopologicalMap map;
-  map.setDoorMaxWidth(1.3);
+  TopologicalMap map;  // the default building rules: doors up to 1.3 m
   const uint32_t d = map.addNode(nodeAt(NodeType::Door, 0, 0));
   NodeOpening first;
   first.bearing = 0.5 * kPi;
@@ -96,7 +95,9 @@ TEST(TopologicalMap, ADoorMeasuredAnotherWidthIsTheSameDoor) {
   EXPECT_FALSE(map.differentOpenings(1.2, 1.5));
   EXPECT_FALSE(map.differentOpenings(0.0, 2.18));
   // The limit is the map's: with doors up to 1.0 m, 0.66 and 1.28 are a door and a branch.
-  map.setDoorMaxWidth(1.0);
+  laser_features::BuildingRules narrow;
+  narrow.door_max_width = 1.0;
+  map.setBuildingRules(narrow);
   EXPECT_TRUE(map.differentOpenings(0.66, 1.28));
 }
 

@@ -28,6 +28,7 @@
 #include "exploration/room_explorer.h"
 #include "exploration/topo_route.h"
 #include "laser_features/building_axes.h"
+#include "laser_features/building_rules.h"
 #include "laser_features/geometry.h"
 #include "laser_features/line_extractor.h"
 #include "laser_features/opening_extractor.h"
@@ -47,8 +48,7 @@ struct CoordinatorParams {
   RoomExplorerParams room;
   double lookahead = 1.5;            // m, the hallway goal lies this far ahead on the mid-line
   double end_distance = 1.3;         // m, the hallway ends when the free distance ahead is below this
-  double door_min_width = 0.6;       // m, narrower openings are no doors
-  double door_max_width = 1.3;       // m, wider side openings are junctions (pomdp_topo's door_max_width)
+  laser_features::BuildingRules rules;  // door widths (config/building.yaml): openings outside them are no doors
   double door_min_confidence = 0.5;  // -, laser_features' opening confidence a door needs
   double door_max_lateral = 2.0;     // m, doors farther from the robot's travel line are not this hallway's
   double door_wall_tolerance = 0.35;  // m, a door lies on its side's wall: one farther behind the wall seen is not tracked
@@ -231,6 +231,7 @@ class Coordinator {
   /// The door passed is the one the robot last came out of (see left_door_).
   bool justLeft(const DoorTrack& door) const;
   double binHeading(int bin) const;   // map frame
+  int startBin(const Perception& p, const TopoView& topo) const;  // the bin the exploration sets off along
   int binOf(double map_heading) const;
   double odomHeadingOfBin(int bin, const TopoView& topo) const;
   /// Asks ekf_local_map to relocate the robot (odometry pose) in the mission's place at its door

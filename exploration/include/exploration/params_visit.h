@@ -42,8 +42,6 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   CoordinatorParams& c = p->coordinator;
   visit("lookahead", &c.lookahead);
   visit("end_distance", &c.end_distance);
-  visit("door_min_width", &c.door_min_width);
-  visit("door_max_width", &c.door_max_width);
   visit("door_min_confidence", &c.door_min_confidence);
   visit("door_max_lateral", &c.door_max_lateral);
   visit("door_wall_tolerance", &c.door_wall_tolerance);

@@ -9,6 +9,7 @@
 // A gap found by several cues is reported once, preferring (b), then (c), then (a).
 #pragma once
 
+#include "laser_features/building_rules.h"
 #include "laser_features/geometry.h"
 #include "laser_features/line_extractor.h"
 #include "laser_features/place_classifier.h"
@@ -42,9 +43,9 @@ struct Opening {
 /// Parameters of OpeningExtractor (each with its unit and default).
 struct OpeningExtractorParams {
   double robot_radius = 0.25;       // m, openings narrower than 2 robot_radius are never reported
-  double min_width = 0.7;           // m, narrowest opening reported
+  BuildingRules rules;              // door widths: the narrowest opening reported is the narrowest
+                                    // door; up to door_max_width an opening is a door, beyond a junction
   double max_width = 3.0;           // m, widest opening reported
-  double door_max_width = 1.3;      // m, up to this width an opening is a door, beyond a junction
   double min_depth = 0.5;           // m, free space needed behind the opening line
   double jump_min = 0.5;            // m, range jump between neighbouring beams that starts cue (a)
   double collinear_chi2 = 13.82;    // -, (b): same line if chi^2 (2 dof) below this (99.9 %) ...

@@ -30,9 +30,7 @@ void visitParams(FeatureExtractorParams* p, Visitor&& visit) {
   visit("corners/reference_length", &p->corners.reference_length);
   visit("corners/reference_points", &p->corners.reference_points);
   visit("openings/robot_radius", &p->openings.robot_radius);
-  visit("openings/min_width", &p->openings.min_width);
   visit("openings/max_width", &p->openings.max_width);
-  visit("openings/door_max_width", &p->openings.door_max_width);
   visit("openings/min_depth", &p->openings.min_depth);
   visit("openings/jump_min", &p->openings.jump_min);
   visit("openings/collinear_chi2", &p->openings.collinear_chi2);

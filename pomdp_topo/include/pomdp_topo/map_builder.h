@@ -15,6 +15,7 @@
 //    closed) or the new stretch is kept.
 #pragma once
 
+#include "laser_features/building_rules.h"
 #include "pomdp_topo/front_end.h"
 #include "pomdp_topo/pomdp_localizer.h"
 #include "pomdp_topo/topological_map.h"
@@ -27,7 +28,8 @@ namespace pomdp_topo {
 
 struct MapBuilderParams {
   bool mapping = true;                 // -, false: localization only, the map is never changed
-  double door_max_width = 1.3;         // m, side openings up to this width are doors, wider ones junctions
+  laser_features::BuildingRules rules;  // side openings up to door_max_width are doors, wider ones
+                                        // junctions (config/building.yaml)
   double min_node_separation = 0.8;    // m, a side opening this close to the last node joins that node
   double node_radius = 1.0;            // m, a turn this close to a node happens at that node
   double corner_min_confidence = 0.5;  // -, corners passed on a new stretch become landmarks above this

@@ -96,7 +96,6 @@ void visitParams(TopoParams* p, Visitor&& visit) {
   visit("max_odometry_step", &p->front_end.max_odometry_step);
   // Map building and loop closing.
   visit("mapping", &p->builder.mapping);
-  visit("door_max_width", &p->builder.door_max_width);
   visit("min_node_separation", &p->builder.min_node_separation);
   visit("corner_min_confidence", &p->builder.corner_min_confidence);
   visit("landmark_add_confidence", &p->builder.landmark_add_confidence);

@@ -10,6 +10,7 @@
 // S, W) only enter through TopoParams::heading_bins of the localizer, not here.
 #pragma once
 
+#include "laser_features/building_rules.h"
 #include "laser_features/geometry.h"
 
 #include <cstdint>
@@ -131,8 +132,8 @@ class TopologicalMap {
   /// one door (large_floor: taken for two, the door was added to its own node again and the known
   /// room was entered as a new one). An unmeasured width (<= 0) tells nothing apart.
   bool differentOpenings(double width_a, double width_b) const;
-  /// The door width limit (m): pomdp_topo's door_max_width; MapBuilder sets its own.
-  void setDoorMaxWidth(double width) { door_max_width_ = width; }
+  /// The building rules that tell a door's width from a junction's (MapBuilder sets its own).
+  void setBuildingRules(const laser_features::BuildingRules& rules) { rules_ = rules; }
   bool recordOpening(uint32_t id, const NodeOpening& opening, double same_bearing = 0.4);
   /// Links place `place_id` (its door at `door_in_place` in the place's frame) to the opening of
   /// node `id` that matches `door` (as recordOpening matches; record it first). A door links one
@@ -185,7 +186,7 @@ class TopologicalMap {
   uint32_t next_node_id_ = 0;
   uint32_t next_edge_id_ = 0;
   uint64_t revision_ = 0;
-  double door_max_width_ = 1.3;  // m, see setDoorMaxWidth
+  laser_features::BuildingRules rules_;  // see setBuildingRules
 };
 
 }  // namespace pomdp_topo
