@@ -477,7 +477,18 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     }
   }
 
-  if (v.free_ahead < params_.end_distance || blocked) {
+  // An obstacle ahead is no hallway end where the hallway's walls go on past it and a lane beside
+  // it is free as far (a pillar, a chair, a person): the robot keeps to that lane.
+  std::optional<double> lane;
+  if (v.free_ahead < params_.end_distance && !blocked) {
+    const double past = v.free_ahead + params_.end_distance;
+    const Lane l = freestLane(p.points, dir_robot, v, params_.room.planner.robot_radius + params_.room.planner.safety_margin);
+    if (v.wallsReach(past) && l.free > past) {
+      lane = l.lateral;
+      state_text_ = "passing an obstacle in the hallway";
+    }
+  }
+  if ((v.free_ahead < params_.end_distance && !lane) || blocked) {
     decideAtEnd(p, topo, v, d);
     if (blocked) state_text_ = "motion blocked: " + state_text_;
     if (state_ == State::Turn) {
@@ -486,8 +497,9 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     }
   }
 
-  // The goal: lookahead metres ahead on the mid-line.
-  const Eigen::Vector2d g_robot = params_.lookahead * unit(dir_robot) + v.centre_offset * unit(dir_robot + 0.5 * kPi);
+  // The goal: lookahead metres ahead on the mid-line (past an obstacle, on the lane beside it).
+  const double ahead = lane ? std::max(params_.lookahead, v.free_ahead + params_.end_distance) : params_.lookahead;
+  const Eigen::Vector2d g_robot = ahead * unit(dir_robot) + lane.value_or(v.centre_offset) * unit(dir_robot + 0.5 * kPi);
   const Eigen::Vector2d g = apply(p.odom, g_robot);
   if (!have_goal_ || (g - last_goal_).norm() > params_.goal_refresh_distance) {
     last_goal_ = g;

@@ -63,6 +63,18 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
     cos_sum += len * std::cos(2.0 * diff);
     weight += len;
   }
+  // How far the walls reach ahead: every line along the direction at either wall's lateral offset.
+  for (const auto& l : lines) {
+    const double len = l.length();
+    if (len < params.wall_min_length) continue;
+    const Eigen::Vector2d d = (l.end - l.start) / len;
+    if (std::abs(d.dot(n)) > std::sin(params.wall_parallel_tolerance)) continue;
+    const double lateral = 0.5 * (l.start + l.end).dot(n);
+    const double reach = std::max(l.start.dot(u), l.end.dot(u));
+    if (v.left_wall && std::abs(lateral - v.left_lateral) < params.wall_same_lateral) v.left_reach = std::max(v.left_reach, reach);
+    if (v.right_wall && std::abs(lateral - v.right_lateral) < params.wall_same_lateral)
+      v.right_reach = std::max(v.right_reach, reach);
+  }
   if (weight > 0.0) {
     v.wall_direction = normalizeAngle(direction + 0.5 * std::atan2(sin_sum, cos_sum));
     v.wall_direction_valid = true;
@@ -81,6 +93,24 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   v.end_open_right = freeDistance(points, direction - 0.5 * kPi, params.side_sector, range_cap, centre) >=
                      params.side_open_distance;
   return v;
+}
+
+Lane freestLane(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayView& view,
+                double clearance, double range_cap) {
+  const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
+  const double lo = view.right_wall ? view.right_lateral + clearance : view.centre_offset;
+  const double hi = view.left_wall ? view.left_lateral - clearance : view.centre_offset;
+  Lane best{view.centre_offset, -1.0};
+  for (double lateral = lo; lateral <= hi + 1e-9; lateral += 0.1) {
+    double free = range_cap;
+    for (const Eigen::Vector2d& q : points) {
+      const double along = q.dot(u);
+      if (along > 0.0 && along < free && std::abs(q.dot(n) - lateral) <= clearance) free = along;
+    }
+    const bool nearer = std::abs(lateral - view.centre_offset) < std::abs(best.lateral - view.centre_offset);
+    if (free > best.free + 1e-6 || (std::abs(free - best.free) <= 1e-6 && nearer)) best = {lateral, free};
+  }
+  return best;
 }
 
 }  // namespace exploration

@@ -36,6 +36,7 @@ struct Hallway {
   double left_wall_seen_from = -1e9;  // with the robot before this x, all of the left wall is in pieces
   double right_door_x = -1e9;         // a door on the right too (0.9 m wide), if set
   double right_door_far_shift = 0.0;  // seen from farther than 2.5 m, it appears this far further along
+  double pillar_x = -1e9;             // a pillar of radius 0.15 m on the mid-line, if set
 
   Perception perceive(double x, double t) const {
     Perception p;
@@ -65,6 +66,9 @@ struct Hallway {
     const bool right_door = right_door_x > -1e8;
     wall(-20.0, right_door ? right_door_x - 0.45 : 40.0, -1.0);
     if (right_door) wall(right_door_x + 0.45, 40.0, -1.0);
+    if (pillar_x > -1e8 && std::abs(pillar_x - x) < 8.0) {
+      for (int k = 0; k < 48; ++k) p.points.emplace_back(pillar_x - x + 0.15 * std::cos(k * kPi / 24), 0.15 * std::sin(k * kPi / 24));
+    }
     // The room behind the door: its far wall 4 m away (the branch: 8 m of it in view).
     for (double wx = door_x - 2.0; wx <= door_x + 2.0; wx += 0.05) p.points.emplace_back(wx - x, branch ? 9.0 : 5.0);
     laser_features::Opening o;
@@ -222,6 +226,17 @@ TEST(Coordinator, AStartFacingAcrossTheHallwaySetsOffAlongIt) {
   const Decision e = along.update(perceiveFacing(h, 10.0, 0.3), view("frontier", true), false, false);
   EXPECT_NE(along.state(), "turning");
   EXPECT_FALSE(e.theta.has_value() && std::abs(std::sin(*e.theta)) > 0.5);
+}
+
+// A pillar on the mid-line is no hallway end: the walls go on past it and a lane beside it is free,
+// so the robot goes on to the door beyond it (it turned round at pillars in generated buildings).
+TEST(Coordinator, APillarInTheHallwayIsNoEnd) {
+  Hallway h;
+  h.pillar_x = 3.0;
+  Coordinator c;
+  const DriveResult r = drive(&c, 0.0, 8.0, [](double) { return view("frontier", true); }, h);
+  EXPECT_TRUE(r.metric) << c.state();
+  EXPECT_GE(r.x_at_switch, 5.0);
 }
 
 TEST(Coordinator, ADoorPassedOnANewStretchIsEntered) {

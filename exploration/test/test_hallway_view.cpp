@@ -83,3 +83,47 @@ TEST(HallwayView, ADoorBesideTheRobotDoesNotOpenTheSide) {
   EXPECT_LT(v.free_left, 1.3);
   (void)kPi;
 }
+
+namespace {
+
+// A pillar of radius r at (x, y): points every 2 cm of its circumference (no line: too short).
+void addPillar(std::vector<Eigen::Vector2d>* pts, double x, double y, double r) {
+  for (int k = 0; k < 80; ++k) pts->emplace_back(x + r * std::cos(k * kPi / 40), y + r * std::sin(k * kPi / 40));
+}
+
+}  // namespace
+
+// A hallway ends where its walls end, not where an obstacle narrower than it stands: a pillar 1 m
+// ahead on the mid-line of a 2.6 m hallway leaves a lane beside it and the walls reach on past it;
+// an end wall 1 m ahead stops the walls, with or without a door in it.
+TEST(HallwayView, APillarAheadIsNoEndButAnEndWallIs) {
+  const double clearance = 0.35;  // the robot's radius and margin
+  std::vector<Eigen::Vector2d> pts;
+  std::vector<laser_features::LineSegment> lines;
+  addWall(&pts, &lines, {-5.0, 1.3}, {12.0, 1.3});
+  addWall(&pts, &lines, {-5.0, -1.3}, {12.0, -1.3});
+  addPillar(&pts, 1.25, 0.0, 0.25);
+  const auto v = viewHallway(pts, lines, 0.0, HallwayViewParams());
+  EXPECT_LT(v.free_ahead, 1.3);
+  EXPECT_TRUE(v.wallsReach(v.free_ahead + 1.3));
+  const exploration::Lane lane = exploration::freestLane(pts, 0.0, v, clearance);
+  EXPECT_GT(lane.free, 10.0);
+  EXPECT_GT(std::abs(lane.lateral), 0.25 + clearance - 1e-9);  // beside the pillar
+  EXPECT_LT(std::abs(lane.lateral), 1.3 - clearance + 1e-9);   // inside the walls
+
+  for (const double door : {0.0, 0.9}) {
+    std::vector<Eigen::Vector2d> end_pts;
+    std::vector<laser_features::LineSegment> end_lines;
+    addWall(&end_pts, &end_lines, {-5.0, 1.3}, {1.0, 1.3});
+    addWall(&end_pts, &end_lines, {-5.0, -1.3}, {1.0, -1.3});
+    if (door > 0.0) {
+      addWall(&end_pts, &end_lines, {1.0, -1.3}, {1.0, -door / 2});
+      addWall(&end_pts, &end_lines, {1.0, door / 2}, {1.0, 1.3});
+      addWall(&end_pts, &end_lines, {1.0, door / 2}, {5.0, door / 2 + 2.0});  // the room behind, walls away
+    } else {
+      addWall(&end_pts, &end_lines, {1.0, -1.3}, {1.0, 1.3});
+    }
+    const auto e = viewHallway(end_pts, end_lines, 0.0, HallwayViewParams());
+    EXPECT_FALSE(e.wallsReach(e.free_ahead + 1.3)) << door;
+  }
+}

@@ -23,6 +23,8 @@ struct HallwayViewParams {
   double wall_min_length = 0.8;        // m, shorter lines are no hallway walls
   double wall_max_lateral = 2.0;       // m, walls farther to the side are not this hallway's
   double min_wall_clearance = 0.8;     // m, with one wall only the mid-line keeps this far from it
+  double wall_same_lateral = 0.3;      // m, lines this close to a wall's lateral offset are that wall
+                                       // (its pieces between doors; a wall is 0.1-0.2 m thick)
 };
 
 struct HallwayView {
@@ -42,8 +44,29 @@ struct HallwayView {
   double wall_direction = 0.0;   // rad, robot frame: the walls' direction (the travel direction refined)
   bool wall_direction_valid = false;
   double centre_offset = 0.0;    // m, lateral offset of the mid-line from the robot (+ left)
+  // m, how far ahead along the direction the walls at left_lateral and right_lateral (every line
+  // within wall_same_lateral of them) reach: a hallway goes on where its walls do.
+  double left_reach = -1e9, right_reach = -1e9;
   double width() const { return left_wall && right_wall ? left_lateral - right_lateral : 0.0; }
+  /// A wall of the hallway reaches farther ahead than `distance` (m).
+  bool wallsReach(double distance) const {
+    return (left_wall && left_reach > distance) || (right_wall && right_reach > distance);
+  }
 };
+
+/// A lane along the hallway the robot fits through: its lateral offset (m, robot frame, + left) and
+/// how far ahead it is free (m).
+struct Lane {
+  double lateral = 0.0;
+  double free = 0.0;
+};
+
+/// The lane between the hallway's walls in `view` (the mid-line where only one wall is seen) whose
+/// corridor of half-width `clearance` (m: the robot's radius and margin) is free the farthest along
+/// `direction` (rad, robot frame); of equally free lanes, the one nearest the mid-line. Lanes are
+/// tried every 0.1 m.
+Lane freestLane(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayView& view,
+                double clearance, double range_cap = 15.0);
 
 /// The hallway along `direction` (rad, robot frame) seen in the scan `points` (robot frame) and the
 /// extracted `lines` (robot frame). `range_cap` (m) is the free distance reported for an empty sector.

@@ -79,6 +79,7 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("hallway/wall_min_length", &h.wall_min_length);
   visit("hallway/wall_max_lateral", &h.wall_max_lateral);
   visit("hallway/min_wall_clearance", &h.min_wall_clearance);
+  visit("hallway/wall_same_lateral", &h.wall_same_lateral);
   RoomExplorerParams& r = c.room;
   visit("room/max_extent", &r.max_extent);
   visit("room/entry_depth", &r.entry_depth);
