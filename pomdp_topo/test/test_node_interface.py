@@ -8,7 +8,7 @@ import rospy
 import rostest
 import tf2_ros
 from geometry_msgs.msg import Point, TransformStamped
-from hybrid_slam_msgs.msg import LaserFeatures, LineFeature, OpeningFeature, TopologicalBelief, TopologicalMap
+from hybrid_slam_msgs.msg import BuildingAxes, LaserFeatures, LineFeature, OpeningFeature, TopologicalBelief, TopologicalMap
 from hybrid_slam_msgs.srv import LoadMap, ResetBelief, SaveMap
 from std_srvs.srv import Trigger
 
@@ -42,6 +42,8 @@ class NodeInterface(unittest.TestCase):
         self.map = None
         rospy.Subscriber('topological_belief', TopologicalBelief, self.beliefs.append)
         rospy.Subscriber('topological_map', TopologicalMap, self.on_map)
+        self.axes = []
+        rospy.Subscriber('building_axes', BuildingAxes, self.axes.append)
         self.pub = rospy.Publisher('features', LaserFeatures, queue_size=100)
         self.tf = tf2_ros.TransformBroadcaster()
         for name in ('save_map', 'load_map', 'reset_belief', 'clear_map'):
@@ -93,6 +95,12 @@ class NodeInterface(unittest.TestCase):
         rospy.sleep(0.5)
         self.assertEqual(len(self.door_nodes()), 1, 'one door node expected, map: %s' % self.map)
         self.assert_belief_sane()
+        # The building's axis, from the hallway's two walls of the first scan (normals at +-90 deg).
+        self.assertTrue(self.axes, 'no building_axes published')
+        self.assertEqual(self.axes[-1].source, BuildingAxes.ESTIMATED)
+        self.assertAlmostEqual(self.axes[-1].axis_angle, 0.0, places=3)
+        self.assertEqual(self.axes[-1].heading_bins, 4)
+        self.assertGreater(self.axes[-1].agreement, 0.99)
 
         # NaN features: dropped, the node keeps working, no NaN in the belief.
         for _ in range(10):
