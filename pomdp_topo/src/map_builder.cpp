@@ -269,6 +269,13 @@ void MapBuilder::frontierTurn(int k, const Scan& scan, const FrontEnd& fe) {
     } else {
       double& end = end_beyond_[{n, frontier_bin_}];
       end = std::max(end, s_);
+      // Still at the node, turned to where it has no way (the start node, the robot having faced a
+      // wall): the stretch to map starts from the node the other way, not the known map.
+      EdgeExit exit;
+      if (mode_ == Mode::Frontier && !map_->exitWithHeading(n, binHeading(new_bin), 0.25 * kPi, &exit)) {
+        startFrontier(n, new_bin, 0.0, scan.travel);
+        return;
+      }
     }
     if (mode_ == Mode::LoopCheck) return;
     becomeLocalizedAt(n, new_bin);

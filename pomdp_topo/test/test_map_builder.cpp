@@ -191,6 +191,21 @@ TEST(MapBuilder, StraightHallwayDoorsHallwayEndsAndLocalizationOnTheWayBack) {
   EXPECT_EQ(drive.builder.loopsClosed().size(), 0u);
 }
 
+// A robot that starts facing the way it will not go turns round at the start node before it has
+// left it: the stretch is mapped from the start node the other way (it became 'localized' on the
+// one-node map, and with the start node closed, as explore.launch runs it, never mapped again).
+TEST(MapBuilder, AUTurnAtTheStartBeforeLeavingItMapsTheStretchTheOtherWay) {
+  SyntheticFloor floor;
+  const double xs[] = {4.0, 7.5, 9.0, 14.0, 17.0};
+  for (int i = 0; i < 5; ++i) floor.doors.push_back({{xs[i], i % 2 ? -1.1 : 1.1}, i % 2 ? -0.5 * kPi : 0.5 * kPi, 0.9});
+  MapBuilderParams params;
+  params.start_node_closed = true;  // as explore.launch runs it: the start node has no way but those recorded
+  Drive drive(params);
+  drive.run(&floor, {{1.5, 0}, {20.0, 0}}, kPi);  // facing west at the start, then east
+  EXPECT_EQ(drive.count(NodeType::Door), 5u);
+  EXPECT_EQ(drive.builder.mode(), MapBuilder::Mode::Frontier);
+}
+
 // A building at 34 deg to the odometry frame, with its axis known (pomdp_topo_node finds it from the
 // walls): the same graph as at 0 deg, turned, every edge along the axis, and localization as good.
 TEST(MapBuilder, ABuildingAtAnAngleMapsAlongItsAxisLikeAnAlignedOne) {
