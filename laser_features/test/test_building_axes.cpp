@@ -82,6 +82,17 @@ TEST(BuildingAxes, FurnitureAtOtherAnglesLowersTheAgreementNotTheAxis) {
   EXPECT_LT(axisError(est.axis(), 0.0), 0.02);
 }
 
+// A wing at 45 deg to the rest in view (12 m of its walls against 20 m of the main hallway's): a
+// plain mean of 4 beta would cancel the two families; the axis is the majority's.
+TEST(BuildingAxes, AWingAt45DegreesInViewIsTheMinority) {
+  BuildingAxisEstimator est;
+  for (int k = 0; k < 10; ++k) est.add(0.2 + (k % 2) * 0.5 * kPi + 0.002 * k, 1e-4, 2.0);          // 20 m
+  for (int k = 0; k < 6; ++k) est.add(0.2 + 0.25 * kPi + (k % 2) * 0.5 * kPi, 1e-4, 2.0);           // 12 m
+  ASSERT_TRUE(est.ready()) << est.agreement();
+  EXPECT_NEAR(est.axis(), 0.209, 0.01);
+  EXPECT_NEAR(est.agreement(), 20.0 / 32.0, 1e-9);
+}
+
 TEST(BuildingAxes, ShortOrUncertainLinesAndTooLittleWallAreNotEnough) {
   BuildingAxisEstimator est;
   EXPECT_FALSE(est.add(0.1, 1e-4, 0.5));   // too short
@@ -96,7 +107,7 @@ TEST(BuildingAxes, ShortOrUncertainLinesAndTooLittleWallAreNotEnough) {
 }
 
 TEST(BuildingAxes, LinesThatDisagreeAreNoAxis) {
-  // Walls of a round hall: normals spread over every direction.
+  // Walls of a round hall: normals spread over every direction (each 4 beta held by four lines).
   BuildingAxisEstimator est;
   for (int k = 0; k < 36; ++k) est.add(k * kPi / 18.0 + 0.01, 1e-4, 1.2);
   EXPECT_GT(est.totalLength(), est.params().min_wall_length);

@@ -34,6 +34,7 @@ bool validateParams(const TopoParams& p, std::string* error) {
   need(positive(h.max_alpha_sigma), "heading_max_alpha_sigma must be > 0");
   need(positive(p.axis.min_wall_length), "axis_min_wall_length must be > 0");
   need(unit(p.axis.min_agreement), "axis_min_agreement must be in [0, 1]");
+  need(positive(p.axis.cluster_width) && p.axis.cluster_width < 0.39, "axis_cluster_width must be in (0, 0.39) rad");
   need(p.axis_max_scans >= 1, "axis_max_scans must be >= 1");
   const FrontEndParams& f = p.front_end;
   need(nonneg(f.turn_hysteresis), "turn_hysteresis must be >= 0");

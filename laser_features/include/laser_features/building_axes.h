@@ -1,10 +1,12 @@
 // The building's axes, found from its walls and not assumed (DESIGN.md, "How the system sees a
 // building"). Indoor walls meet at right angles in a building, so the normals of its wall lines,
 // taken modulo pi/2, cluster at one angle: the building's axis. Each normal beta is mapped to the
-// unit vector (cos 4 beta, sin 4 beta), which is the same for the four directions beta + k pi/2;
-// the length-weighted mean of these vectors gives the axis (its angle / 4, in (-pi/4, pi/4]) and
-// their agreement (its length R in [0, 1]: 1 when every line lies on the axes; lines at random
-// angles, such as furniture, lower it by their share of the length).
+// angle 4 beta, the same for the four directions beta + k pi/2. The axis is the direction that
+// most of the line length lies along: the 4 beta around which the most length lies within
+// cluster_width, and then the length-weighted circular mean of the lines within it (its angle / 4,
+// in (-pi/4, pi/4]). Its agreement is that length's share of all: a wing at 30-60 deg in view, or
+// furniture at other angles, is the minority and lowers it, without pulling the axis (a plain mean
+// would: two wall families 45 deg apart cancel in 4 beta).
 //
 // HeadingBins is the one conversion between a heading and the discrete headings along the axes:
 // bin k has heading axis + k 2 pi / bins.
@@ -13,6 +15,7 @@
 #pragma once
 
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "laser_features/geometry.h"
@@ -38,8 +41,9 @@ struct BuildingAxisParams {
   double max_alpha_sigma = 0.1;   // rad, lines with a larger normal uncertainty are not used
   double min_wall_length = 4.0;   // m, summed length of the used lines before the axis is taken: two
                                   // walls seen over 2 m each (a hallway's, from anywhere inside it)
-  double min_agreement = 0.8;     // -, agreement R needed: walls on the axes with up to ~20 % of the
-                                  // line length at other angles (furniture, a wing at 30-60 deg)
+  double min_agreement = 0.5;     // -, share of the line length along the axis needed: the majority
+  double cluster_width = 0.0873;  // rad (5 deg), lines this close to the axis (modulo pi/2) lie along
+                                  // it: several sigma_alpha of a wall line (about 1 deg)
 };
 
 /// Accumulates wall normals (in one frame) and estimates the axis of the building in that frame.
@@ -52,19 +56,31 @@ class BuildingAxisEstimator {
   /// are ignored; returns whether it was used.
   bool add(double normal, double variance, double length);
   /// The summed length of the used lines has reached min_wall_length and they agree.
-  bool ready() const { return total_ >= params_.min_wall_length && agreement() >= params_.min_agreement; }
+  bool ready() const {
+    const Estimate e = estimate();
+    return e.along >= params_.min_wall_length && e.agreement >= params_.min_agreement;
+  }
   /// rad, in (-pi/4, pi/4]; 0 before any line.
-  double axis() const;
-  /// -, R in [0, 1].
-  double agreement() const { return total_ > 0.0 ? std::hypot(c_, s_) / total_ : 0.0; }
+  double axis() const { return estimate().axis; }
+  /// -, the share in [0, 1] of the line length along the axis.
+  double agreement() const { return estimate().agreement; }
   /// m, summed length of the used lines.
   double totalLength() const { return total_; }
-  void clear() { c_ = s_ = total_ = 0.0; }
+  void clear() {
+    lines_.clear();
+    total_ = 0.0;
+  }
   const BuildingAxisParams& params() const { return params_; }
 
  private:
+  struct Estimate {
+    double axis = 0.0, agreement = 0.0, along = 0.0;  // along: m of line length along the axis
+  };
+  Estimate estimate() const;
+
   BuildingAxisParams params_;
-  double c_ = 0.0, s_ = 0.0, total_ = 0.0;
+  std::vector<std::pair<double, double>> lines_;  // (4 beta, length) of the used lines
+  double total_ = 0.0;
 };
 
 /// The axis (rad, in (-pi/4, pi/4]) of a set of headings weighted by `weights` (e.g. the headings of

@@ -79,6 +79,7 @@ void visitParams(TopoParams* p, Visitor&& visit) {
   visit("axis_from_walls", &p->axis_from_walls);
   visit("axis_min_wall_length", &p->axis.min_wall_length);
   visit("axis_min_agreement", &p->axis.min_agreement);
+  visit("axis_cluster_width", &p->axis.cluster_width);
   visit("axis_max_scans", &p->axis_max_scans);
   // Front end (tracking, actions).
   visit("turn_hysteresis", &p->front_end.turn_hysteresis);
