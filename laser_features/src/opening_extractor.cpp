@@ -116,6 +116,13 @@ OpeningExtractor::Passage OpeningExtractor::checkPassage(const ScanPoints& point
   if (beam >= points.size()) return passage;
 
   const HesseLine line(opening_line);
+  // Room behind (BuildingRules): a point seen through the opening that lies beyond an edge by more
+  // than a hallway's walls could run from the mouth at that depth, plus the edges' error.
+  const double width = (edge_b - edge_a).norm();
+  const Eigen::Vector2d along = (edge_b - edge_a) / std::max(width, 1e-9);
+  const double spread = params_.rules.branchSpread();
+  const double edge_error = params_.rules.width_tolerance + params_.line_tolerance;
+  int beyond = 0;
   int through = 0, on_line = 0, in_front = 0;
   const size_t max_steps = size_t(span / step) + 2;
   double offset = normalizeAngle(points.bearing(beam) - low);  // of `beam` from the first edge
@@ -136,12 +143,15 @@ OpeningExtractor::Passage OpeningExtractor::checkPassage(const ScanPoints& point
       } else {
         ++through;
         passage.depth = std::max(passage.depth, depth);
+        const double s = (point.p - edge_a).dot(along);
+        if (std::max(-s, s - width) > edge_error + spread * depth) ++beyond;
       }
     }
   }
   const int total = through + on_line + in_front;
   passage.clear = through >= 1 && 2 * through >= total && on_line <= std::max(2, total / 10) &&
                   passage.depth >= params_.min_depth;
+  passage.room_behind = beyond >= kRoomBeams;
   return passage;
 }
 
@@ -162,7 +172,8 @@ bool OpeningExtractor::makeOpening(const ScanPoints& points, const Eigen::Vector
   opening->left = a_is_left ? edge_a : edge_b;
   opening->right = a_is_left ? edge_b : edge_a;
   opening->width = width;
-  opening->kind = params_.rules.doorWide(width) ? OpeningKind::kDoor : OpeningKind::kJunction;
+  opening->room_behind = passage.room_behind;
+  opening->kind = params_.rules.isDoor(width, passage.room_behind) ? OpeningKind::kDoor : OpeningKind::kJunction;
   opening->source = source;
   const double depth_score = std::min(1.0, passage.depth / (2.0 * params_.min_depth));
   opening->confidence = std::clamp(depth_score * support, 0.0, 1.0);

@@ -94,6 +94,7 @@ void toMsg(const Features& features, const std_msgs::Header& header, hybrid_slam
     m.theta = o.theta;
     m.width = o.width;
     m.kind = openingKindMsg(o.kind);
+    m.room_behind = o.room_behind;
     m.confidence = o.confidence;
   }
   msg->place_type = placeTypeMsg(features.place_type);

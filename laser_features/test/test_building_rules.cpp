@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <set>
@@ -59,14 +60,36 @@ TEST(BuildingRules, NoNodesYamlRestatesThem) {
   EXPECT_GE(files, 4);
 }
 
-TEST(BuildingRules, DoorsAreTheWidthsBetweenTheNarrowestDoorAndTheWidestAndNoInvertedRange) {
+TEST(BuildingRules, NarrowerThanAnyHallwayIsADoorAndADoubleDoorsWidthNeedsARoomBehind) {
   const BuildingRules rules;
-  EXPECT_FALSE(rules.isDoorWidth(0.6));
-  EXPECT_TRUE(rules.isDoorWidth(0.7));
-  EXPECT_TRUE(rules.isDoorWidth(1.2));
-  EXPECT_FALSE(rules.isDoorWidth(1.5));  // the narrowest hallway
-  EXPECT_TRUE(rules.doorWide(0.5));
-  EXPECT_FALSE(rules.doorWide(1.31));
+  EXPECT_FALSE(rules.isDoor(0.6, true));   // too narrow to pass
+  EXPECT_TRUE(rules.isDoor(0.7, false));   // the narrowest single door
+  EXPECT_TRUE(rules.isDoor(1.2, false));
+  EXPECT_TRUE(rules.isDoor(1.35, false));  // narrower than any hallway's mouth, measured
+  EXPECT_FALSE(rules.isDoor(1.6, false));  // a 1.5 m hallway's mouth, or a double door ...
+  EXPECT_TRUE(rules.isDoor(1.6, true));    // ... that opens into a room
+  EXPECT_TRUE(rules.isDoor(1.85, true));   // the widest double door, measured
+  EXPECT_FALSE(rules.isDoor(2.0, true));   // a hallway's mouth, whatever is seen behind
+  EXPECT_FALSE(rules.isDoorTracked(1.6, 1));  // one scan is no room
+  EXPECT_TRUE(rules.isDoorTracked(1.6, 2));
+  EXPECT_TRUE(rules.isDoorTracked(0.9, 0));
+  // A door beside a branch is told apart from it; one opening measured twice is not.
+  EXPECT_TRUE(rules.differentOpenings(0.9, 2.18));
+  EXPECT_FALSE(rules.differentOpenings(0.66, 1.28));
+  EXPECT_FALSE(rules.differentOpenings(0.0, 2.18));
+}
+
+// A hallway whose mouth is as narrow as the widest door leaves the wall at asin(1.5 / 1.9) = 52 deg
+// at the least: its walls run 0.78 m beyond the mouth's edges per metre of depth at the most.
+TEST(BuildingRules, TheSteepestBranchADoorCouldBeRunsItsWallsSoFarBeyondItsMouth) {
+  const BuildingRules rules;
+  const double phi = std::asin(1.5 / 1.9);
+  EXPECT_NEAR(rules.branchSpread(), std::cos(phi) / std::sin(phi), 1e-12);
+  EXPECT_NEAR(rules.branchSpread(), 0.777, 0.001);
+}
+
+TEST(BuildingRules, NoInvertedRange) {
+  const BuildingRules rules;
   EXPECT_TRUE(rules.valid());
   BuildingRules bad;
   bad.door_max_width = 0.5;

@@ -111,7 +111,7 @@ bool FrontEnd::process(const Pose2D& odom, const std::vector<laser_features::Lin
   }
   for (const auto& o : openings) {
     if (!steady) break;
-    track(LandmarkType::Opening, o.center, o.theta, o.width, o.confidence);
+    track(LandmarkType::Opening, o.center, o.theta, o.width, o.confidence, o.room_behind);
   }
   const Eigen::Vector2d robot(pose_.x, pose_.y);
   tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(),
@@ -122,7 +122,7 @@ bool FrontEnd::process(const Pose2D& odom, const std::vector<laser_features::Lin
 }
 
 void FrontEnd::track(LandmarkType type, const Eigen::Vector2d& p_robot, double theta_robot, double width,
-                     double confidence) {
+                     double confidence, bool room_behind) {
   if (!p_robot.allFinite() || !std::isfinite(theta_robot) || !std::isfinite(confidence)) return;
   if (p_robot.norm() > params_.max_feature_range) return;
   const Eigen::Vector2d p = laser_features::transformPoint(pose_, p_robot);
@@ -149,6 +149,7 @@ void FrontEnd::track(LandmarkType type, const Eigen::Vector2d& p_robot, double t
     t.width = width;
     t.confidence_sum = confidence;
     t.sightings = 1;
+    t.room_sightings = room_behind ? 1 : 0;
     tracks_.push_back(t);
     return;
   }
@@ -159,6 +160,7 @@ void FrontEnd::track(LandmarkType type, const Eigen::Vector2d& p_robot, double t
   best->orientation = normalizeAngle(best->orientation + normalizeAngle(theta - best->orientation) / (n + 1.0));
   best->confidence_sum += confidence;
   best->sightings += 1;
+  if (room_behind) best->room_sightings += 1;
 }
 
 bool FrontEnd::confirmed(const Track& t) const {
@@ -179,6 +181,7 @@ ObservedLandmark FrontEnd::toTravelFrame(const Track& t) const {
     o.orientation = normalizeAngle(o.orientation + kPi);
   }
   o.width = t.width;
+  o.door = t.type == LandmarkType::Opening && params_.rules.isDoorTracked(t.width, t.room_sightings);
   o.confidence = std::min(1.0, t.confidence());
   return o;
 }

@@ -238,7 +238,7 @@ void MapBuilder::processFrontier(const Scan& scan, const FrontEnd& fe) {
     o.bearing = normalizeAngle(binHeading(frontier_bin_) + (p.landmark.lateral >= 0.0 ? 0.5 : -0.5) * kPi);
     o.offset = std::abs(p.landmark.lateral);
     o.width = p.landmark.width;
-    const NodeType type = params_.rules.doorWide(p.landmark.width) ? NodeType::Door : NodeType::Junction;
+    const NodeType type = p.landmark.door ? NodeType::Door : NodeType::Junction;
     createNode(type, std::max(0.0, pos), scan, fe, {o});
   }
   if (mode_ == Mode::LoopCheck) {
@@ -946,7 +946,7 @@ void MapBuilder::addOpeningsAtNode(const PomdpLocalizer::State& st, const Scan& 
   const double reach = params_.min_node_separation + params_.match_distance;
   bool changed = false;
   for (const PassedLandmark& p : scan.passed) {
-    if (p.landmark.type != LandmarkType::Opening || !params_.rules.doorWide(p.landmark.width)) continue;
+    if (p.landmark.type != LandmarkType::Opening || !p.landmark.door) continue;
     if (binHeading(p.heading_bin) != binHeading(binOf(st.heading))) continue;
     const NodeOpening o = sideOpening(st.heading, p.landmark);
     if (knownOpeningNear({{n->id, reach}}, p, scan, o.bearing, o.width)) continue;
@@ -1017,7 +1017,7 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       matched_recently_.push_back(uint32_t(std::lround(l.distance * 1000.0)));
       changed = true;
       event("corner landmark added to edge " + std::to_string(e->id));
-    } else if (!near_end && !params_.rules.doorWide(p.landmark.width)) {
+    } else if (!near_end && !p.landmark.door) {
       // A wide opening in the middle of a known stretch: a junction the first pass did not see is
       // unlikely (hallway branches are seen from afar); a gap beside a pillar or a wide view into
       // a room is not. Not a node.
@@ -1042,7 +1042,7 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       // A wide one at a door node is a view into a room or a gap beside furniture (as in the middle
       // of a stretch, above), not a branch: institute's hall_north got 1.8-2.1 m "openings" at two
       // door nodes, which the exploration turned round for five times before giving them up.
-      if (n->type != NodeType::Junction && !params_.rules.doorWide(p.landmark.width)) continue;
+      if (n->type != NodeType::Junction && !p.landmark.door) continue;
       const NodeOpening o = sideOpening(st.heading, p.landmark);
       const bool present = std::any_of(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {
         return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameBearing;
@@ -1090,7 +1090,7 @@ void MapBuilder::splitEdgeWithDoor(uint32_t edge_id, double distance, const Obse
   const TopoEdge old = *map_->edge(edge_id);
   const TopoNode& a = *map_->node(old.source);
   TopoNode door;
-  door.type = params_.rules.doorWide(opening.width) ? NodeType::Door : NodeType::Junction;
+  door.type = opening.door ? NodeType::Door : NodeType::Junction;
   door.pose = Pose2D{a.pose.x + distance * std::cos(old.heading), a.pose.y + distance * std::sin(old.heading), old.heading};
   NodeOpening o;
   o.bearing = normalizeAngle(heading + (opening.lateral >= 0.0 ? 0.5 : -0.5) * kPi);

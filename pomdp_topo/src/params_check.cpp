@@ -51,7 +51,9 @@ bool validateParams(const TopoParams& p, std::string* error) {
   need(positive(f.track_max_rotation), "track_max_rotation must be > 0");
   need(positive(f.max_odometry_step), "max_odometry_step must be > 0");
   const MapBuilderParams& b = p.builder;
-  need(b.rules.valid(), "building/door_min_width and building/door_max_width must satisfy 0 < min < max");
+  std::string rules_error;
+  const bool rules_valid = b.rules.valid(&rules_error);
+  need(rules_valid, rules_error.c_str());
   need(nonneg(b.min_node_separation), "min_node_separation must be >= 0");
   need(unit(b.corner_min_confidence), "corner_min_confidence must be in [0, 1]");
   need(unit(b.landmark_add_confidence), "landmark_add_confidence must be in [0, 1]");

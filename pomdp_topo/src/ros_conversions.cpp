@@ -100,6 +100,7 @@ void fromMsg(const hybrid_slam_msgs::LaserFeatures& msg, const Pose2D& s, std::v
     k.theta = normalizeAngle(o.theta + s.theta);
     k.width = o.width;
     k.confidence = o.confidence;
+    k.room_behind = o.room_behind;
     openings->push_back(k);
   }
 }

@@ -88,8 +88,7 @@ bool TopologicalMap::removeNode(uint32_t id) {
 }
 
 bool TopologicalMap::differentOpenings(double width_a, double width_b) const {
-  if (width_a <= 0.0 || width_b <= 0.0 || std::abs(width_a - width_b) <= kDifferentWidth) return false;
-  return rules_.doorWide(width_a) != rules_.doorWide(width_b);
+  return rules_.differentOpenings(width_a, width_b, kDifferentWidth);
 }
 
 std::vector<NodeOpening>::iterator TopologicalMap::findOpening(TopoNode* n, const NodeOpening& opening,

@@ -23,6 +23,7 @@ struct Door {
   double normal;           // direction from the hallway into the room (world)
   double width;
   int axis = -1;           // seen only while driving along x (0) or y (1); -1: always (a wall's door)
+  bool room_behind = false;  // laser_features saw a room behind it (a double door's width needs it)
 };
 
 // A closed or open polyline of hallway centre lines (axis-aligned), half width 1.1 m, with doors.
@@ -50,7 +51,7 @@ struct SyntheticFloor {
       s.num_points = 100;
       lines->push_back(s);
     }
-    auto add = [&](const Eigen::Vector2d& c, double normal, double width) {
+    auto add = [&](const Eigen::Vector2d& c, double normal, double width, bool room_behind = false) {
       const Eigen::Vector2d rel = c - Eigen::Vector2d(pose.x, pose.y);
       if (rel.norm() > range) return;
       laser_features::Opening o;
@@ -58,12 +59,13 @@ struct SyntheticFloor {
       o.center = Eigen::Vector2d(cs * rel.x() - sn * rel.y() + noise(rng), sn * rel.x() + cs * rel.y() + noise(rng));
       o.theta = normalizeAngle(normal - pose.theta);
       o.width = width;
+      o.room_behind = room_behind;
       o.confidence = 0.8;
       openings->push_back(o);
     };
     const int travel_axis = std::abs(std::cos(pose.theta)) > 0.7 ? 0 : 1;
     for (const Door& d : doors) {
-      if (d.axis < 0 || d.axis == travel_axis) add(d.center, d.normal, d.width);
+      if (d.axis < 0 || d.axis == travel_axis) add(d.center, d.normal, d.width, d.room_behind);
     }
     // The branch the robot is about to turn into: an opening beside the turn point.
     if (next_corner >= 1 && next_corner + 1 < int(path.size())) {
@@ -331,6 +333,22 @@ TEST(MapBuilder, DoorsFacingEachOtherCloseTogetherAreNotAddedToEachOther) {
   EXPECT_EQ(drive.count(NodeType::Door), 4u);
   for (const auto& [id, n] : drive.map.nodes()) {
     if (n.type == NodeType::Door) EXPECT_EQ(n.openings.size(), 1u) << "door node " << id;
+  }
+}
+
+// A double door is a door node when laser_features saw a room behind it; an opening as wide with
+// none seen (a narrow hallway's mouth) is a junction; a single door is a door by its width.
+TEST(MapBuilder, ADoubleDoorWithARoomBehindIsADoorNodeAndOneAsWideWithoutAJunction) {
+  SyntheticFloor floor;
+  floor.doors.push_back({{4.0, 1.1}, 0.5 * kPi, 1.6, -1, true});
+  floor.doors.push_back({{10.0, 1.1}, 0.5 * kPi, 1.6, -1, false});
+  floor.doors.push_back({{16.0, -1.1}, -0.5 * kPi, 0.9, -1, false});
+  Drive drive;
+  drive.run(&floor, {{1.5, 0}, {20.0, 0}}, 0.0);
+  EXPECT_EQ(drive.count(NodeType::Door), 2u);
+  EXPECT_EQ(drive.count(NodeType::Junction), 1u);
+  for (const auto& [id, n] : drive.map.nodes()) {
+    if (n.type == NodeType::Junction) EXPECT_NEAR(n.pose.x, 10.0, 1.0) << "junction node " << id;
   }
 }
 

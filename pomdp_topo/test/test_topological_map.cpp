@@ -94,9 +94,9 @@ TEST(TopologicalMap, ADoorMeasuredAnotherWidthIsTheSameDoor) {
   EXPECT_FALSE(map.differentOpenings(0.66, 1.28));
   EXPECT_FALSE(map.differentOpenings(1.2, 1.5));
   EXPECT_FALSE(map.differentOpenings(0.0, 2.18));
-  // The limit is the map's: with doors up to 1.0 m, 0.66 and 1.28 are a door and a branch.
+  // The limit is the map's: with hallways from 1.1 m, 0.66 and 1.28 are a door and a branch.
   laser_features::BuildingRules narrow;
-  narrow.door_max_width = 1.0;
+  narrow.hallway_min_width = 1.1;
   map.setBuildingRules(narrow);
   EXPECT_TRUE(map.differentOpenings(0.66, 1.28));
 }

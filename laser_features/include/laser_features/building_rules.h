@@ -3,34 +3,71 @@
 // loaded by every launch file into the `building` namespace), one reader: laser_features classifies
 // openings with it, pomdp_topo types its nodes with it, the coordinator picks doors to enter with it.
 //
-// Hallways are 1.5-4.0 m wide.
-// Doors: office, lab and school floors have single doors 0.7-1.2 m and double doors 1.4-1.8 m wide;
-// hallways are 1.5-4.0 m wide. Width alone cannot tell a 1.6 m double door from a 1.5 m hallway, so
-// an opening wider than door_max_width (1.3 m: above every single door, below every hallway) is
-// taken as a junction; a double door is then a junction until the structure is read from geometry
-// (a clearance minimum between two wider regions).
+// Office, lab and school floors have single doors 0.7-1.2 m and double doors 1.4-1.8 m wide, and
+// hallways 1.5-4.0 m wide. So:
+//  - an opening narrower than the narrowest hallway (less the width error) is a door by its width;
+//  - an opening of a double door's width may be a door or a hallway's mouth: width alone cannot tell
+//    a 1.6 m double door from a 1.5 m hallway. Geometry does: a door opens into a room, whose free
+//    space reaches past the door's edges behind the wall, while a hallway's walls continue from the
+//    edges of its mouth. A hallway leaving at an angle phi to the wall has a mouth of width / sin phi,
+//    so one whose mouth is no wider than a door leaves at phi >= asin(hallway_min / door_max) and its
+//    walls run from the edges at most cot(phi) per metre beyond them (branchSpread);
+//  - wider openings are junctions.
 //
 // ROS-free: the standard library only.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace laser_features {
 
 struct BuildingRules {
-  double door_min_width = 0.7;  // m, narrowest door (and opening) there is: the narrowest single door
-  double door_max_width = 1.3;  // m, widest opening that is a door; wider ones are junctions (see above)
+  double door_min_width = 0.7;     // m, narrowest door (and opening) there is: the narrowest single door
+  double door_max_width = 1.8;     // m, widest door: the widest double door
+  double hallway_min_width = 1.5;  // m, narrowest hallway
+  double width_tolerance = 0.1;    // m, a measured opening's width may be this much off the true one
 
-  /// An opening of this width is a door, not a junction (nor too narrow to be either).
-  bool isDoorWidth(double width) const { return width >= door_min_width && width <= door_max_width; }
-  /// Widths tell a door from a junction: `width` is at most a door's.
-  bool doorWide(double width) const { return width <= door_max_width; }
+  /// No hallway's mouth is this narrow: an opening of this width is a door by its width alone
+  /// (or too narrow to pass: see door_min_width).
+  bool doorByWidth(double width) const { return width < hallway_min_width - width_tolerance; }
+  /// An opening of this width may still be a door (a double door) if it opens into a room.
+  bool mayBeDoor(double width) const { return width <= door_max_width + width_tolerance; }
+  /// The door test on one sighting: a door's width, and where a hallway's mouth could be as wide, a
+  /// room behind.
+  bool isDoor(double width, bool room_behind) const { return width >= door_min_width && opensAsDoor(width, room_behind); }
+  /// The same without the narrowest door's width: a mean of sightings that each passed it.
+  bool opensAsDoor(double width, bool room_behind) const {
+    return doorByWidth(width) || (room_behind && mayBeDoor(width));
+  }
+  /// The door test on an opening tracked over scans: its mean width, and how many scans saw a room
+  /// behind it (two: one stray return is no room).
+  bool isDoorTracked(double mean_width, int room_sightings) const { return opensAsDoor(mean_width, room_sightings >= 2); }
+  /// m per m of depth: how far beyond a mouth's edge the walls of a hallway whose mouth is as narrow
+  /// as a door can run (cot of the steepest such hallway's angle to the wall, see above).
+  double branchSpread() const {
+    const double s = std::clamp(hallway_min_width / (door_max_width + width_tolerance), 1e-3, 1.0);
+    return std::sqrt(1.0 - s * s) / s;
+  }
+  /// Two openings measured these widths are two (a door beside a hallway's branch on the same side),
+  /// not one measured twice: their widths differ by more than `apart` and only one is a door's.
+  bool differentOpenings(double width_a, double width_b, double apart = 0.6) const {
+    if (width_a <= 0.0 || width_b <= 0.0 || std::abs(width_a - width_b) <= apart) return false;
+    return doorByWidth(width_a) != doorByWidth(width_b);
+  }
   /// Range checks; false with the offending parameter in `error`.
   bool valid(std::string* error = nullptr) const {
-    if (!(door_min_width > 0.0 && door_max_width > door_min_width)) {
-      if (error) *error = "building/door_min_width and building/door_max_width must satisfy 0 < min < max";
+    auto fail = [&](const char* why) {
+      if (error) *error = why;
       return false;
-    }
+    };
+    if (!(door_min_width > 0.0 && door_max_width > door_min_width))
+      return fail("building/door_min_width and building/door_max_width must satisfy 0 < min < max");
+    if (!(hallway_min_width > door_min_width))
+      return fail("building/hallway_min_width must be above building/door_min_width");
+    if (!(width_tolerance >= 0.0 && width_tolerance < hallway_min_width - door_min_width))
+      return fail("building/width_tolerance must be in [0, hallway_min_width - door_min_width)");
     return true;
   }
 };
@@ -40,6 +77,8 @@ template <typename Visitor>
 void visitBuildingRules(BuildingRules* r, Visitor&& visit) {
   visit("door_min_width", &r->door_min_width);
   visit("door_max_width", &r->door_max_width);
+  visit("hallway_min_width", &r->hallway_min_width);
+  visit("width_tolerance", &r->width_tolerance);
 }
 
 }  // namespace laser_features

@@ -31,8 +31,9 @@ struct Opening {
   Eigen::Vector2d center = Eigen::Vector2d::Zero();  // m, midpoint of the edges
   double theta = 0.0;  // rad, normal through the opening, pointing away from the sensor
   double width = 0.0;  // m, passable width
-  OpeningKind kind = OpeningKind::kUnknown;  // door (width <= door_max_width), junction (wider), or
-                                             // unknown (one edge is no wall end: an occlusion gap)
+  OpeningKind kind = OpeningKind::kUnknown;  // door (BuildingRules::isDoor), junction, or unknown
+                                             // (one edge is no wall end: an occlusion gap)
+  bool room_behind = false;  // the free space seen behind it reaches past its edges (see BuildingRules)
   OpeningSource source = OpeningSource::kRangeDiscontinuity;
   // [0, 1]: how deep the free space behind the opening is (saturating at 2 min_depth) times how well
   // its edges are supported (by wall segments for (a) and (b), 0.8 for (c)); halved for (a) when the
@@ -44,7 +45,7 @@ struct Opening {
 struct OpeningExtractorParams {
   double robot_radius = 0.25;       // m, openings narrower than 2 robot_radius are never reported
   BuildingRules rules;              // door widths: the narrowest opening reported is the narrowest
-                                    // door; up to door_max_width an opening is a door, beyond a junction
+                                    // door; which are doors (BuildingRules::isDoor)
   double max_width = 3.0;           // m, widest opening reported
   double min_depth = 0.5;           // m, free space needed behind the opening line
   double jump_min = 0.5;            // m, range jump between neighbouring beams that starts cue (a)
@@ -79,7 +80,9 @@ class OpeningExtractor {
   struct Passage {
     bool clear = false;
     double depth = 0.0;  // m, deepest point behind the opening line (infinite for a no-return beam)
+    bool room_behind = false;  // at least kRoomBeams points behind it lie beyond its edges
   };
+  static constexpr int kRoomBeams = 2;  // one stray return is no room
 
   double minWidth() const;
   void labelBeams(const ScanPoints& points, const std::vector<LineSegment>& lines);

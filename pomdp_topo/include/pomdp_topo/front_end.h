@@ -37,6 +37,7 @@ struct FrontEndParams {
   double track_max_rotation = 0.05;  // rad, scans during which the robot turned more are not tracked
                                      // (the heading estimate lags in fast turns)
   double max_odometry_step = 3.0;    // m, a larger odometry jump between scans is refused (a reset), not travelled
+  laser_features::BuildingRules rules;  // which tracked openings are doors (config/building.yaml)
 };
 
 /// A landmark the robot has just passed (abeam and `pass_lag` behind), in the travel frame at
@@ -119,6 +120,7 @@ class FrontEnd {
     double width = 0.0;
     double confidence_sum = 0.0;
     int sightings = 0;
+    int room_sightings = 0;  // openings: scans that saw a room behind it
     bool armed = false;  // seen ahead of the robot since it was last passed
     double confidence() const { return sightings > 0 ? confidence_sum / sightings : 0.0; }
   };
@@ -126,7 +128,7 @@ class FrontEnd {
 
  private:
   void track(LandmarkType type, const Eigen::Vector2d& p_robot, double theta_robot, double width,
-             double confidence);
+             double confidence, bool room_behind = false);
   bool confirmed(const Track& t) const;
   ObservedLandmark toTravelFrame(const Track& t) const;
   void checkPassed();

@@ -19,6 +19,7 @@ struct ObservedLandmark {
   double orientation = 0.0;  // rad, relative to the travel heading: corner bisector or opening normal
                              // (pointing away from the robot's hallway), (-pi, pi]
   double width = 0.0;        // m, openings only
+  bool door = false;         // openings: a door, not a hallway's branch (BuildingRules::isDoorTracked)
   double confidence = 1.0;   // [0, 1], from the feature extractor and the number of sightings
 };
 

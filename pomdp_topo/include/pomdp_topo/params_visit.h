@@ -28,6 +28,7 @@ struct TopoParams {
     front_end.resolution = pomdp.resolution;
     front_end.heading_bins = pomdp.heading_bins;
     front_end.axis_angle = pomdp.axis_angle;
+    front_end.rules = builder.rules;
     heading.axis_angle = pomdp.axis_angle;
     builder.node_radius = pomdp.node_radius;
     axis.min_line_length = heading.min_line_length;
