@@ -45,7 +45,7 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
   };
   if (!(p.lookahead > 0.3)) return fail("lookahead must be > 0.3 m");
   if (!(p.end_distance > 0.5)) return fail("end_distance must be > 0.5 m");
-  if (!p.rules.valid()) return fail("need 0 < building/door_min_width < building/door_max_width");
+  if (!p.rules.valid(error)) return false;
   if (!(p.door_min_confidence >= 0.0 && p.door_min_confidence <= 1.0)) return fail("door_min_confidence must be in [0, 1]");
   if (!(p.door_max_lateral > 0.0 && p.door_side_angle > 0.0 && p.door_pass_distance >= 0.0 && p.door_same_distance > 0.0 &&
         p.door_wall_tolerance > 0.0 && p.door_wall_memory >= 0.0))
@@ -337,7 +337,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     const int near = graph_.nearestNode(topo.position);
     // Doors only: a hallway branch is never given up this way (the north half of institute lies
     // behind one); the robot turns into it when its side opens (below).
-    const bool door_goal = route.goal_width > 0.0 && params_.rules.doorWide(route.goal_width);
+    const bool door_goal = route.goal_width > 0.0 && params_.rules.doorByWidth(route.goal_width);
     // Counted from within kAtNodeDistance of it: the nearest node changes half-way along an edge
     // (institute's printer door, 1.5 m before hall_north's east end: given up 3 m after the middle
     // of its 6.5 m edge, before the robot had reached it or turned round at the end to pass it).
@@ -584,8 +584,9 @@ Coordinator::Walls Coordinator::trackDoors(const Perception& p, double dir_robot
   const Eigen::Vector2d nrm = unit(dir_robot + 0.5 * kPi);
   const Walls walls{{wallLateral(p, dir_robot, v, 0), wallLateral(p, dir_robot, v, 1)}};
   for (const auto& o : p.openings) {
-    if (o.kind == laser_features::OpeningKind::kJunction) continue;
-    if (!params_.rules.isDoorWidth(o.width)) continue;
+    // Every opening that may be a door is tracked: whether it is one (a double door's width needs a
+    // room seen behind it) is decided on the track, when it is passed.
+    if (!(o.width >= params_.rules.door_min_width && params_.rules.mayBeDoor(o.width))) continue;
     if (o.confidence < params_.door_min_confidence) continue;
     const double lateral = o.center.dot(nrm);
     if (std::abs(lateral) > params_.door_max_lateral || std::abs(lateral) < 0.4) continue;
@@ -608,6 +609,7 @@ Coordinator::Walls Coordinator::trackDoors(const Perception& p, double dir_robot
       t.into_odom = into_odom;
       t.width = o.width;
       t.sightings = 1;
+      t.room_sightings = o.room_behind ? 1 : 0;
       t.wall_lateral = wall ? *wall : -1.0;
       // First seen already passed: behind where this stretch started, seen in the turn into it
       // (large_floor: a known room's door 1.2 m behind the T where the robot turned into hall_3,
@@ -623,6 +625,7 @@ Coordinator::Walls Coordinator::trackDoors(const Perception& p, double dir_robot
     it->into_odom = into_odom;
     it->wall_lateral = wall ? *wall : -1.0;
     ++it->sightings;
+    if (o.room_behind) ++it->room_sightings;
   }
   const Eigen::Vector2d robot(p.odom.x, p.odom.y);
   doors_.erase(std::remove_if(doors_.begin(), doors_.end(),
@@ -638,9 +641,8 @@ std::optional<Coordinator::DoorTrack> Coordinator::doorAbeam(const Perception& p
   for (const DoorTrack& t : doors_) {
     if (t.sightings < 2) continue;
     const Eigen::Vector2d rel = t.centre_odom - robot;
-    // Within a door's width along: a branch's mouth (a hallway wide) and a door beside it on the
-    // same side are farther apart than that (half-widths and the wall between).
-    if (std::abs(rel.dot(u)) <= params_.rules.door_max_width && rel.dot(nrm) * side > 0.0) return t;
+    // Within kSameDoorSpan along: the door abeam, not one farther on.
+    if (std::abs(rel.dot(u)) <= kSameDoorSpan && rel.dot(nrm) * side > 0.0) return t;
   }
   return std::nullopt;
 }
@@ -654,6 +656,7 @@ bool Coordinator::doorPassed(const Perception& p, double dir_robot, const Walls&
     const double along = (t.centre_odom - robot).dot(u);
     if (along > -params_.door_pass_distance) continue;
     t.decided = true;
+    if (!params_.rules.isDoorTracked(t.width, t.room_sightings)) continue;  // a hallway's mouth
     if (along < -params_.door_pass_distance - 1.0) continue;  // seen only from behind: too late
     // Behind the wall known now, though tracked while none was (large_floor: just after a turn into
     // a hallway, a gap 1.58 m aside with the wall found 1.04 m aside by the time it was passed).
@@ -663,9 +666,9 @@ bool Coordinator::doorPassed(const Perception& p, double dir_robot, const Walls&
     // A door taken already on this stretch, tracked a second time: its first sightings from afar
     // lay beyond door_same_distance of the later ones (large_floor run 14: room_4_16's door entered
     // by a track of 5 sightings, and again by one of 97, 0.24 m from it, after visiting the room
-    // across the hallway). Doors on one side are farther apart than a door's width.
+    // across the hallway).
     const bool taken_before = std::any_of(doors_.begin(), doors_.end(), [&](const DoorTrack& k) {
-      return k.taken && (k.centre_odom - t.centre_odom).norm() < params_.rules.door_max_width &&
+      return k.taken && (k.centre_odom - t.centre_odom).norm() < kSameDoorSpan &&
              std::abs(normalizeAngle(k.into_odom - t.into_odom)) < 0.5;
     });
     if (taken_before) continue;
@@ -737,8 +740,7 @@ bool Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) {
 bool Coordinator::sameOpening(const GraphOpening& o, double bearing, double width) const {
   // A door beside a junction's branch on the same side is not that branch; a door measured
   // another width is that door (as pomdp_topo's TopologicalMap::differentOpenings).
-  const bool other_kind = params_.rules.doorWide(o.width) != params_.rules.doorWide(width);
-  if (o.width > 0.0 && width > 0.0 && std::abs(o.width - width) > 0.6 && other_kind) return false;
+  if (params_.rules.differentOpenings(o.width, width)) return false;
   return std::abs(normalizeAngle(o.bearing - bearing)) < 0.5;
 }
 
@@ -800,8 +802,7 @@ bool Coordinator::refineDoor(const Perception& p) {
   double nearest = params_.door_same_distance;
   std::optional<Eigen::Vector2d> seen;
   for (const laser_features::Opening& o : p.openings) {
-    if (o.kind == laser_features::OpeningKind::kJunction) continue;
-    if (!params_.rules.isDoorWidth(o.width)) continue;
+    if (!(o.width >= params_.rules.door_min_width && params_.rules.mayBeDoor(o.width))) continue;
     if (std::abs(normalizeAngle(o.theta + p.room_pose.theta - door_in_place_.theta)) > params_.door_side_angle) continue;
     const Eigen::Vector2d c = apply(p.room_pose, o.center);
     const double off = (c - tracked).norm();
@@ -832,6 +833,9 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
   const Eigen::Vector2d robot(p.room_pose.x, p.room_pose.y);
   const Eigen::Vector2d door(door_in_place_.x, door_in_place_.y);
   const Eigen::Vector2d into = unit(door_in_place_.theta);
+  // Near its door the robot passes it (the door's steps lie 0.6-0.7 m either side of it): the
+  // controller keeps a clearance that fits the door.
+  if ((robot - door).norm() < kDoorPassage) d->passage_width = door_.width;
   if (state_ == State::ApproachDoor) {
     // In front of the door on its axis, facing in, before going through.
     const Eigen::Vector2d a = door - 0.6 * into;
@@ -861,7 +865,7 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
     // Other doors seen from inside the room are closed with a virtual wall: the room's map stays
     // the room's (they remain openings of the place).
     for (const auto& o : p.openings) {
-      if (!params_.rules.isDoorWidth(o.width)) continue;
+      if (!params_.rules.isDoor(o.width, o.room_behind)) continue;
       const Eigen::Vector2d l = apply(p.room_pose, o.left), r = apply(p.room_pose, o.right);
       if ((0.5 * (l + r) - door).norm() < 0.8) continue;
       room_.blockOpening(l, r);
@@ -878,6 +882,7 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
       stats_.peak_room_bytes = std::max(stats_.peak_room_bytes, room_.bytes());
       exit_path_.clear();
       exit_index_ = 0;
+      exit_attempts_ = 0;
       if (auto path = room_.pathToExit(robot)) exit_path_ = path->waypoints;
       setState(State::ExitPath, "leaving the room by its door");
       return;
@@ -921,6 +926,24 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
   const double err = std::abs(normalizeAngle(exit_theta_place_ - p.room_pose.theta));
   const bool back = ((robot - hallway_in_place_).norm() < 0.2 && err < 0.15) || (reached_ && err < 0.2);
   if (!(back || step_timeout || now_ - state_since_ > params_.exit_time_limit)) return;
+  // Out only once past the door line: a robot that did not get through (blocked at a narrow door,
+  // the door placed off) and went on as on a hallway would take the room for hallways. It tries
+  // again from where it is, then the exploration stops rather than map the room as a hallway.
+  if ((robot - door).dot(into) > 0.0) {
+    if (++exit_attempts_ < kExitAttempts) {
+      exit_path_.clear();
+      exit_index_ = 0;
+      if (auto path = room_.pathToExit(robot)) exit_path_ = path->waypoints;
+      setState(State::ExitPath, "still inside: leaving the room by its door again (attempt " +
+                                    std::to_string(exit_attempts_ + 1) + ")");
+      return;
+    }
+    if (!mission_active_) {
+      finish(false, "could not leave place " + std::to_string(place_id_) + " through its door (" +
+                        std::to_string(kExitAttempts) + " attempts)", d);
+      return;
+    }
+  }
   bin_ = hallway_bin_;
   have_goal_ = false;
   mode_ = CoordinatorMode::Topological;
@@ -1003,6 +1026,7 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
     }
     exit_path_.clear();
     exit_index_ = 0;
+    exit_attempts_ = 0;
     if (auto path = room_.pathToExit(last_room_position_)) exit_path_ = path->waypoints;
     setState(State::ExitPath, to + ": leaving place " + std::to_string(place_id_) + " by its door");
     mode_ = CoordinatorMode::Metric;

@@ -171,6 +171,7 @@ class ExplorationNode {
     for (const Request& r : d.requests) execute(r);
     serviceMission();
     lock.lock();
+    motion_->setPassageWidth(d.passage_width);
     if (d.has_goal) {
       const bool same = has_goal_ && std::abs(d.x - goal_x_) < 1e-6 && std::abs(d.y - goal_y_) < 1e-6 &&
                         d.theta.has_value() == goal_theta_.has_value() &&

@@ -62,6 +62,12 @@ MotionController::MotionController(const MotionParams& params) : params_(params)
   finish(MotionStatus::Idle, "idle: no goal");
 }
 
+void MotionController::setPassageWidth(std::optional<double> width) {
+  double margin = params_.safety_margin;
+  if (width && std::isfinite(*width)) margin = std::clamp(0.5 * (0.5 * *width - params_.robot_radius), 0.0, margin);
+  clearance_ = params_.robot_radius + margin;
+}
+
 bool MotionController::validate(const MotionParams& p, std::string* error) {
   auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
   auto nonneg = [](double v) { return std::isfinite(v) && v >= 0.0; };

@@ -879,3 +879,51 @@ TEST(CoordinatorMission, AJointlyIncompatibleRelocationFromTheHallwayIsAskedAgai
     }
   }
 }
+
+// Out of a room only once past its door's line: a robot blocked at its door on the way out (a
+// narrow door, the door placed off) that went on as on a hallway took the room for hallways,
+// circled it and reported the exploration complete (generated buildings 8 and 10). It tries again
+// from where it stands; after three tries ending inside, the exploration stops and says why.
+TEST(Coordinator, AWayOutThatEndsInsideTheRoomIsTriedAgainAndNeverTakenForTheHallway) {
+  for (const int blocked_exits : {1, 1000}) {
+    SCOPED_TRACE(blocked_exits);
+    Coordinator c(roomVisitParams());
+    Hallway h;
+    Pose2D robot, origin;
+    int places = 0, exits = 0, ticks = 0;
+    bool was_exiting = false, topological_inside = false;
+    for (double t = 0.0; ticks < 30000 && robot.x < 12.0 && c.mode() != CoordinatorMode::Done; ++ticks, t += 0.1) {
+      Perception p = h.perceive(robot.x, t);
+      p.odom = robot;
+      p.room_pose_valid = c.currentPlace() >= 0;
+      p.room_pose = laser_features::compose(laser_features::inverse(origin), robot);
+      const bool exiting = c.state() == "through the door back to the hallway";
+      if (exiting && !was_exiting) ++exits;
+      was_exiting = exiting;
+      const bool leaving = exiting || c.state().find("leaving the room by its door") != std::string::npos;
+      // The door (left wall, y = 1) lets the robot through only after `blocked_exits` ways out.
+      const bool shut = leaving && exits <= blocked_exits;
+      const bool held = shut && robot.y <= 1.31;
+      const Decision d = c.update(p, view("frontier", true), false, held);
+      for (const Request& q : d.requests) {
+        if (q.kind != Request::CreatePlace) continue;
+        origin = robot;
+        c.placeCreated(true, places++);
+      }
+      Pose2D next = robot;
+      stepTowardsGoal(d, &next);
+      if (!(shut && next.y < 1.3 && robot.y >= 1.3)) robot = next;
+      topological_inside |= c.mode() == CoordinatorMode::Topological && robot.y > 1.1;
+    }
+    ASSERT_GE(places, 1) << "the door was never entered";
+    EXPECT_FALSE(topological_inside) << "the room was taken for the hallway";
+    if (blocked_exits == 1) {
+      EXPECT_EQ(exits, 2);
+      EXPECT_GE(robot.x, 12.0) << "the robot did not go on along the hallway (" << c.state() << ")";
+    } else {
+      EXPECT_EQ(exits, 3);
+      EXPECT_EQ(c.mode(), CoordinatorMode::Done);
+      EXPECT_NE(c.state().find("could not leave place 0 through its door"), std::string::npos) << c.state();
+    }
+  }
+}

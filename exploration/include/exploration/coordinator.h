@@ -136,6 +136,7 @@ struct Decision {
   double x = 0.0, y = 0.0;
   std::optional<double> theta;
   std::optional<std::pair<double, double>> tolerance;  // m, rad: the goal's, if not the controller's own
+  std::optional<double> passage_width;  // m, the robot is passing a door this wide (MotionController::setPassageWidth)
   bool stop = false;         // stand still (no goal)
   CoordinatorMode mode = CoordinatorMode::Topological;
   std::vector<Request> requests;
@@ -217,11 +218,17 @@ class Coordinator {
                      Idle, Relocate, GoToGoal };
   /// A door seen beside the hallway, tracked over scans in the odometry frame (hallway-local: the
   /// tracks are dropped once far behind).
+  // m, two tracks of one door: sightings from afar (grazing) lie up to about 1 m off the later ones
+  // (ADoorTrackedTwiceIsEnteredOnce). Doors whose centres are closer on one wall (1.0-1.2 m apart
+  // where two share a divider) are taken for one: the cost of this rule, until the coordinator
+  // takes its doors from pomdp_topo's nodes instead of tracking them itself.
+  static constexpr double kSameDoorSpan = 1.3;
   struct DoorTrack {
     Eigen::Vector2d centre_odom = Eigen::Vector2d::Zero();
     double into_odom = 0.0;   // rad, odometry frame, direction into the room
     double width = 0.0;       // m
     int sightings = 0;
+    int room_sightings = 0;   // scans that saw a room behind it (BuildingRules::isDoorTracked)
     bool decided = false;     // entered or passed: never again on this pass
     bool taken = false;       // passed and offered for entering (entered, or refused as known)
     double wall_lateral = -1.0;  // m, its side's wall line from the robot when last seen (-1: no wall known)
@@ -340,6 +347,9 @@ class Coordinator {
   std::vector<Eigen::Vector2d> exit_path_;  // place frame
   size_t exit_index_ = 0;
   int exit_step_ = 0;               // ExitDoor: 0 inside the door, 1 outside, 2 back on the hallway
+  int exit_attempts_ = 0;           // ways out of the room tried that ended still inside it
+  static constexpr int kExitAttempts = 3;
+  static constexpr double kDoorPassage = 1.0;  // m, from the door's centre: where the robot passes it
   double exit_step_since_ = 0.0;
   laser_features::Pose2D place_origin_odom_;  // the place's origin in the odometry frame (as the EKF last placed it)
   bool reached_ = false, blocked_ = false;    // the motion controller's last status

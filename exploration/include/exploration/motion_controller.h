@@ -89,6 +89,11 @@ class MotionController {
                std::optional<std::pair<double, double>> tolerance = std::nullopt);
   /// Drops the goal (status Idle); the command ramps down to zero.
   void cancel();
+  /// The robot is passing a door `width` wide (nullopt: it is not): the clearance kept to obstacles
+  /// is then the robot's radius plus half of the door's slack on each side (width / 2 - radius), at
+  /// most safety_margin; the other half is left for steering. A 0.7 m door (the narrowest) leaves a
+  /// 0.25 m robot 0.1 m a side, all of which a 0.1 m margin would take. Non-finite: ignored.
+  void setPassageWidth(std::optional<double> width);
 
   /// The obstacles: scan points in the robot frame (x forward, y left) measured at `stamp` (s, the
   /// clock of update()'s `now`). Non-finite points are skipped; a non-finite stamp refuses the scan
@@ -138,7 +143,7 @@ class MotionController {
   bool notStuck(double value, double step, double dt);
 
   MotionParams params_;
-  double clearance_;  // robot_radius + safety_margin
+  double clearance_;  // robot_radius + safety_margin, or less in a door (setPassageWidth)
   double range_cap_;  // max(lookahead, slow_down_distance)
 
   bool has_goal_ = false;
