@@ -84,15 +84,52 @@ double Coordinator::binHeading(int bin) const { return bins_.heading(bin); }
 
 int Coordinator::binOf(double map_heading) const { return bins_.bin(map_heading); }
 
+std::optional<int> Coordinator::startHallwayAxis(const Perception& p, const TopoView& topo) const {
+  // The hallway the robot starts in runs between the nearest walls beside it: of the two axes, the
+  // one whose parallel wall lines enclose the robot most narrowly, each within wall_max_lateral. A
+  // view through a door ahead is no hallway however deep: the door's wall runs on both sides of
+  // the door, beside the robot, and the room's far wall is beyond a hallway's half-width.
+  const HallwayViewParams& hp = params_.hallway;
+  const int quarter = bins_.bins / 4;
+  std::optional<int> best;
+  double best_width = std::numeric_limits<double>::infinity();
+  for (int axis = 0; axis < 2; ++axis) {
+    const double dir = normalizeAngle(odomHeadingOfBin(bin_ + axis * quarter, topo) - p.odom.theta);  // robot frame
+    const Eigen::Vector2d u = unit(dir), n = unit(dir + 0.5 * kPi);
+    double left = std::numeric_limits<double>::infinity(), right = left;
+    for (const laser_features::LineSegment& l : p.lines) {
+      const Eigen::Vector2d d = l.end - l.start;
+      if (d.norm() < hp.wall_min_length) continue;
+      if (std::abs(laser_features::cross2(u, d.normalized())) > std::sin(hp.wall_parallel_tolerance)) continue;
+      // Beside the robot: the segment reaches within a hallway's half-width of it along the axis.
+      const double a0 = u.dot(l.start), a1 = u.dot(l.end);
+      if (std::min(a0, a1) > hp.wall_max_lateral || std::max(a0, a1) < -hp.wall_max_lateral) continue;
+      const double offset = n.dot(0.5 * (l.start + l.end));
+      if (std::abs(offset) > hp.wall_max_lateral) continue;
+      (offset > 0.0 ? left : right) = std::min(offset > 0.0 ? left : right, std::abs(offset));
+    }
+    if (left + right < best_width) {
+      best_width = left + right;
+      best = axis;
+    }
+  }
+  return best;
+}
+
 int Coordinator::startBin(const Perception& p, const TopoView& topo) const {
-  // The robot may start facing any way. A hallway is longer than it is wide: when the way ahead is
-  // shorter than a way to the side, the robot stands across the hallway and sets off along the bin
-  // whose way is free the farthest; else along its own bin.
+  // The robot may start facing any way: it sets off along the hallway it stands in (above), along
+  // its own bin if that is one of the two, else along the one whose way is free the farthest. With
+  // no walls on both sides of it: a hallway is longer than it is wide, so when the way ahead is
+  // shorter than a way to the side, the robot stands across the hallway.
   const auto free = [&](int bin) {
     return freeDistance(p.points, normalizeAngle(odomHeadingOfBin(bin, topo) - p.odom.theta), params_.hallway.ahead_sector,
                         15.0);
   };
   const int quarter = bins_.bins / 4;
+  if (const std::optional<int> axis = startHallwayAxis(p, topo)) {
+    if (*axis == 0) return bin_;
+    return free(bin_ + quarter) >= free(bin_ - quarter) ? bins_.wrap(bin_ + quarter) : bins_.wrap(bin_ - quarter);
+  }
   if (free(bin_) >= std::max(free(bin_ + quarter), free(bin_ - quarter))) return bin_;
   int best = bin_;
   for (int k = 1; k < bins_.bins; ++k) {

@@ -927,3 +927,24 @@ TEST(Coordinator, AWayOutThatEndsInsideTheRoomIsTriedAgainAndNeverTakenForTheHal
     }
   }
 }
+
+// Generated buildings 12 and 20: the robot started facing a double door across the hallway, the
+// view through it (a room 4 m deep) was longer than the hallway either way, and the robot set off
+// into the room as along a hallway. The hallway it stands in runs between the walls beside it.
+TEST(Coordinator, AStartFacingADoubleDoorAcrossAShortHallwaySetsOffAlongTheHallway) {
+  Hallway h;
+  h.door_width = 1.6;
+  Perception p = perceiveFacing(h, h.door_x, 0.5 * kPi - 0.37);
+  // The hallway ends 3 m either way (end walls seen as points only).
+  const Eigen::Rotation2Dd to_robot(-(0.5 * kPi - 0.37));
+  for (double y = -1.0; y <= 1.0; y += 0.05) {
+    p.points.push_back(to_robot * Eigen::Vector2d(3.0, y));
+    p.points.push_back(to_robot * Eigen::Vector2d(-3.0, y));
+  }
+  Coordinator c;
+  c.update(p, view("frontier", true), false, false);  // the start: decides
+  const Decision d = c.update(p, view("frontier", true), false, false);
+  ASSERT_TRUE(d.has_goal && d.theta.has_value()) << c.state();
+  EXPECT_EQ(c.state(), "turning");
+  EXPECT_LT(std::abs(std::sin(*d.theta)), 1e-9) << *d.theta;  // along x, one way or the other
+}

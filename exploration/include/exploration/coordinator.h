@@ -239,6 +239,9 @@ class Coordinator {
   bool justLeft(const DoorTrack& door) const;
   double binHeading(int bin) const;   // map frame
   int startBin(const Perception& p, const TopoView& topo) const;  // the bin the exploration sets off along
+  /// 0: the hallway at the start runs along the robot's own bin, 1: across it; none: no walls seen
+  /// on both sides of the robot.
+  std::optional<int> startHallwayAxis(const Perception& p, const TopoView& topo) const;
   int binOf(double map_heading) const;
   double odomHeadingOfBin(int bin, const TopoView& topo) const;
   /// Asks ekf_local_map to relocate the robot (odometry pose) in the mission's place at its door
