@@ -1,5 +1,6 @@
 // The simulated laser, motion and odometry against their models.
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -73,6 +74,13 @@ TEST(RobotModel, ReadsFootprintAndLaserFromUrdf) {
   EXPECT_NEAR(r.laser_z, 0.3, 1e-9);
   EXPECT_THROW(robotModelFromUrdf(readFile(URDF_PATH), "base_link", "no_such_link"), RobotModelError);
   EXPECT_THROW(robotModelFromUrdf("<robot", "base_link", "laser"), RobotModelError);
+}
+
+// The footprint every node keeps clear with (config/robot.yaml) is the one the simulator drives.
+TEST(RobotModel, TheSharedFootprintIsTheUrdfs) {
+  const YAML::Node robot = YAML::LoadFile(ROBOT_YAML);
+  ASSERT_TRUE(robot["radius"].IsDefined()) << "config/robot.yaml has no radius";
+  EXPECT_DOUBLE_EQ(robot["radius"].as<double>(), testRobot().radius);
 }
 
 TEST(Laser, RangesMatchTheWallsWithinTheNoiseModel) {

@@ -47,6 +47,7 @@ class ExplorationNode {
   ExplorationNode() : nh_(), pnh_("~"), tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_) {
     visitParams(&params_, ParamReader{pnh_});
     params_.coordinator.rules = laser_features::readBuildingRules(nh_);
+    applyFootprint(laser_features::readRobotFootprint(nh_), &params_);
     std::string why;
     if (!Coordinator::validate(params_.coordinator, &why) || !MotionController::validate(params_.motion, &why)) {
       ROS_FATAL("exploration: bad parameter: %s", why.c_str());

@@ -62,6 +62,7 @@
 #include <vector>
 
 #include "exploration/baseline_params.h"
+#include "laser_features/building_rules_ros.h"
 #include "exploration/motion_controller.h"
 #include "ros_conversions.h"
 
@@ -82,6 +83,7 @@ class FrontierBaselineNode {
  public:
   FrontierBaselineNode() : nh_(), pnh_("~"), tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_) {
     visitBaselineParams(&p_, ParamReader{pnh_});
+    applyFootprint(laser_features::readRobotFootprint(nh_), &p_);
     std::string why;
     if (!OccupancyGrid::validate(p_.grid, &why)) why = "grid: " + why;
     else if (!FrontierExplorer::validate(p_.frontier, &why)) why = "frontier: " + why;

@@ -32,6 +32,7 @@ FeatureExtractor::Params readParams(const ros::NodeHandle& nh, const ros::NodeHa
   FeatureExtractor::Params p;
   visitParams(&p, RosParamReader{pnh});
   p.openings.rules = readBuildingRules(nh);
+  p.openings.robot_radius = readRobotFootprint(nh).radius;
   return p;
 }
 

@@ -2,6 +2,7 @@
 // no node's own YAML restates one (nor the heading bins and the building's axis, which are
 // pomdp_topo's alone); the rules' door test itself.
 #include "laser_features/building_rules.h"
+#include "laser_features/robot_footprint.h"
 
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
@@ -58,6 +59,29 @@ TEST(BuildingRules, NoNodesYamlRestatesThem) {
     }
   }
   EXPECT_GE(files, 4);
+}
+
+// The robot's footprint lives once too: config/robot.yaml with the code's defaults, and no node's
+// YAML holds a radius or a safety margin of its own.
+TEST(RobotFootprint, TheYamlHoldsItWithTheCodesDefaultAndNoNodesYamlRestatesIt) {
+  const YAML::Node root = YAML::LoadFile(std::string(CONFIG_DIR) + "/robot.yaml");
+  laser_features::RobotFootprint footprint;
+  std::set<std::string> visited;
+  laser_features::visitRobotFootprint(&footprint, [&](const char* name, double* value) {
+    visited.insert(name);
+    ASSERT_TRUE(root[name].IsDefined()) << name << " is not in robot.yaml";
+    EXPECT_DOUBLE_EQ(root[name].as<double>(), *value) << name;
+  });
+  for (const auto& kv : root) EXPECT_TRUE(visited.count(kv.first.as<std::string>())) << "unknown key " << kv.first;
+  EXPECT_TRUE(footprint.valid());
+  for (const auto& entry : std::filesystem::directory_iterator(CONFIG_DIR)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.path().extension() != ".yaml" || name == "robot.yaml") continue;
+    std::set<std::string> found;
+    keys(YAML::LoadFile(entry.path().string()), "", &found);
+    for (const char* k : {"robot_radius", "safety_margin", "radius"})
+      EXPECT_FALSE(found.count(k)) << name << " restates the robot's footprint (" << k << ")";
+  }
 }
 
 TEST(BuildingRules, NarrowerThanAnyHallwayIsADoorAndADoubleDoorsWidthNeedsARoomBehind) {

@@ -67,11 +67,15 @@ void visitBaselineParams(BaselineParams* p, Visitor&& visit) {
   visit("frontier/gain_scale", &f.gain_scale);
   visit("frontier/goal_search_radius", &f.goal_search_radius);
   PlannerParams& pl = p->planner;
-  visit("planner/robot_radius", &pl.robot_radius);
-  visit("planner/safety_margin", &pl.safety_margin);
   visit("planner/allow_unknown", &pl.allow_unknown);
   visit("planner/max_segment_length", &pl.max_segment_length);
   visitMotionParams(&p->motion, visit);
+}
+
+/// The robot's footprint (config/robot.yaml): the baseline's planner and motion control.
+inline void applyFootprint(const laser_features::RobotFootprint& f, BaselineParams* p) {
+  p->motion.robot_radius = p->planner.robot_radius = f.radius;
+  p->motion.safety_margin = p->planner.safety_margin = f.safety_margin;
 }
 
 }  // namespace exploration

@@ -4,6 +4,7 @@
 
 #include "exploration/coordinator.h"
 #include "exploration/motion_controller.h"
+#include "laser_features/robot_footprint.h"
 
 namespace exploration {
 
@@ -20,8 +21,6 @@ void visitMotionParams(MotionParams* m, Visitor&& visit) {
   visit("motion/max_angular", &m->max_angular);
   visit("motion/max_linear_accel", &m->max_linear_accel);
   visit("motion/max_angular_accel", &m->max_angular_accel);
-  visit("motion/robot_radius", &m->robot_radius);
-  visit("motion/safety_margin", &m->safety_margin);
   visit("motion/goal_tolerance", &m->goal_tolerance);
   visit("motion/heading_tolerance", &m->heading_tolerance);
   visit("motion/lookahead", &m->lookahead);
@@ -93,9 +92,14 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("room/max_goals", &r.max_goals);
   visit("room/resolution", &r.grid.resolution);
   visit("room/min_frontier_size", &r.frontier.min_frontier_size);
-  visit("room/robot_radius", &r.planner.robot_radius);
-  visit("room/safety_margin", &r.planner.safety_margin);
   visitMotionParams(&p->motion, visit);
+}
+
+/// The robot's footprint (config/robot.yaml) where the exploration keeps the robot clear: motion
+/// control and the room's planner.
+inline void applyFootprint(const laser_features::RobotFootprint& f, ExplorationParams* p) {
+  p->motion.robot_radius = p->coordinator.room.planner.robot_radius = f.radius;
+  p->motion.safety_margin = p->coordinator.room.planner.safety_margin = f.safety_margin;
 }
 
 }  // namespace exploration
