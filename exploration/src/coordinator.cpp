@@ -46,9 +46,9 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
   if (!(p.lookahead > 0.3)) return fail("lookahead must be > 0.3 m");
   if (!(p.end_distance > 0.5)) return fail("end_distance must be > 0.5 m");
   if (!p.rules.valid(error)) return false;
-  if (!(p.door_min_confidence >= 0.0 && p.door_min_confidence <= 1.0)) return fail("door_min_confidence must be in [0, 1]");
-  if (!(p.door_max_lateral > 0.0 && p.door_side_angle > 0.0 && p.door_pass_distance >= 0.0 && p.door_same_distance > 0.0 &&
-        p.door_wall_tolerance > 0.0 && p.door_wall_memory >= 0.0))
+  if (!(p.doors.min_confidence >= 0.0 && p.doors.min_confidence <= 1.0)) return fail("door_min_confidence must be in [0, 1]");
+  if (!(p.doors.max_lateral > 0.0 && p.doors.side_angle > 0.0 && p.doors.pass_distance >= 0.0 && p.doors.same_distance > 0.0 &&
+        p.doors.wall_tolerance > 0.0 && p.doors.wall_memory >= 0.0))
     return fail("door_max_lateral, door_side_angle, door_same_distance and door_wall_tolerance must be > 0, "
                 "door_pass_distance and door_wall_memory >= 0");
   if (!(p.room_replan_period >= 0.0)) return fail("room_replan_period must be >= 0");
@@ -69,7 +69,8 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
   return RoomExplorer::validate(p.room, error);
 }
 
-Coordinator::Coordinator(const CoordinatorParams& params) : params_(params), room_(params.room) {
+Coordinator::Coordinator(const CoordinatorParams& params)
+    : params_(params), room_(params.room), doors_(params.doors, params.rules) {
   std::string why;
   if (!validate(params, &why)) throw std::invalid_argument("exploration coordinator: " + why);
 }
@@ -452,9 +453,9 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   }
 
   // Doors: entered once passed, if new (frontier) or known and unexplored, and the belief is sure.
-  const Walls walls = trackDoors(p, dir_robot, v);
+  const HallwayDoors::Walls walls = doors_.track(p.odom, p.openings, dir_robot, v, travel_);
   DoorTrack door;
-  if (doorPassed(p, dir_robot, walls, &door)) {
+  if (doors_.passed(p.odom, dir_robot, walls, &door)) {
     if (justLeft(door)) {
       ++stats_.doors_passed;
       state_text_ = "door passed: the one just left";
@@ -494,7 +495,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     // no room entered) for jump_hold_distance, as after a jump.
     const bool side_open = (left && v.open_left) || (right && v.open_right);
     const std::optional<DoorTrack> door_abeam =
-        side_open && here ? doorAbeam(p, dir_robot, left ? 1.0 : -1.0) : std::nullopt;
+        side_open && here ? doors_.abeam(p.odom, dir_robot, left ? 1.0 : -1.0) : std::nullopt;
     if (door_abeam) {
       if (refused_branch_node_ != long(route.next_node)) {  // counted once per node in a row
         refused_branch_node_ = long(route.next_node);
@@ -599,128 +600,15 @@ void Coordinator::startTurn(int bin, const Perception& p, const TopoView& topo, 
   pending_branch_travel_ = -1.0;
   last_goal_ = Eigen::Vector2d(p.odom.x, p.odom.y);
   have_goal_ = true;
-  doors_.clear();  // the doors seen so far belong to the hallway being left
-  wall_seen_odom_ = {};  // and so do its walls
+  doors_.clear();  // the doors and walls seen so far belong to the hallway being left
   setState(State::Turn, "turning");
-}
-
-std::optional<double> Coordinator::wallLateral(const Perception& p, double dir_robot, const HallwayView& v, int side) {
-  const bool seen = side == 0 ? v.left_wall : v.right_wall;
-  const double lateral = side == 0 ? v.left_lateral : -v.right_lateral;
-  const Eigen::Vector2d nrm = unit(dir_robot + (side == 0 ? 0.5 : -0.5) * kPi);  // robot frame, towards the side
-  if (seen) {
-    wall_seen_odom_[side] = apply(p.odom, Eigen::Vector2d(lateral * nrm));
-    wall_seen_travel_[side] = travel_;
-    return lateral;
-  }
-  if (!wall_seen_odom_[side] || travel_ - wall_seen_travel_[side] > params_.door_wall_memory) return std::nullopt;
-  return apply(inverse(p.odom), *wall_seen_odom_[side]).dot(nrm);
-}
-
-Coordinator::Walls Coordinator::trackDoors(const Perception& p, double dir_robot, const HallwayView& v) {
-  const Eigen::Vector2d nrm = unit(dir_robot + 0.5 * kPi);
-  const Walls walls{{wallLateral(p, dir_robot, v, 0), wallLateral(p, dir_robot, v, 1)}};
-  for (const auto& o : p.openings) {
-    // Every opening that may be a door is tracked: whether it is one (a double door's width needs a
-    // room seen behind it) is decided on the track, when it is passed.
-    if (!(o.width >= params_.rules.door_min_width && params_.rules.mayBeDoor(o.width))) continue;
-    if (o.confidence < params_.door_min_confidence) continue;
-    const double lateral = o.center.dot(nrm);
-    if (std::abs(lateral) > params_.door_max_lateral || std::abs(lateral) < 0.4) continue;
-    const double side = lateral > 0.0 ? 1.0 : -1.0;
-    // Behind the wall on its side: a gap inside a room seen through its door (large_floor: a
-    // "door" 1.7 m to the left of a hallway whose wall is 1.1 m away, tracked for 3 scans and
-    // stopped for with the real door 0.5 m ahead; the robot drove into the wall).
-    const std::optional<double>& wall = walls[side > 0.0 ? 0 : 1];
-    if (wall && std::abs(lateral) > *wall + params_.door_wall_tolerance) continue;
-    const double into = dir_robot + side * 0.5 * kPi;  // robot frame
-    if (std::abs(normalizeAngle(o.theta - into)) > params_.door_side_angle) continue;
-    const Eigen::Vector2d c = apply(p.odom, o.center);
-    const double into_odom = normalizeAngle(into + p.odom.theta);
-    auto it = std::find_if(doors_.begin(), doors_.end(), [&](const DoorTrack& t) {
-      return (t.centre_odom - c).norm() < params_.door_same_distance;
-    });
-    if (it == doors_.end()) {
-      DoorTrack t;
-      t.centre_odom = c;
-      t.into_odom = into_odom;
-      t.width = o.width;
-      t.sightings = 1;
-      t.room_sightings = o.room_behind ? 1 : 0;
-      t.wall_lateral = wall ? *wall : -1.0;
-      // First seen already passed: behind where this stretch started, seen in the turn into it
-      // (large_floor: a known room's door 1.2 m behind the T where the robot turned into hall_3,
-      // entered as new 0.4 s after the turn).
-      t.decided = o.center.dot(unit(dir_robot)) < -params_.door_pass_distance;
-      doors_.push_back(t);
-      continue;
-    }
-    // Running mean of the position and width (the heading is the hallway's normal).
-    const double k = 1.0 / double(std::min(it->sightings + 1, 20));
-    it->centre_odom += k * (c - it->centre_odom);
-    it->width += k * (o.width - it->width);
-    it->into_odom = into_odom;
-    it->wall_lateral = wall ? *wall : -1.0;
-    ++it->sightings;
-    if (o.room_behind) ++it->room_sightings;
-  }
-  const Eigen::Vector2d robot(p.odom.x, p.odom.y);
-  doors_.erase(std::remove_if(doors_.begin(), doors_.end(),
-                              [&](const DoorTrack& t) { return (t.centre_odom - robot).norm() > 8.0; }),
-               doors_.end());
-  return walls;
-}
-
-std::optional<Coordinator::DoorTrack> Coordinator::doorAbeam(const Perception& p, double dir_robot, double side) const {
-  const Eigen::Vector2d robot(p.odom.x, p.odom.y);
-  const double heading = normalizeAngle(dir_robot + p.odom.theta);
-  const Eigen::Vector2d u = unit(heading), nrm = unit(heading + 0.5 * kPi);
-  for (const DoorTrack& t : doors_) {
-    if (t.sightings < 2) continue;
-    const Eigen::Vector2d rel = t.centre_odom - robot;
-    // Within kSameDoorSpan along: the door abeam, not one farther on.
-    if (std::abs(rel.dot(u)) <= kSameDoorSpan && rel.dot(nrm) * side > 0.0) return t;
-  }
-  return std::nullopt;
-}
-
-bool Coordinator::doorPassed(const Perception& p, double dir_robot, const Walls& walls, DoorTrack* door) {
-  const Eigen::Vector2d robot(p.odom.x, p.odom.y);
-  const double heading = normalizeAngle(dir_robot + p.odom.theta);
-  const Eigen::Vector2d u = unit(heading), nrm = unit(heading + 0.5 * kPi);
-  for (DoorTrack& t : doors_) {
-    if (t.decided || t.sightings < 3) continue;
-    const double along = (t.centre_odom - robot).dot(u);
-    if (along > -params_.door_pass_distance) continue;
-    t.decided = true;
-    if (!params_.rules.isDoorTracked(t.width, t.room_sightings)) continue;  // a hallway's mouth
-    if (along < -params_.door_pass_distance - 1.0) continue;  // seen only from behind: too late
-    // Behind the wall known now, though tracked while none was (large_floor: just after a turn into
-    // a hallway, a gap 1.58 m aside with the wall found 1.04 m aside by the time it was passed).
-    const double lateral = (t.centre_odom - robot).dot(nrm);
-    const std::optional<double>& wall = walls[lateral > 0.0 ? 0 : 1];
-    if (wall && std::abs(lateral) > *wall + params_.door_wall_tolerance) continue;
-    // A door taken already on this stretch, tracked a second time: its first sightings from afar
-    // lay beyond door_same_distance of the later ones (large_floor run 14: room_4_16's door entered
-    // by a track of 5 sightings, and again by one of 97, 0.24 m from it, after visiting the room
-    // across the hallway).
-    const bool taken_before = std::any_of(doors_.begin(), doors_.end(), [&](const DoorTrack& k) {
-      return k.taken && (k.centre_odom - t.centre_odom).norm() < kSameDoorSpan &&
-             std::abs(normalizeAngle(k.into_odom - t.into_odom)) < 0.5;
-    });
-    if (taken_before) continue;
-    t.taken = true;
-    *door = t;
-    return true;
-  }
-  return false;
 }
 
 bool Coordinator::justLeft(const DoorTrack& door) const {
   // Within 10 m of travel the odometry has not drifted by a door's spacing; twice the tracks'
   // same-door distance, as the door seen again from beside it is seen at a grazing angle.
   if (!left_door_ || travel_ - left_door_travel_ > 10.0) return false;
-  return (door.centre_odom - left_door_->centre_odom).norm() < 2.0 * params_.door_same_distance &&
+  return (door.centre_odom - left_door_->centre_odom).norm() < 2.0 * params_.doors.same_distance &&
          std::abs(normalizeAngle(door.into_odom - left_door_->into_odom)) < 0.5;
 }
 
@@ -785,7 +673,7 @@ bool Coordinator::exploredAtFrontierNode(const TopoView& topo, const DoorTrack& 
   if (topo.mode != "frontier" || !topo.position.valid || !topo.position.at_node) return false;
   // Only near the node (a door joined to it lies within a door's spacing): a new door on the same
   // side farther on, whose node pomdp_topo has not made yet, is not this one.
-  if (int(topo.position.id) != frontier_node_ || travel_ - frontier_node_travel_ > 2.0 * params_.door_same_distance)
+  if (int(topo.position.id) != frontier_node_ || travel_ - frontier_node_travel_ > 2.0 * params_.doors.same_distance)
     return false;
   const GraphNode* n = graph_.node(topo.position.id);
   if (n == nullptr) return false;  // a node made for this door, not in the graph received yet
@@ -836,11 +724,11 @@ bool Coordinator::refineDoor(const Perception& p) {
   // of the door as tracked; the mean of its sightings on the approach replaces the door (its
   // direction, the hallway's normal, is kept) once it differs by more than 5 cm.
   const Eigen::Vector2d tracked = door_tracked_in_place_;
-  double nearest = params_.door_same_distance;
+  double nearest = params_.doors.same_distance;
   std::optional<Eigen::Vector2d> seen;
   for (const laser_features::Opening& o : p.openings) {
     if (!(o.width >= params_.rules.door_min_width && params_.rules.mayBeDoor(o.width))) continue;
-    if (std::abs(normalizeAngle(o.theta + p.room_pose.theta - door_in_place_.theta)) > params_.door_side_angle) continue;
+    if (std::abs(normalizeAngle(o.theta + p.room_pose.theta - door_in_place_.theta)) > params_.doors.side_angle) continue;
     const Eigen::Vector2d c = apply(p.room_pose, o.center);
     const double off = (c - tracked).norm();
     if (off < nearest) {

@@ -24,6 +24,7 @@
 // ROS-free: Eigen, laser_features and the standard library only.
 #pragma once
 
+#include "exploration/hallway_doors.h"
 #include "exploration/hallway_view.h"
 #include "exploration/room_explorer.h"
 #include "exploration/topo_route.h"
@@ -49,14 +50,7 @@ struct CoordinatorParams {
   double lookahead = 1.5;            // m, the hallway goal lies this far ahead on the mid-line
   double end_distance = 1.3;         // m, the hallway ends when the free distance ahead is below this
   laser_features::BuildingRules rules;  // door widths (config/building.yaml): openings outside them are no doors
-  double door_min_confidence = 0.5;  // -, laser_features' opening confidence a door needs
-  double door_max_lateral = 2.0;     // m, doors farther from the robot's travel line are not this hallway's
-  double door_wall_tolerance = 0.35;  // m, a door lies on its side's wall: one farther behind the wall seen is not tracked
-  double door_wall_memory = 3.0;     // m of travel, a side's wall line is kept where the scan no longer sees it
-  double door_side_angle = 0.44;     // rad (25 deg), a door's normal within this of +-90 deg of the travel
-  double door_pass_distance = 0.3;   // m, a door is entered once this far behind the robot (passed: the
-                                     // map builder has made its node; pomdp_topo's pass_lag is 0.2)
-  double door_same_distance = 1.0;   // m, a door this close to one already decided on is the same door
+  HallwayDoorParams doors;           // the hallway's doors (door_* in config/exploration.yaml)
   double settle_time = 0.5;          // s, standing still before a switch (the nodes see the robot stopped)
   double room_time_limit = 600.0;    // s, a room's exploration ends after this (then the robot leaves)
   double room_replan_period = 0.5;   // s, the room's frontier goal is chosen again at most this often
@@ -218,21 +212,6 @@ class Coordinator {
                      Idle, Relocate, GoToGoal };
   /// A door seen beside the hallway, tracked over scans in the odometry frame (hallway-local: the
   /// tracks are dropped once far behind).
-  // m, two tracks of one door: sightings from afar (grazing) lie up to about 1 m off the later ones
-  // (ADoorTrackedTwiceIsEnteredOnce). Doors whose centres are closer on one wall (1.0-1.2 m apart
-  // where two share a divider) are taken for one: the cost of this rule, until the coordinator
-  // takes its doors from pomdp_topo's nodes instead of tracking them itself.
-  static constexpr double kSameDoorSpan = 1.3;
-  struct DoorTrack {
-    Eigen::Vector2d centre_odom = Eigen::Vector2d::Zero();
-    double into_odom = 0.0;   // rad, odometry frame, direction into the room
-    double width = 0.0;       // m
-    int sightings = 0;
-    int room_sightings = 0;   // scans that saw a room behind it (BuildingRules::isDoorTracked)
-    bool decided = false;     // entered or passed: never again on this pass
-    bool taken = false;       // passed and offered for entering (entered, or refused as known)
-    double wall_lateral = -1.0;  // m, its side's wall line from the robot when last seen (-1: no wall known)
-  };
 
   void setState(State s, const std::string& text);
   /// The door passed is the one the robot last came out of (see left_door_).
@@ -249,16 +228,6 @@ class Coordinator {
   void askRelocation(const laser_features::Pose2D& door_odom, const laser_features::Pose2D& robot_odom, Decision* d);
   void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
   void decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d);
-  using Walls = std::array<std::optional<double>, 2>;  // wallLateral of the left and the right side
-  /// Tracks the doors in view; returns the walls it gated them with.
-  Walls trackDoors(const Perception& p, double dir_robot, const HallwayView& v);
-  /// The lateral distance (m) of the wall line on `side` (0 left, 1 right): seen in `v`, or seen
-  /// within door_wall_memory of travel on this stretch; none if neither.
-  std::optional<double> wallLateral(const Perception& p, double dir_robot, const HallwayView& v, int side);
-  /// A door passed (door_pass_distance behind), not behind its side's wall in `walls`.
-  bool doorPassed(const Perception& p, double dir_robot, const Walls& walls, DoorTrack* door);
-  /// A tracked door beside the robot (within a door's width along) on the side `side` (+1 left, -1 right).
-  std::optional<DoorTrack> doorAbeam(const Perception& p, double dir_robot, double side) const;
   bool mayEnter(const TopoView& topo, const DoorTrack& door);
   /// Opening `o` is the opening at `bearing` (map frame, rad) measured `width` (m) wide.
   bool sameOpening(const GraphOpening& o, double bearing, double width) const;
@@ -302,13 +271,11 @@ class Coordinator {
   int bin_ = 0;                  // travel heading bin (map frame)
   bool have_goal_ = false;
   Eigen::Vector2d last_goal_ = Eigen::Vector2d::Zero();
-  std::vector<DoorTrack> doors_;
+  HallwayDoors doors_;  // the doors along the hallway being followed
   // Each side's wall line where last seen (a point on it, odometry frame; 0 left, 1 right) and the
   // travel then. A wall broken into pieces shorter than wall_min_length by the doors in it is not
   // seen as a wall, but a gap behind it is still no door (large_floor: a 0.97 m "door" 1.63 m to
   // the left of a hallway whose wall is 1.1 m away, with no wall seen on that side).
-  std::array<std::optional<Eigen::Vector2d>, 2> wall_seen_odom_;
-  std::array<double, 2> wall_seen_travel_{{0.0, 0.0}};
   int route_behind_ticks_ = 0;     // consecutive ticks the route pointed back (U-turn hysteresis)
   int trusted_node_ = -1;          // the belief's node when last trusted
   double trusted_travel_ = 0.0;    // m, travel_ when it became the trusted node

@@ -1,0 +1,86 @@
+// The doors along the hallway the robot follows, tracked from laser_features' openings in the
+// odometry frame (odometry is good over a hallway's stretch): which openings are doors of this
+// hallway (on the wall beside the robot, facing across the travel), their running mean position and
+// width and the scans that saw a room behind them, and which door the robot has just passed (then
+// the coordinator decides whether to enter). The walls it gates with are remembered for a few metres
+// where the scan does not see them (doors break them into short pieces).
+//
+// ROS-free: Eigen and laser_features' geometry.
+#pragma once
+
+#include "exploration/hallway_view.h"
+#include "laser_features/building_rules.h"
+#include "laser_features/geometry.h"
+#include "laser_features/opening_extractor.h"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <optional>
+#include <vector>
+
+namespace exploration {
+
+/// Parameters of HallwayDoors (config/exploration.yaml's door_* keys; each with its unit and default).
+struct HallwayDoorParams {
+  double min_confidence = 0.5;   // -, laser_features' opening confidence a door needs
+  double max_lateral = 2.0;      // m, doors farther from the robot's travel line are not this hallway's
+  double wall_tolerance = 0.35;  // m, a door lies on its side's wall: one farther behind the wall seen is not tracked
+  double wall_memory = 3.0;      // m of travel, a side's wall line is kept where the scan no longer sees it
+  double side_angle = 0.44;      // rad (25 deg), a door's normal within this of +-90 deg of the travel
+  double pass_distance = 0.3;    // m, a door is passed once this far behind the robot (the map builder
+                                 // has made its node then; pomdp_topo's pass_lag is 0.2)
+  double same_distance = 1.0;    // m, a door this close to one already decided on is the same door
+};
+
+struct DoorTrack {
+  Eigen::Vector2d centre_odom = Eigen::Vector2d::Zero();
+  double into_odom = 0.0;   // rad, odometry frame, direction into the room
+  double width = 0.0;       // m
+  int sightings = 0;
+  int room_sightings = 0;   // scans that saw a room behind it (BuildingRules::isDoorTracked)
+  bool decided = false;     // entered or passed: never again on this pass
+  bool taken = false;       // passed and offered for entering (entered, or refused as known)
+  double wall_lateral = -1.0;  // m, its side's wall line from the robot when last seen (-1: no wall known)
+};
+
+class HallwayDoors {
+ public:
+  // m, two tracks of one door: sightings from afar (grazing) lie up to about 1 m off the later ones
+  // (ADoorTrackedTwiceIsEnteredOnce). Doors whose centres are closer on one wall (1.0-1.2 m apart
+  // where two share a divider) are taken for one: the cost of this rule, until the coordinator
+  // takes its doors from pomdp_topo's nodes instead of tracking them itself.
+  static constexpr double kSameDoorSpan = 1.3;
+  using Walls = std::array<std::optional<double>, 2>;  // wallLateral of the left and the right side
+
+  HallwayDoors(const HallwayDoorParams& params, const laser_features::BuildingRules& rules)
+      : params_(params), rules_(rules) {}
+
+  /// One scan: `odom` the robot's pose, `openings` in the robot frame, `dir_robot` the travel
+  /// direction in the robot frame, `travel` (m) the total travel. Returns the walls it gated with.
+  Walls track(const laser_features::Pose2D& odom, const std::vector<laser_features::Opening>& openings,
+              double dir_robot, const HallwayView& v, double travel);
+  /// A door passed (pass_distance behind), not behind its side's wall in `walls`.
+  bool passed(const laser_features::Pose2D& odom, double dir_robot, const Walls& walls, DoorTrack* door);
+  /// A tracked door beside the robot (within kSameDoorSpan along) on the side `side` (+1 left, -1 right).
+  std::optional<DoorTrack> abeam(const laser_features::Pose2D& odom, double dir_robot, double side) const;
+  /// Forgets the doors and the walls: they belong to the hallway being left.
+  void clear() {
+    tracks_.clear();
+    wall_seen_odom_ = {};
+  }
+
+ private:
+  /// The lateral distance (m) of the wall line on `side` (0 left, 1 right): seen in `v`, or seen
+  /// within wall_memory of travel on this stretch; none if neither.
+  std::optional<double> wallLateral(const laser_features::Pose2D& odom, double dir_robot, const HallwayView& v,
+                                    int side, double travel);
+
+  HallwayDoorParams params_;
+  laser_features::BuildingRules rules_;
+  std::vector<DoorTrack> tracks_;
+  std::array<std::optional<Eigen::Vector2d>, 2> wall_seen_odom_;
+  std::array<double, 2> wall_seen_travel_{{0.0, 0.0}};
+};
+
+}  // namespace exploration
