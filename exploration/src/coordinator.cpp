@@ -356,7 +356,15 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   RouteStep route;
   if (localized && sure) {
     if (!mission_active_ && graph_.nodes().size() > 1 && graph_.unexploredCount() == 0 && pending_branches_.empty()) {
-      finish(true, "no unexplored opening is left", d);
+      // Complete only if nothing was given up: an opening given up unreached counts as explored,
+      // and rooms behind it may be missing; a room left at its time limit is not all mapped.
+      if (stats_.openings_given_up > 0 || stats_.rooms_left_early > 0) {
+        finish(false, "no unexplored opening is left, but " + std::to_string(stats_.openings_given_up) +
+                          " opening(s) were given up unreached and " + std::to_string(stats_.rooms_left_early) +
+                          " room(s) left at their time limit", d);
+      } else {
+        finish(true, "no unexplored opening is left", d);
+      }
       return;
     }
     route = plan(topo.position);
@@ -1237,8 +1245,8 @@ void Coordinator::finish(bool success, const std::string& why, Decision* d) {
     << " places (" << stats_.places << " entered by this run), " << graph_.nodes().size() << " nodes, " << graph_.edges().size() << " edges, "
     << graph_.exploredCount() << " openings explored, " << graph_.unexploredCount() << " unexplored, "
     << stats_.travel << " m travelled";
-  // Given-up openings count as explored: say so, a 'complete' exploration may have missed rooms
-  // behind them (large_floor: 26 given up, 58 rooms never seen).
+  // Given-up openings count as explored: rooms behind them may be missing (large_floor: 26 given
+  // up, 58 rooms never seen).
   if (stats_.openings_given_up > 0)
     s << "; " << stats_.openings_given_up << " opening(s) given up unreached (rooms behind them may be missing)";
   Request save;

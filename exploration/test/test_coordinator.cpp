@@ -948,3 +948,32 @@ TEST(Coordinator, AStartFacingADoubleDoorAcrossAShortHallwaySetsOffAlongTheHallw
   EXPECT_EQ(c.state(), "turning");
   EXPECT_LT(std::abs(std::sin(*d.theta)), 1e-9) << *d.theta;  // along x, one way or the other
 }
+
+// "Complete" only when nothing was given up: a room left at its time limit is not all mapped, so
+// once nothing else is left to explore the exploration ends incomplete and says why; with nothing
+// given up it ends complete.
+TEST(Coordinator, AnExplorationThatLeftARoomAtItsTimeLimitEndsIncompleteSayingWhy) {
+  for (const bool left_early : {true, false}) {
+    SCOPED_TRACE(left_early);
+    exploration::CoordinatorParams params = roomVisitParams();
+    if (left_early) params.room_time_limit = 1.0;  // s: left before the room is covered
+    Coordinator c(params);
+    Hallway h;
+    const RoomVisits r = driveVisitingRooms(&c, &h, 6000);
+    EXPECT_EQ(r.places, 1);
+    EXPECT_EQ(c.stats().rooms_left_early, left_early ? 1 : 0);
+    c.setGraph(exploredHallway());  // every opening explored, the belief on it
+    Decision d;
+    for (int i = 0; i < 20 && c.mode() != CoordinatorMode::Done; ++i)
+      d = c.update(h.perceive(8.0, 1000.0 + 0.1 * i), onHallway(8.0), false, false);
+    ASSERT_EQ(c.mode(), CoordinatorMode::Done) << c.state();
+    if (left_early) {
+      EXPECT_NE(c.state().find("exploration stopped: no unexplored opening is left, but 0 opening(s) were given up "
+                               "unreached and 1 room(s) left at their time limit"),
+                std::string::npos)
+          << c.state();
+    } else {
+      EXPECT_EQ(c.state(), "exploration complete");
+    }
+  }
+}
