@@ -339,6 +339,46 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   state_text_ = sure ? (localized ? "following the hallway on the known map" : "following a new hallway")
                      : "following the hallway until the belief is confident";
 
+  recordWaysNotTaken(sure, d);
+  RouteStep route;
+  if (localized && sure && followRoute(p, topo, &route, d)) return;
+  if (enterPassedDoor(p, topo, dir_robot, v, d)) return;
+  if (turnIntoRouteBranch(p, topo, route, sure, dir_robot, v, d)) return;
+
+  // An obstacle ahead is no hallway end where the hallway's walls go on past it and a lane beside
+  // it is free as far (a pillar, a chair, a person): the robot keeps to that lane.
+  std::optional<double> lane;
+  if (v.free_ahead < params_.end_distance && !blocked) {
+    const double past = v.free_ahead + params_.end_distance;
+    const Lane l = freestLane(p.points, dir_robot, v, params_.room.planner.robot_radius + params_.room.planner.safety_margin);
+    if (v.wallsReach(past) && l.free > past) {
+      lane = l.lateral;
+      state_text_ = "passing an obstacle in the hallway";
+    }
+  }
+  if ((v.free_ahead < params_.end_distance && !lane) || blocked) {
+    decideAtEnd(p, topo, v, d);
+    if (blocked) state_text_ = "motion blocked: " + state_text_;
+    if (state_ == State::Turn) {
+      turnGoal(p, d);
+      return;
+    }
+  }
+
+  // The goal: lookahead metres ahead on the mid-line (past an obstacle, on the lane beside it).
+  const double ahead = lane ? std::max(params_.lookahead, v.free_ahead + params_.end_distance) : params_.lookahead;
+  const Eigen::Vector2d g_robot = ahead * unit(dir_robot) + lane.value_or(v.centre_offset) * unit(dir_robot + 0.5 * kPi);
+  const Eigen::Vector2d g = apply(p.odom, g_robot);
+  if (!have_goal_ || (g - last_goal_).norm() > params_.goal_refresh_distance) {
+    last_goal_ = g;
+    have_goal_ = true;
+  }
+  d->has_goal = true;
+  d->x = last_goal_.x();
+  d->y = last_goal_.y();
+}
+
+void Coordinator::recordWaysNotTaken(bool sure, Decision* d) {
   // The ways not taken at the last turn, once the map builder has the turn's node.
   if (pending_branch_travel_ >= 0.0 && travel_ - pending_branch_travel_ >= params_.branch_record_distance) {
     if (sure) {
@@ -352,114 +392,128 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     pending_branches_.clear();
     pending_branch_travel_ = -1.0;
   }
+}
 
-  RouteStep route;
-  if (localized && sure) {
-    if (!mission_active_ && graph_.nodes().size() > 1 && graph_.unexploredCount() == 0 && pending_branches_.empty()) {
-      // Complete only if nothing was given up: an opening given up unreached counts as explored,
-      // and rooms behind it may be missing; a room left at its time limit is not all mapped.
-      if (stats_.openings_given_up > 0 || stats_.rooms_left_early > 0) {
-        finish(false, "no unexplored opening is left, but " + std::to_string(stats_.openings_given_up) +
-                          " opening(s) were given up unreached and " + std::to_string(stats_.rooms_left_early) +
-                          " room(s) left at their time limit", d);
-      } else {
-        finish(true, "no unexplored opening is left", d);
-      }
-      return;
+bool Coordinator::followRoute(const Perception& p, const TopoView& topo, RouteStep* out, Decision* d) {
+  RouteStep& route = *out;
+  if (!mission_active_ && graph_.nodes().size() > 1 && graph_.unexploredCount() == 0 && pending_branches_.empty()) {
+    // Complete only if nothing was given up: an opening given up unreached counts as explored,
+    // and rooms behind it may be missing; a room left at its time limit is not all mapped.
+    if (stats_.openings_given_up > 0 || stats_.rooms_left_early > 0) {
+      finish(false, "no unexplored opening is left, but " + std::to_string(stats_.openings_given_up) +
+                        " opening(s) were given up unreached and " + std::to_string(stats_.rooms_left_early) +
+                        " room(s) left at their time limit", d);
+    } else {
+      finish(true, "no unexplored opening is left", d);
     }
-    route = plan(topo.position);
-    if (mission_active_) {
-      if (!route.found) {
-        endMission(false, "no route on the topological map to the door of place " + std::to_string(mission_place_), d);
-        return;
-      }
-      const Eigen::Vector2d goal(mission_goal_.x, mission_goal_.y);
-      const Eigen::Vector2d door(mission_door_.opening.door_in_place[0], mission_door_.opening.door_in_place[1]);
-      mission_distance_left_ = route.distance + (goal - door).norm();
+    return true;
+  }
+  route = plan(topo.position);
+  if (mission_active_) {
+    if (!route.found) {
+      endMission(false, "no route on the topological map to the door of place " + std::to_string(mission_place_), d);
+      return true;
     }
-    // At the goal node with its opening to a side that never opens (a door the laser does not show
-    // again, a wide door taken for a branch): give it up once the robot has gone past, instead of
-    // turning round for it again and again (each U-turn on a hallway weakens the belief).
-    const int near = graph_.nearestNode(topo.position);
-    // Doors only: a hallway branch is never given up this way (the north half of institute lies
-    // behind one); the robot turns into it when its side opens (below).
-    const bool door_goal = route.goal_width > 0.0 && params_.rules.doorByWidth(route.goal_width);
-    // Counted from within kAtNodeDistance of it: the nearest node changes half-way along an edge
-    // (institute's printer door, 1.5 m before hall_north's east end: given up 3 m after the middle
-    // of its 6.5 m edge, before the robot had reached it or turned round at the end to pass it).
-    const bool at_goal = near >= 0 && uint32_t(near) == route.goal_node;
-    const bool close = at_goal && graph_.nearestNodeDistance(topo.position) <= kAtNodeDistance;
-    if (!mission_active_ && route.found && door_goal && at_goal && (goal_pass_node_ == near || close)) {
-      if (goal_pass_node_ != near) {
-        goal_pass_node_ = near;
-        goal_pass_travel_ = travel_;
-      } else if (travel_ - goal_pass_travel_ > params_.goal_pass_distance) {
+    const Eigen::Vector2d goal(mission_goal_.x, mission_goal_.y);
+    const Eigen::Vector2d door(mission_door_.opening.door_in_place[0], mission_door_.opening.door_in_place[1]);
+    mission_distance_left_ = route.distance + (goal - door).norm();
+  }
+  const int near = graph_.nearestNode(topo.position);
+  if (giveUpGoalPassed(topo, route, near, d)) return true;
+  return turnRoundForRoute(p, topo, route, near, d);
+}
+
+bool Coordinator::giveUpGoalPassed(const TopoView& topo, const RouteStep& route, int near, Decision* d) {
+  // At the goal node with its opening to a side that never opens (a door the laser does not show
+  // again, a wide door taken for a branch): give it up once the robot has gone past, instead of
+  // turning round for it again and again (each U-turn on a hallway weakens the belief).
+  // Doors only: a hallway branch is never given up this way (the north half of institute lies
+  // behind one); the robot turns into it when its side opens (below).
+  const bool door_goal = route.goal_width > 0.0 && params_.rules.doorByWidth(route.goal_width);
+  // Counted from within kAtNodeDistance of it: the nearest node changes half-way along an edge
+  // (institute's printer door, 1.5 m before hall_north's east end: given up 3 m after the middle
+  // of its 6.5 m edge, before the robot had reached it or turned round at the end to pass it).
+  const bool at_goal = near >= 0 && uint32_t(near) == route.goal_node;
+  const bool close = at_goal && graph_.nearestNodeDistance(topo.position) <= kAtNodeDistance;
+  if (!mission_active_ && route.found && door_goal && at_goal && (goal_pass_node_ == near || close)) {
+    if (goal_pass_node_ != near) {
+      goal_pass_node_ = near;
+      goal_pass_travel_ = travel_;
+    } else if (travel_ - goal_pass_travel_ > params_.goal_pass_distance) {
+      Request give_up;
+      give_up.kind = Request::RecordOpening;
+      give_up.node = near;
+      give_up.bearing = route.goal_bearing;
+      give_up.explored = true;
+      d->requests.push_back(give_up);
+      ++stats_.openings_given_up;
+      goal_pass_node_ = -1;
+      state_text_ = "passed node " + std::to_string(near) + " without finding its opening: given up";
+      return true;
+    }
+  } else if (near != goal_pass_node_) {
+    goal_pass_node_ = -1;
+  }
+  return false;
+}
+
+bool Coordinator::turnRoundForRoute(const Perception& p, const TopoView& topo, const RouteStep& route, int near,
+                                    Decision* d) {
+  // The route points back along the hallway: turn round (after a few ticks of agreement), but
+  // not for the node the robot is at: its door is entered once passed, or given up (above).
+  if (route.found && (near < 0 || uint32_t(near) != route.goal_node) &&
+      std::abs(normalizeAngle(route.heading - binHeading(bin_))) > 0.75 * kPi) {
+    // Not again soon after a turn: a belief flickering between two edges would swing the robot.
+    if (++route_behind_ticks_ >= 5 && travel_ - last_turn_travel_ > 3.0) {
+      route_behind_ticks_ = 0;
+      // An opening the robot keeps turning round for (it passes its node without taking it:
+      // the door is not seen, or the belief flickers) is given up after max_route_attempts.
+      const bool missed = ++route_attempts_[route.goal_node] > params_.max_route_attempts;
+      if (missed && mission_active_) {
+        const std::string why = "the door of place " + std::to_string(mission_place_) + " was not found at node " +
+                                std::to_string(route.goal_node) + " after " + std::to_string(params_.max_route_attempts) +
+                                " turns towards it";
+        // A confident belief that keeps missing the door is likely wrong (a look-alike stretch):
+        // global localization again (a uniform belief) rather than giving up or going on lost.
+        if (++mission_door_misses_ > params_.max_relocation_failures) {
+          endMission(false, why + ", " + std::to_string(mission_door_misses_) + " times", d);
+          return true;
+        }
+        route_attempts_.clear();
+        Request reset;
+        reset.kind = Request::ResetBelief;
+        d->requests.push_back(reset);
+        state_text_ = why + ": the belief is reset";
+        return true;
+      }
+      if (missed) {
         Request give_up;
         give_up.kind = Request::RecordOpening;
-        give_up.node = near;
+        give_up.node = int(route.goal_node);
         give_up.bearing = route.goal_bearing;
         give_up.explored = true;
         d->requests.push_back(give_up);
         ++stats_.openings_given_up;
-        goal_pass_node_ = -1;
-        state_text_ = "passed node " + std::to_string(near) + " without finding its opening: given up";
-        return;
+        route_attempts_.erase(route.goal_node);
+        state_text_ = "gave up an opening of node " + std::to_string(route.goal_node);
+        return true;
       }
-    } else if (near != goal_pass_node_) {
-      goal_pass_node_ = -1;
+      ++stats_.u_turns;
+      startTurn(bin_ + bins_.bins / 2, p, topo, {});
+      state_text_ = "turning round towards node " + std::to_string(route.goal_node) + " (" +
+                    std::to_string(route.distance) + " m, from " + (topo.position.at_node ? "node " : "edge ") +
+                    std::to_string(topo.position.id) + ")";
+      turnGoal(p, d);
+      return true;
     }
-    // The route points back along the hallway: turn round (after a few ticks of agreement), but
-    // not for the node the robot is at: its door is entered once passed, or given up (above).
-    if (route.found && (near < 0 || uint32_t(near) != route.goal_node) &&
-        std::abs(normalizeAngle(route.heading - binHeading(bin_))) > 0.75 * kPi) {
-      // Not again soon after a turn: a belief flickering between two edges would swing the robot.
-      if (++route_behind_ticks_ >= 5 && travel_ - last_turn_travel_ > 3.0) {
-        route_behind_ticks_ = 0;
-        // An opening the robot keeps turning round for (it passes its node without taking it:
-        // the door is not seen, or the belief flickers) is given up after max_route_attempts.
-        const bool missed = ++route_attempts_[route.goal_node] > params_.max_route_attempts;
-        if (missed && mission_active_) {
-          const std::string why = "the door of place " + std::to_string(mission_place_) + " was not found at node " +
-                                  std::to_string(route.goal_node) + " after " + std::to_string(params_.max_route_attempts) +
-                                  " turns towards it";
-          // A confident belief that keeps missing the door is likely wrong (a look-alike stretch):
-          // global localization again (a uniform belief) rather than giving up or going on lost.
-          if (++mission_door_misses_ > params_.max_relocation_failures) {
-            endMission(false, why + ", " + std::to_string(mission_door_misses_) + " times", d);
-            return;
-          }
-          route_attempts_.clear();
-          Request reset;
-          reset.kind = Request::ResetBelief;
-          d->requests.push_back(reset);
-          state_text_ = why + ": the belief is reset";
-          return;
-        }
-        if (missed) {
-          Request give_up;
-          give_up.kind = Request::RecordOpening;
-          give_up.node = int(route.goal_node);
-          give_up.bearing = route.goal_bearing;
-          give_up.explored = true;
-          d->requests.push_back(give_up);
-          ++stats_.openings_given_up;
-          route_attempts_.erase(route.goal_node);
-          state_text_ = "gave up an opening of node " + std::to_string(route.goal_node);
-          return;
-        }
-        ++stats_.u_turns;
-        startTurn(bin_ + bins_.bins / 2, p, topo, {});
-        state_text_ = "turning round towards node " + std::to_string(route.goal_node) + " (" +
-                      std::to_string(route.distance) + " m, from " + (topo.position.at_node ? "node " : "edge ") +
-                      std::to_string(topo.position.id) + ")";
-        turnGoal(p, d);
-        return;
-      }
-    } else {
-      route_behind_ticks_ = 0;
-    }
+  } else {
+    route_behind_ticks_ = 0;
   }
+  return false;
+}
 
+bool Coordinator::enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v,
+                                  Decision* d) {
   // Doors: entered once passed, if new (frontier) or known and unexplored, and the belief is sure.
   const HallwayDoors::Walls walls = doors_.track(p.odom, p.openings, dir_robot, v, travel_);
   DoorTrack door;
@@ -478,11 +532,15 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
                     door.sightings, rel.x(), rel.y(), wall);
       setState(State::StopForDoor, std::string("stopping at a door to enter the room") + where);
       d->stop = true;
-      return;
+      return true;
     }
     ++stats_.doors_passed;
   }
+  return false;
+}
 
+bool Coordinator::turnIntoRouteBranch(const Perception& p, const TopoView& topo, const RouteStep& route, bool sure,
+                                      double dir_robot, const HallwayView& v, Decision* d) {
   // A side branch the route takes at the node the robot is at now (the side must be open: the
   // branch's mouth is beside the robot).
   // A mission's goal is a door: entered once passed (above), never turned into like a branch.
@@ -519,41 +577,10 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
       state_text_ = "turning into the branch of node " + std::to_string(near) + " towards node " +
                     std::to_string(route.goal_node);
       turnGoal(p, d);
-      return;
+      return true;
     }
   }
-
-  // An obstacle ahead is no hallway end where the hallway's walls go on past it and a lane beside
-  // it is free as far (a pillar, a chair, a person): the robot keeps to that lane.
-  std::optional<double> lane;
-  if (v.free_ahead < params_.end_distance && !blocked) {
-    const double past = v.free_ahead + params_.end_distance;
-    const Lane l = freestLane(p.points, dir_robot, v, params_.room.planner.robot_radius + params_.room.planner.safety_margin);
-    if (v.wallsReach(past) && l.free > past) {
-      lane = l.lateral;
-      state_text_ = "passing an obstacle in the hallway";
-    }
-  }
-  if ((v.free_ahead < params_.end_distance && !lane) || blocked) {
-    decideAtEnd(p, topo, v, d);
-    if (blocked) state_text_ = "motion blocked: " + state_text_;
-    if (state_ == State::Turn) {
-      turnGoal(p, d);
-      return;
-    }
-  }
-
-  // The goal: lookahead metres ahead on the mid-line (past an obstacle, on the lane beside it).
-  const double ahead = lane ? std::max(params_.lookahead, v.free_ahead + params_.end_distance) : params_.lookahead;
-  const Eigen::Vector2d g_robot = ahead * unit(dir_robot) + lane.value_or(v.centre_offset) * unit(dir_robot + 0.5 * kPi);
-  const Eigen::Vector2d g = apply(p.odom, g_robot);
-  if (!have_goal_ || (g - last_goal_).norm() > params_.goal_refresh_distance) {
-    last_goal_ = g;
-    have_goal_ = true;
-  }
-  d->has_goal = true;
-  d->x = last_goal_.x();
-  d->y = last_goal_.y();
+  return false;
 }
 
 void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d) {

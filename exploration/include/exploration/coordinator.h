@@ -227,6 +227,16 @@ class Coordinator {
   /// (as seen, odometry frame); the verdict is pending from then on.
   void askRelocation(const laser_features::Pose2D& door_odom, const laser_features::Pose2D& robot_odom, Decision* d);
   void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
+  /// Pieces of follow(); those returning bool end the tick when true (a decision was made).
+  void recordWaysNotTaken(bool sure, Decision* d);  // the ways not taken at the last turn, at its node
+  /// On the known map with a sure belief: the route, the end of the exploration or mission, and a
+  /// turn round or an opening given up for it.
+  bool followRoute(const Perception& p, const TopoView& topo, RouteStep* route, Decision* d);
+  bool giveUpGoalPassed(const TopoView& topo, const RouteStep& route, int near, Decision* d);
+  bool turnRoundForRoute(const Perception& p, const TopoView& topo, const RouteStep& route, int near, Decision* d);
+  bool enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v, Decision* d);
+  bool turnIntoRouteBranch(const Perception& p, const TopoView& topo, const RouteStep& route, bool sure,
+                           double dir_robot, const HallwayView& v, Decision* d);
   void decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d);
   bool mayEnter(const TopoView& topo, const DoorTrack& door);
   /// Opening `o` is the opening at `bearing` (map frame, rad) measured `width` (m) wide.
