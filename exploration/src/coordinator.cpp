@@ -176,131 +176,20 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
   }
   switch (state_) {
     case State::Init:
-      d.stop = true;
-      if (topo.valid && topo.heading_valid && !topo.mode.empty()) {
-        bin_ = binOf(p.odom.theta + topo.heading_offset);
-        if (!params_.explore) {
-          setState(State::Idle, "waiting for a mission");
-          break;
-        }
-        const int along = startBin(p, topo);
-        const double back = normalizeAngle(odomHeadingOfBin(along + bins_.bins / 2, topo) - p.odom.theta);
-        const double free_back = freeDistance(p.points, back, params_.hallway.ahead_sector, 15.0);
-        if (topo.mode == "frontier" && free_back > params_.end_distance + 1.0) {
-          // The robot starts mid-hallway: the way behind it is an unexplored opening of the start node.
-          Request r;
-          r.kind = Request::RecordOpening;
-          r.bearing = binHeading(along + bins_.bins / 2);
-          d.requests.push_back(r);
-        }
-        if (along != bin_) startTurn(along, p, topo, {});
-        else setState(State::Follow, "following the hallway");
-      }
+      start(p, topo, &d);
       break;
     case State::Follow:
       follow(p, topo, motion_blocked, &d);
       break;
-    case State::Turn: {
-      // Turn on the spot where the robot is now: a position fixed when the turn was decided lies
-      // behind the robot once it has braked, and the controller would turn round to reach it.
-      turnGoal(p, &d);
-      const double err = std::abs(normalizeAngle(turn_odom_heading_ - p.odom.theta));
-      if ((motion_reached && err < 0.15) || err < 0.05 || (motion_blocked && err < 0.3)) {
-        bin_ = turn_bin_;
-        pending_branch_travel_ = travel_;
-        last_turn_travel_ = travel_;
-        have_goal_ = false;
-        setState(State::Follow, "following the hallway");
-      }
+    case State::Turn:
+      turn(p, motion_reached, motion_blocked, &d);
       break;
-    }
     case State::StopForDoor:
-      d.stop = true;
-      mode_ = CoordinatorMode::Switching;
-      if (mission_active_) {
-        if (now_ - state_since_ >= params_.settle_time) relocate(p, topo, &d);
-        break;
-      }
-      if (now_ - state_since_ >= params_.settle_time && enter_node_ < 0 && topo.mode != "frontier" &&
-          !mayEnter(topo, door_)) {
-        // Stopped for a door on a new stretch, and pomdp_topo has since made its node and taken it
-        // for a known one: a loop hypothesis (the check merges the node, the door explored, or
-        // rejects it, its opening unexplored and come back to), or a loop closed in the same scan
-        // (explore_restart: room_east mapped twice). Entered only as a known unexplored door
-        // (mayEnter); else on along the hallway.
-        mode_ = CoordinatorMode::Topological;
-        ++stats_.doors_passed;
-        setState(State::Follow, topo.mode == "loop_check" ? "door passed: pomdp_topo checks whether it is a known one"
-                                                          : "door passed: it is a known one (pomdp_topo closed a loop at it)");
-        break;
-      }
-      if (now_ - state_since_ >= params_.settle_time && enter_node_ < 0 && exploredAtFrontierNode(topo, door_)) {
-        // On a new stretch pomdp_topo took the door for one its current node has, explored: a door
-        // recorded at a junction a metre off its centre, seen again from it (large_floor: room_7_14,
-        // entered from the junction at a T, entered again from a stretch leaving it 5,600 s later).
-        mode_ = CoordinatorMode::Topological;
-        ++stats_.doors_passed;
-        setState(State::Follow, "door passed: the node's explored one");
-        break;
-      }
-      if (now_ - state_since_ >= params_.settle_time) {
-        // The door's node exists now (passed); the topological map stands still from here on.
-        mode_ = CoordinatorMode::Metric;
-        hallway_pose_odom_ = p.odom;
-        hallway_bin_ = bin_;
-        door_bearing_map_ = enter_bearing_;
-        Request rec;
-        rec.kind = Request::RecordOpening;
-        rec.node = enter_node_;
-        rec.bearing = door_bearing_map_;
-        rec.width = door_.width;
-        d.requests.push_back(rec);
-        Request create;
-        create.kind = Request::CreatePlace;
-        d.requests.push_back(create);
-        place_ok_ = false;
-        door_node_ = -1;
-        setState(State::EnterRoom, "creating a place for the room");
-      }
+      stopForDoor(p, topo, &d);
       break;
-    case State::EnterRoom: {
-      d.stop = true;
-      if (!place_ok_) {
-        // No place: the room cannot be mapped. Mark the door so it is not tried forever.
-        Request rec;
-        rec.kind = Request::RecordOpening;
-        rec.node = door_node_;
-        rec.bearing = door_bearing_map_;
-        rec.explored = true;
-        d.requests.push_back(rec);
-        mode_ = CoordinatorMode::Topological;
-        setState(State::Follow, "could not create a place: door skipped");
-        break;
-      }
-      // The place's origin is the robot's pose now (it stood still): the door in the robot frame is
-      // the door in the place.
-      place_origin_odom_ = p.odom;
-      hallway_in_place_ = Eigen::Vector2d::Zero();
-      const Pose2D robot_inv = inverse(p.odom);
-      const Eigen::Vector2d c = apply(robot_inv, door_.centre_odom);
-      door_in_place_ = Pose2D{c.x(), c.y(), normalizeAngle(door_.into_odom - p.odom.theta)};
-      exit_theta_place_ = normalizeAngle(odomHeadingOfBin(hallway_bin_, topo) - p.odom.theta);
-      Request add;
-      add.kind = Request::AddDoor;
-      add.door_id = std::max(0, door_node_);
-      add.place_id = place_id_;
-      add.pose = door_in_place_;
-      d.requests.push_back(add);
-      room_.start(door_in_place_, door_.width);
-      room_goal_.reset();
-      door_tracked_in_place_ = c;
-      door_seen_sum_ = Eigen::Vector2d::Zero();
-      door_seen_count_ = 0;
-      ++stats_.places;
-      ++stats_.doors_entered;
-      setState(State::ApproachDoor, "entering the room of place " + std::to_string(place_id_));
+    case State::EnterRoom:
+      enterRoom(p, topo, &d);
       break;
-    }
     case State::Relocate:
       relocate(p, topo, &d);
       break;
@@ -327,6 +216,131 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
   }
   d.mode = mode_;
   return d;
+}
+
+void Coordinator::start(const Perception& p, const TopoView& topo, Decision* d) {
+  d->stop = true;
+  if (topo.valid && topo.heading_valid && !topo.mode.empty()) {
+    bin_ = binOf(p.odom.theta + topo.heading_offset);
+    if (!params_.explore) {
+      setState(State::Idle, "waiting for a mission");
+      return;
+    }
+    const int along = startBin(p, topo);
+    const double back = normalizeAngle(odomHeadingOfBin(along + bins_.bins / 2, topo) - p.odom.theta);
+    const double free_back = freeDistance(p.points, back, params_.hallway.ahead_sector, 15.0);
+    if (topo.mode == "frontier" && free_back > params_.end_distance + 1.0) {
+      // The robot starts mid-hallway: the way behind it is an unexplored opening of the start node.
+      Request r;
+      r.kind = Request::RecordOpening;
+      r.bearing = binHeading(along + bins_.bins / 2);
+      d->requests.push_back(r);
+    }
+    if (along != bin_) startTurn(along, p, topo, {});
+    else setState(State::Follow, "following the hallway");
+  }
+}
+
+void Coordinator::turn(const Perception& p, bool motion_reached, bool motion_blocked, Decision* d) {
+  // Turn on the spot where the robot is now: a position fixed when the turn was decided lies
+  // behind the robot once it has braked, and the controller would turn round to reach it.
+  turnGoal(p, d);
+  const double err = std::abs(normalizeAngle(turn_odom_heading_ - p.odom.theta));
+  if ((motion_reached && err < 0.15) || err < 0.05 || (motion_blocked && err < 0.3)) {
+    bin_ = turn_bin_;
+    pending_branch_travel_ = travel_;
+    last_turn_travel_ = travel_;
+    have_goal_ = false;
+    setState(State::Follow, "following the hallway");
+  }
+}
+
+void Coordinator::stopForDoor(const Perception& p, const TopoView& topo, Decision* d) {
+  d->stop = true;
+  mode_ = CoordinatorMode::Switching;
+  if (mission_active_) {
+    if (now_ - state_since_ >= params_.settle_time) relocate(p, topo, d);
+    return;
+  }
+  if (now_ - state_since_ >= params_.settle_time && enter_node_ < 0 && topo.mode != "frontier" &&
+      !mayEnter(topo, door_)) {
+    // Stopped for a door on a new stretch, and pomdp_topo has since made its node and taken it
+    // for a known one: a loop hypothesis (the check merges the node, the door explored, or
+    // rejects it, its opening unexplored and come back to), or a loop closed in the same scan
+    // (explore_restart: room_east mapped twice). Entered only as a known unexplored door
+    // (mayEnter); else on along the hallway.
+    mode_ = CoordinatorMode::Topological;
+    ++stats_.doors_passed;
+    setState(State::Follow, topo.mode == "loop_check" ? "door passed: pomdp_topo checks whether it is a known one"
+                                                      : "door passed: it is a known one (pomdp_topo closed a loop at it)");
+    return;
+  }
+  if (now_ - state_since_ >= params_.settle_time && enter_node_ < 0 && exploredAtFrontierNode(topo, door_)) {
+    // On a new stretch pomdp_topo took the door for one its current node has, explored: a door
+    // recorded at a junction a metre off its centre, seen again from it (large_floor: room_7_14,
+    // entered from the junction at a T, entered again from a stretch leaving it 5,600 s later).
+    mode_ = CoordinatorMode::Topological;
+    ++stats_.doors_passed;
+    setState(State::Follow, "door passed: the node's explored one");
+    return;
+  }
+  if (now_ - state_since_ >= params_.settle_time) {
+    // The door's node exists now (passed); the topological map stands still from here on.
+    mode_ = CoordinatorMode::Metric;
+    hallway_pose_odom_ = p.odom;
+    hallway_bin_ = bin_;
+    door_bearing_map_ = enter_bearing_;
+    Request rec;
+    rec.kind = Request::RecordOpening;
+    rec.node = enter_node_;
+    rec.bearing = door_bearing_map_;
+    rec.width = door_.width;
+    d->requests.push_back(rec);
+    Request create;
+    create.kind = Request::CreatePlace;
+    d->requests.push_back(create);
+    place_ok_ = false;
+    door_node_ = -1;
+    setState(State::EnterRoom, "creating a place for the room");
+  }
+}
+
+void Coordinator::enterRoom(const Perception& p, const TopoView& topo, Decision* d) {
+  d->stop = true;
+  if (!place_ok_) {
+    // No place: the room cannot be mapped. Mark the door so it is not tried forever.
+    Request rec;
+    rec.kind = Request::RecordOpening;
+    rec.node = door_node_;
+    rec.bearing = door_bearing_map_;
+    rec.explored = true;
+    d->requests.push_back(rec);
+    mode_ = CoordinatorMode::Topological;
+    setState(State::Follow, "could not create a place: door skipped");
+    return;
+  }
+  // The place's origin is the robot's pose now (it stood still): the door in the robot frame is
+  // the door in the place.
+  place_origin_odom_ = p.odom;
+  hallway_in_place_ = Eigen::Vector2d::Zero();
+  const Pose2D robot_inv = inverse(p.odom);
+  const Eigen::Vector2d c = apply(robot_inv, door_.centre_odom);
+  door_in_place_ = Pose2D{c.x(), c.y(), normalizeAngle(door_.into_odom - p.odom.theta)};
+  exit_theta_place_ = normalizeAngle(odomHeadingOfBin(hallway_bin_, topo) - p.odom.theta);
+  Request add;
+  add.kind = Request::AddDoor;
+  add.door_id = std::max(0, door_node_);
+  add.place_id = place_id_;
+  add.pose = door_in_place_;
+  d->requests.push_back(add);
+  room_.start(door_in_place_, door_.width);
+  room_goal_.reset();
+  door_tracked_in_place_ = c;
+  door_seen_sum_ = Eigen::Vector2d::Zero();
+  door_seen_count_ = 0;
+  ++stats_.places;
+  ++stats_.doors_entered;
+  setState(State::ApproachDoor, "entering the room of place " + std::to_string(place_id_));
 }
 
 void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d) {

@@ -227,6 +227,12 @@ class Coordinator {
   /// (as seen, odometry frame); the verdict is pending from then on.
   void askRelocation(const laser_features::Pose2D& door_odom, const laser_features::Pose2D& robot_odom, Decision* d);
   void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
+  // The states' steps of update(): the start (which way to set off), a turn on the spot, the stop
+  // at a door (enter it, or on if pomdp_topo took it for a known one), a place created for the room.
+  void start(const Perception& p, const TopoView& topo, Decision* d);
+  void turn(const Perception& p, bool motion_reached, bool motion_blocked, Decision* d);
+  void stopForDoor(const Perception& p, const TopoView& topo, Decision* d);
+  void enterRoom(const Perception& p, const TopoView& topo, Decision* d);
   /// Pieces of follow(); those returning bool end the tick when true (a decision was made).
   void recordWaysNotTaken(bool sure, Decision* d);  // the ways not taken at the last turn, at its node
   /// On the known map with a sure belief: the route, the end of the exploration or mission, and a
