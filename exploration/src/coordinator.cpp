@@ -810,61 +810,69 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
   // Near its door the robot passes it (the door's steps lie 0.6-0.7 m either side of it): the
   // controller keeps a clearance that fits the door.
   if ((robot - door).norm() < kDoorPassage) d->passage_width = door_.width;
-  if (state_ == State::ApproachDoor) {
-    // In front of the door on its axis, facing in, before going through.
-    const Eigen::Vector2d a = door - 0.6 * into;
-    goalInPlace(p, a, door_in_place_.theta, d);
-    if ((robot - a).norm() < 0.15 || now_ - state_since_ > 30.0) {
-      if (mission_active_) {
-        beginGoToGoal("driving to the mission's goal in place " + std::to_string(place_id_), false);
-      } else {
-        // The place's door in the EKF stays the door as tracked from the hallway: a mission's
-        // relocation measures the robot from the door tracked the same way, so their biases cancel
-        // (with the door as seen stored instead, one small_loop relocation failed three times,
-        // jointly incompatible). The door as seen is what the graph links: the way in.
-        const double shift = (Eigen::Vector2d(door_in_place_.x, door_in_place_.y) - door_tracked_in_place_).norm();
-        char text[96];
-        std::snprintf(text, sizeof(text), "exploring the room (its door refined by %.2f m)", shift);
-        setState(State::Room, shift > 0.0 ? text : "exploring the room");
-      }
-    }
-    return;
-  }
+  if (state_ == State::ApproachDoor) return approachDoor(p, robot, door, into, d);
   last_room_position_ = robot;
   if (state_ == State::GoToGoal) {
     missionGoal(p, d);
     return;
   }
-  if (state_ == State::Room) {
-    // Other doors seen from inside the room are closed with a virtual wall: the room's map stays
-    // the room's (they remain openings of the place).
-    for (const auto& o : p.openings) {
-      if (!params_.rules.isDoor(o.width, o.room_behind)) continue;
-      const Eigen::Vector2d l = apply(p.room_pose, o.left), r = apply(p.room_pose, o.right);
-      if ((0.5 * (l + r) - door).norm() < 0.8) continue;
-      room_.blockOpening(l, r);
+  if (state_ == State::Room) return coverRoom(p, robot, door, d);
+  leaveRoom(p, robot, door, into, d);
+}
+
+void Coordinator::approachDoor(const Perception& p, const Eigen::Vector2d& robot, const Eigen::Vector2d& door,
+                               const Eigen::Vector2d& into, Decision* d) {
+  // In front of the door on its axis, facing in, before going through.
+  const Eigen::Vector2d a = door - 0.6 * into;
+  goalInPlace(p, a, door_in_place_.theta, d);
+  if ((robot - a).norm() < 0.15 || now_ - state_since_ > 30.0) {
+    if (mission_active_) {
+      beginGoToGoal("driving to the mission's goal in place " + std::to_string(place_id_), false);
+    } else {
+      // The place's door in the EKF stays the door as tracked from the hallway: a mission's
+      // relocation measures the robot from the door tracked the same way, so their biases cancel
+      // (with the door as seen stored instead, one small_loop relocation failed three times,
+      // jointly incompatible). The door as seen is what the graph links: the way in.
+      const double shift = (Eigen::Vector2d(door_in_place_.x, door_in_place_.y) - door_tracked_in_place_).norm();
+      char text[96];
+      std::snprintf(text, sizeof(text), "exploring the room (its door refined by %.2f m)", shift);
+      setState(State::Room, shift > 0.0 ? text : "exploring the room");
     }
-    if (now_ - last_room_plan_ >= params_.room_replan_period || !room_goal_) {
-      last_room_plan_ = now_;
-      room_goal_ = room_.nextGoal(robot, now_);
-    }
-    const auto& g = room_goal_;
-    const bool timeout = now_ - state_since_ > params_.room_time_limit;
-    if (room_.status() == RoomStatus::Done || room_.status() == RoomStatus::Invalid || timeout) {
-      if (timeout) ++stats_.rooms_left_early;
-      stats_.room_free_area += room_.freeArea();
-      stats_.peak_room_bytes = std::max(stats_.peak_room_bytes, room_.bytes());
-      exit_path_.clear();
-      exit_index_ = 0;
-      exit_attempts_ = 0;
-      if (auto path = room_.pathToExit(robot)) exit_path_ = path->waypoints;
-      setState(State::ExitPath, "leaving the room by its door");
-      return;
-    }
-    if (g) goalInPlace(p, *g, std::nullopt, d);
-    else d->stop = true;
+  }
+}
+
+void Coordinator::coverRoom(const Perception& p, const Eigen::Vector2d& robot, const Eigen::Vector2d& door, Decision* d) {
+  // Other doors seen from inside the room are closed with a virtual wall: the room's map stays
+  // the room's (they remain openings of the place).
+  for (const auto& o : p.openings) {
+    if (!params_.rules.isDoor(o.width, o.room_behind)) continue;
+    const Eigen::Vector2d l = apply(p.room_pose, o.left), r = apply(p.room_pose, o.right);
+    if ((0.5 * (l + r) - door).norm() < 0.8) continue;
+    room_.blockOpening(l, r);
+  }
+  if (now_ - last_room_plan_ >= params_.room_replan_period || !room_goal_) {
+    last_room_plan_ = now_;
+    room_goal_ = room_.nextGoal(robot, now_);
+  }
+  const auto& g = room_goal_;
+  const bool timeout = now_ - state_since_ > params_.room_time_limit;
+  if (room_.status() == RoomStatus::Done || room_.status() == RoomStatus::Invalid || timeout) {
+    if (timeout) ++stats_.rooms_left_early;
+    stats_.room_free_area += room_.freeArea();
+    stats_.peak_room_bytes = std::max(stats_.peak_room_bytes, room_.bytes());
+    exit_path_.clear();
+    exit_index_ = 0;
+    exit_attempts_ = 0;
+    if (auto path = room_.pathToExit(robot)) exit_path_ = path->waypoints;
+    setState(State::ExitPath, "leaving the room by its door");
     return;
   }
+  if (g) goalInPlace(p, *g, std::nullopt, d);
+  else d->stop = true;
+}
+
+void Coordinator::leaveRoom(const Perception& p, const Eigen::Vector2d& robot, const Eigen::Vector2d& door,
+                            const Eigen::Vector2d& into, Decision* d) {
   if (state_ == State::ExitPath) {
     while (exit_index_ < exit_path_.size() && (exit_path_[exit_index_] - robot).norm() < 0.3) ++exit_index_;
     if (exit_index_ >= exit_path_.size() || now_ - state_since_ > params_.exit_time_limit) {

@@ -227,6 +227,13 @@ class Coordinator {
   /// (as seen, odometry frame); the verdict is pending from then on.
   void askRelocation(const laser_features::Pose2D& door_odom, const laser_features::Pose2D& robot_odom, Decision* d);
   void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
+  // The steps of roomStep() (place frame: the robot's position, the door's centre and the direction
+  // into the room): to the door on its axis, the room's coverage, the way out.
+  void approachDoor(const Perception& p, const Eigen::Vector2d& robot, const Eigen::Vector2d& door,
+                    const Eigen::Vector2d& into, Decision* d);
+  void coverRoom(const Perception& p, const Eigen::Vector2d& robot, const Eigen::Vector2d& door, Decision* d);
+  void leaveRoom(const Perception& p, const Eigen::Vector2d& robot, const Eigen::Vector2d& door,
+                 const Eigen::Vector2d& into, Decision* d);
   // The states' steps of update(): the start (which way to set off), a turn on the spot, the stop
   // at a door (enter it, or on if pomdp_topo took it for a known one), a place created for the room.
   void start(const Perception& p, const TopoView& topo, Decision* d);
