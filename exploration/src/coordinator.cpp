@@ -87,9 +87,10 @@ int Coordinator::binOf(double map_heading) const { return bins_.bin(map_heading)
 
 std::optional<int> Coordinator::startHallwayAxis(const Perception& p, const TopoView& topo) const {
   // The hallway the robot starts in runs between the nearest walls beside it: of the two axes, the
-  // one whose parallel wall lines enclose the robot most narrowly, each within wall_max_lateral. A
-  // view through a door ahead is no hallway however deep: the door's wall runs on both sides of
-  // the door, beside the robot, and the room's far wall is beyond a hallway's half-width.
+  // one whose parallel wall lines enclose the robot most narrowly, within a hallway's width
+  // (BuildingRules::hallway_max_width, the robot anywhere across it). A view through a door ahead is
+  // no hallway however deep: the door's wall runs on both sides of the door, beside the robot, and
+  // the room's far wall and the hallway's wall behind the robot are farther apart than that.
   const HallwayViewParams& hp = params_.hallway;
   const int quarter = bins_.bins / 4;
   std::optional<int> best;
@@ -102,14 +103,14 @@ std::optional<int> Coordinator::startHallwayAxis(const Perception& p, const Topo
       const Eigen::Vector2d d = l.end - l.start;
       if (d.norm() < hp.wall_min_length) continue;
       if (std::abs(laser_features::cross2(u, d.normalized())) > std::sin(hp.wall_parallel_tolerance)) continue;
-      // Beside the robot: the segment reaches within a hallway's half-width of it along the axis.
+      // Beside the robot: the segment reaches within a hallway's width of it along the axis.
+      const double widest = params_.rules.hallway_max_width;
       const double a0 = u.dot(l.start), a1 = u.dot(l.end);
-      if (std::min(a0, a1) > hp.wall_max_lateral || std::max(a0, a1) < -hp.wall_max_lateral) continue;
+      if (std::min(a0, a1) > widest || std::max(a0, a1) < -widest) continue;
       const double offset = n.dot(0.5 * (l.start + l.end));
-      if (std::abs(offset) > hp.wall_max_lateral) continue;
       (offset > 0.0 ? left : right) = std::min(offset > 0.0 ? left : right, std::abs(offset));
     }
-    if (left + right < best_width) {
+    if (left + right <= params_.rules.hallway_max_width + params_.rules.width_tolerance && left + right < best_width) {
       best_width = left + right;
       best = axis;
     }

@@ -37,6 +37,7 @@ struct Hallway {
   double right_door_x = -1e9;         // a door on the right too (0.9 m wide), if set
   double right_door_far_shift = 0.0;  // seen from farther than 2.5 m, it appears this far further along
   double pillar_x = -1e9;             // a pillar of radius 0.15 m on the mid-line, if set
+  double right_wall = -1.0;           // y of the right wall (a wider hallway, the robot off its middle)
 
   Perception perceive(double x, double t) const {
     Perception p;
@@ -64,8 +65,8 @@ struct Hallway {
     wall(-20.0, door_x - half, 1.0);
     wall(door_x + half, 40.0, 1.0);
     const bool right_door = right_door_x > -1e8;
-    wall(-20.0, right_door ? right_door_x - 0.45 : 40.0, -1.0);
-    if (right_door) wall(right_door_x + 0.45, 40.0, -1.0);
+    wall(-20.0, right_door ? right_door_x - 0.45 : 40.0, right_wall);
+    if (right_door) wall(right_door_x + 0.45, 40.0, right_wall);
     if (pillar_x > -1e8 && std::abs(pillar_x - x) < 8.0) {
       for (int k = 0; k < 48; ++k) p.points.emplace_back(pillar_x - x + 0.15 * std::cos(k * kPi / 24), 0.15 * std::sin(k * kPi / 24));
     }
@@ -931,22 +932,28 @@ TEST(Coordinator, AWayOutThatEndsInsideTheRoomIsTriedAgainAndNeverTakenForTheHal
 // Generated buildings 12 and 20: the robot started facing a double door across the hallway, the
 // view through it (a room 4 m deep) was longer than the hallway either way, and the robot set off
 // into the room as along a hallway. The hallway it stands in runs between the walls beside it.
+// Also in a 3.6 m hallway with the robot 1 m from the door's wall (2.6 m from the other: more than
+// half of any hallway's width).
 TEST(Coordinator, AStartFacingADoubleDoorAcrossAShortHallwaySetsOffAlongTheHallway) {
-  Hallway h;
-  h.door_width = 1.6;
-  Perception p = perceiveFacing(h, h.door_x, 0.5 * kPi - 0.37);
-  // The hallway ends 3 m either way (end walls seen as points only).
-  const Eigen::Rotation2Dd to_robot(-(0.5 * kPi - 0.37));
-  for (double y = -1.0; y <= 1.0; y += 0.05) {
-    p.points.push_back(to_robot * Eigen::Vector2d(3.0, y));
-    p.points.push_back(to_robot * Eigen::Vector2d(-3.0, y));
+  for (const double right_wall : {-1.0, -2.6}) {
+    SCOPED_TRACE(right_wall);
+    Hallway h;
+    h.door_width = 1.6;
+    h.right_wall = right_wall;
+    Perception p = perceiveFacing(h, h.door_x, 0.5 * kPi - 0.37);
+    // The hallway ends 3 m either way (end walls seen as points only).
+    const Eigen::Rotation2Dd to_robot(-(0.5 * kPi - 0.37));
+    for (double y = right_wall; y <= 1.0; y += 0.05) {
+      p.points.push_back(to_robot * Eigen::Vector2d(3.0, y));
+      p.points.push_back(to_robot * Eigen::Vector2d(-3.0, y));
+    }
+    Coordinator c;
+    c.update(p, view("frontier", true), false, false);  // the start: decides
+    const Decision d = c.update(p, view("frontier", true), false, false);
+    ASSERT_TRUE(d.has_goal && d.theta.has_value()) << c.state();
+    EXPECT_EQ(c.state(), "turning");
+    EXPECT_LT(std::abs(std::sin(*d.theta)), 1e-9) << *d.theta;  // along x, one way or the other
   }
-  Coordinator c;
-  c.update(p, view("frontier", true), false, false);  // the start: decides
-  const Decision d = c.update(p, view("frontier", true), false, false);
-  ASSERT_TRUE(d.has_goal && d.theta.has_value()) << c.state();
-  EXPECT_EQ(c.state(), "turning");
-  EXPECT_LT(std::abs(std::sin(*d.theta)), 1e-9) << *d.theta;  // along x, one way or the other
 }
 
 // "Complete" only when nothing was given up: a room left at its time limit is not all mapped, so

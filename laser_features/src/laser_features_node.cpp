@@ -33,6 +33,8 @@ FeatureExtractor::Params readParams(const ros::NodeHandle& nh, const ros::NodeHa
   visitParams(&p, RosParamReader{pnh});
   p.openings.rules = readBuildingRules(nh);
   p.openings.robot_radius = readRobotFootprint(nh).radius;
+  // The hallway score's width term falls to 0 at the widest hallway (config/building.yaml).
+  p.place.hallway_max_width = p.openings.rules.hallway_max_width - p.place.width_softness;
   return p;
 }
 

@@ -27,6 +27,7 @@ struct BuildingRules {
   double door_min_width = 0.7;     // m, narrowest door (and opening) there is: the narrowest single door
   double door_max_width = 1.8;     // m, widest door: the widest double door
   double hallway_min_width = 1.5;  // m, narrowest hallway
+  double hallway_max_width = 4.0;  // m, widest hallway (an open hall or lobby is wider)
   double width_tolerance = 0.1;    // m, a measured opening's width may be this much off the true one
 
   /// No hallway's mouth is this narrow: an opening of this width is a door by its width alone
@@ -66,6 +67,8 @@ struct BuildingRules {
       return fail("building/door_min_width and building/door_max_width must satisfy 0 < min < max");
     if (!(hallway_min_width > door_min_width))
       return fail("building/hallway_min_width must be above building/door_min_width");
+    if (!(hallway_max_width > hallway_min_width))
+      return fail("building/hallway_max_width must be above building/hallway_min_width");
     if (!(width_tolerance >= 0.0 && width_tolerance < hallway_min_width - door_min_width))
       return fail("building/width_tolerance must be in [0, hallway_min_width - door_min_width)");
     return true;
@@ -78,6 +81,7 @@ void visitBuildingRules(BuildingRules* r, Visitor&& visit) {
   visit("door_min_width", &r->door_min_width);
   visit("door_max_width", &r->door_max_width);
   visit("hallway_min_width", &r->hallway_min_width);
+  visit("hallway_max_width", &r->hallway_max_width);
   visit("width_tolerance", &r->width_tolerance);
 }
 

@@ -42,7 +42,6 @@ void visitParams(FeatureExtractorParams* p, Visitor&& visit) {
   visit("openings/hallway_step_max_offset", &p->openings.hallway_step_max_offset);
   visit("openings/duplicate_distance", &p->openings.duplicate_distance);
   visit("place/horizon", &p->place.horizon);
-  visit("place/hallway_max_width", &p->place.hallway_max_width);
   visit("place/width_softness", &p->place.width_softness);
   visit("place/min_elongation", &p->place.min_elongation);
   visit("place/full_elongation", &p->place.full_elongation);

@@ -35,7 +35,8 @@ struct PlaceEstimate {
 /// Parameters of PlaceClassifier (each with its unit and default).
 struct PlaceClassifierParams {
   double horizon = 8.0;            // m, ranges and no-return beams are clipped here
-  double hallway_max_width = 3.5;  // m, free space wider than this (+ softness) is no hallway
+  double hallway_max_width = 3.5;  // m, free space wider than this (+ softness) is no hallway: the node
+                                   // sets building/hallway_max_width - width_softness (the score is 0 at the widest hallway)
   double width_softness = 0.5;     // m, half-width of the soft width threshold
   double min_elongation = 2.0;     // -, L/W at which the hallway score starts to rise
   double full_elongation = 3.5;    // -, L/W at which the elongation score reaches 1
