@@ -17,16 +17,23 @@ namespace {
 
 using laser_features::BuildingRules;
 
-TEST(BuildingRules, TheYamlHoldsEveryRuleWithTheCodesDefault) {
-  const YAML::Node root = YAML::LoadFile(std::string(CONFIG_DIR) + "/building.yaml");
-  BuildingRules rules;
+/// config/<file> holds every value `visit` visits in `values`, with its default there, and no other.
+template <typename T, typename Visit>
+void expectTheYamlHoldsTheDefaults(const std::string& file, T* values, Visit visit) {
+  const YAML::Node root = YAML::LoadFile(std::string(CONFIG_DIR) + "/" + file);
   std::set<std::string> visited;
-  laser_features::visitBuildingRules(&rules, [&](const char* name, double* value) {
+  visit(values, [&](const char* name, double* value) {
     visited.insert(name);
-    ASSERT_TRUE(root[name].IsDefined()) << name << " is not in building.yaml";
+    ASSERT_TRUE(root[name].IsDefined()) << name << " is not in " << file;
     EXPECT_DOUBLE_EQ(root[name].as<double>(), *value) << name;
   });
   for (const auto& kv : root) EXPECT_TRUE(visited.count(kv.first.as<std::string>())) << "unknown key " << kv.first;
+}
+
+TEST(BuildingRules, TheYamlHoldsEveryRuleWithTheCodesDefault) {
+  BuildingRules rules;
+  expectTheYamlHoldsTheDefaults("building.yaml", &rules,
+                                [](BuildingRules* r, auto&& f) { laser_features::visitBuildingRules(r, f); });
 }
 
 /// Every key (at any depth, "a/b" for nested ones) of a YAML node.
@@ -64,15 +71,10 @@ TEST(BuildingRules, NoNodesYamlRestatesThem) {
 // The robot's footprint lives once too: config/robot.yaml with the code's defaults, and no node's
 // YAML holds a radius or a safety margin of its own.
 TEST(RobotFootprint, TheYamlHoldsItWithTheCodesDefaultAndNoNodesYamlRestatesIt) {
-  const YAML::Node root = YAML::LoadFile(std::string(CONFIG_DIR) + "/robot.yaml");
   laser_features::RobotFootprint footprint;
-  std::set<std::string> visited;
-  laser_features::visitRobotFootprint(&footprint, [&](const char* name, double* value) {
-    visited.insert(name);
-    ASSERT_TRUE(root[name].IsDefined()) << name << " is not in robot.yaml";
-    EXPECT_DOUBLE_EQ(root[name].as<double>(), *value) << name;
+  expectTheYamlHoldsTheDefaults("robot.yaml", &footprint, [](laser_features::RobotFootprint* r, auto&& f) {
+    laser_features::visitRobotFootprint(r, f);
   });
-  for (const auto& kv : root) EXPECT_TRUE(visited.count(kv.first.as<std::string>())) << "unknown key " << kv.first;
   EXPECT_TRUE(footprint.valid());
   for (const auto& entry : std::filesystem::directory_iterator(CONFIG_DIR)) {
     const std::string name = entry.path().filename().string();

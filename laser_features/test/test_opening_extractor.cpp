@@ -164,9 +164,9 @@ TEST(OpeningExtractor, AHallwayAsNarrowAsADoubleDoorIsAJunctionSquareOrSlanted) 
 
 TEST(OpeningExtractor, TheNarrowestDoorAndTwoDoorsOnePointTwoMetresApartAreDoors) {
   std::mt19937 rng(13);
-  World world = hallwayWithSideDoor(10.0, 0.7);
-  // A second room and door to the right: the doors' centres 1.2 m apart on one wall.
-  world.walls.clear();
+  // A hallway along x (y in [0, 2]) with a 0.7 m door at x = 10 and a 0.9 m door at x = 11.2 in its
+  // upper wall, into two rooms divided at x = 10.55: the doors' centres 1.2 m apart on one wall.
+  World world;
   world.addWall(0, 0, 30, 0);
   world.addWall(0, 2, 9.65, 2);
   world.addWall(10.35, 2, 10.75, 2);

@@ -14,23 +14,25 @@
 
 namespace laser_features {
 
-/// Throws std::invalid_argument naming the parameter when the rules are out of range.
-inline BuildingRules readBuildingRules(const ros::NodeHandle& nh) {
-  BuildingRules rules;
-  visitBuildingRules(&rules, [&](const char* name, double* value) { nh.param(std::string("building/") + name, *value, *value); });
+/// A shared parameter set T from the namespace `ns`, its values visited by `visit(T*, f)`; throws
+/// std::invalid_argument naming the parameter when T::valid says it is out of range.
+template <typename T, typename Visit>
+T readShared(const ros::NodeHandle& nh, const std::string& ns, Visit visit) {
+  T values;
+  visit(&values, [&](const char* name, double* value) { nh.param(ns + "/" + name, *value, *value); });
   std::string why;
-  if (!rules.valid(&why)) throw std::invalid_argument(why);
-  return rules;
+  if (!values.valid(&why)) throw std::invalid_argument(why);
+  return values;
 }
 
-/// The robot's footprint from the `robot` namespace (config/robot.yaml), the same way; throws
-/// std::invalid_argument naming the parameter when it is out of range.
+/// The building rules (config/building.yaml, the `building` namespace).
+inline BuildingRules readBuildingRules(const ros::NodeHandle& nh) {
+  return readShared<BuildingRules>(nh, "building", [](BuildingRules* r, auto&& f) { visitBuildingRules(r, f); });
+}
+
+/// The robot's footprint (config/robot.yaml, the `robot` namespace).
 inline RobotFootprint readRobotFootprint(const ros::NodeHandle& nh) {
-  RobotFootprint footprint;
-  visitRobotFootprint(&footprint, [&](const char* name, double* value) { nh.param(std::string("robot/") + name, *value, *value); });
-  std::string why;
-  if (!footprint.valid(&why)) throw std::invalid_argument(why);
-  return footprint;
+  return readShared<RobotFootprint>(nh, "robot", [](RobotFootprint* r, auto&& f) { visitRobotFootprint(r, f); });
 }
 
 }  // namespace laser_features
