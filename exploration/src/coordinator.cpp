@@ -88,9 +88,11 @@ int Coordinator::binOf(double map_heading) const { return bins_.bin(map_heading)
 std::optional<int> Coordinator::startHallwayAxis(const Perception& p, const TopoView& topo) const {
   // The hallway the robot starts in runs between the nearest walls beside it: of the two axes, the
   // one whose parallel wall lines enclose the robot most narrowly, within a hallway's width
-  // (BuildingRules::hallway_max_width, the robot anywhere across it). A view through a door ahead is
-  // no hallway however deep: the door's wall runs on both sides of the door, beside the robot, and
-  // the room's far wall and the hallway's wall behind the robot are farther apart than that.
+  // (BuildingRules::hallway_max_width, the robot anywhere across it). Beside: a wall reaches within
+  // half the widest door of the robot along the axis (a door's wall does, on both sides of the door
+  // the robot may stand in front of). A view through a door ahead is no hallway however deep: the
+  // room's side walls begin beyond the hallway's wall, its far wall and the hallway's wall behind
+  // the robot are farther apart than a hallway is wide.
   const HallwayViewParams& hp = params_.hallway;
   const int quarter = bins_.bins / 4;
   std::optional<int> best;
@@ -103,10 +105,9 @@ std::optional<int> Coordinator::startHallwayAxis(const Perception& p, const Topo
       const Eigen::Vector2d d = l.end - l.start;
       if (d.norm() < hp.wall_min_length) continue;
       if (std::abs(laser_features::cross2(u, d.normalized())) > std::sin(hp.wall_parallel_tolerance)) continue;
-      // Beside the robot: the segment reaches within a hallway's width of it along the axis.
-      const double widest = params_.rules.hallway_max_width;
+      const double beside = 0.5 * params_.rules.door_max_width + params_.rules.width_tolerance;
       const double a0 = u.dot(l.start), a1 = u.dot(l.end);
-      if (std::min(a0, a1) > widest || std::max(a0, a1) < -widest) continue;
+      if (std::min(a0, a1) > beside || std::max(a0, a1) < -beside) continue;
       const double offset = n.dot(0.5 * (l.start + l.end));
       (offset > 0.0 ? left : right) = std::min(offset > 0.0 ? left : right, std::abs(offset));
     }

@@ -933,7 +933,8 @@ TEST(Coordinator, AWayOutThatEndsInsideTheRoomIsTriedAgainAndNeverTakenForTheHal
 // view through it (a room 4 m deep) was longer than the hallway either way, and the robot set off
 // into the room as along a hallway. The hallway it stands in runs between the walls beside it.
 // Also in a 3.6 m hallway with the robot 1 m from the door's wall (2.6 m from the other: more than
-// half of any hallway's width).
+// half of any hallway's width), and with the side walls of a room 2.8 m wide (narrower than that
+// hallway) seen through the door.
 TEST(Coordinator, AStartFacingADoubleDoorAcrossAShortHallwaySetsOffAlongTheHallway) {
   for (const double right_wall : {-1.0, -2.6}) {
     SCOPED_TRACE(right_wall);
@@ -941,6 +942,13 @@ TEST(Coordinator, AStartFacingADoubleDoorAcrossAShortHallwaySetsOffAlongTheHallw
     h.door_width = 1.6;
     h.right_wall = right_wall;
     Perception p = perceiveFacing(h, h.door_x, 0.5 * kPi - 0.37);
+    for (const double side : {-1.4, 1.4}) {  // the room's side walls, from 1.2 m behind its door
+      laser_features::LineSegment l;
+      const Eigen::Rotation2Dd rot(-(0.5 * kPi - 0.37));
+      l.start = rot * Eigen::Vector2d(side, 2.2);
+      l.end = rot * Eigen::Vector2d(side, 4.9);
+      p.lines.push_back(l);
+    }
     // The hallway ends 3 m either way (end walls seen as points only).
     const Eigen::Rotation2Dd to_robot(-(0.5 * kPi - 0.37));
     for (double y = right_wall; y <= 1.0; y += 0.05) {
