@@ -9,32 +9,26 @@ using laser_features::inverse;
 using laser_features::kPi;
 using laser_features::normalizeAngle;
 using laser_features::Pose2D;
-
-namespace {
-
-Eigen::Vector2d apply(const Pose2D& frame, const Eigen::Vector2d& p) { return laser_features::transformPoint(frame, p); }
-
-Eigen::Vector2d unit(double a) { return Eigen::Vector2d(std::cos(a), std::sin(a)); }
-
-}  // namespace
+using laser_features::transformPoint;
+using laser_features::unitVector;
 
 std::optional<double> HallwayDoors::wallLateral(const Pose2D& odom, double dir_robot, const HallwayView& v, int side,
                                                 double travel) {
   const bool seen = side == 0 ? v.left_wall : v.right_wall;
   const double lateral = side == 0 ? v.left_lateral : -v.right_lateral;
-  const Eigen::Vector2d nrm = unit(dir_robot + (side == 0 ? 0.5 : -0.5) * kPi);  // robot frame, towards the side
+  const Eigen::Vector2d nrm = unitVector(dir_robot + (side == 0 ? 0.5 : -0.5) * kPi);  // robot frame, towards the side
   if (seen) {
-    wall_seen_odom_[side] = apply(odom, Eigen::Vector2d(lateral * nrm));
+    wall_seen_odom_[side] = transformPoint(odom, Eigen::Vector2d(lateral * nrm));
     wall_seen_travel_[side] = travel;
     return lateral;
   }
   if (!wall_seen_odom_[side] || travel - wall_seen_travel_[side] > params_.wall_memory) return std::nullopt;
-  return apply(inverse(odom), *wall_seen_odom_[side]).dot(nrm);
+  return transformPoint(inverse(odom), *wall_seen_odom_[side]).dot(nrm);
 }
 
 HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<laser_features::Opening>& openings,
                                         double dir_robot, const HallwayView& v, double travel) {
-  const Eigen::Vector2d nrm = unit(dir_robot + 0.5 * kPi);
+  const Eigen::Vector2d nrm = unitVector(dir_robot + 0.5 * kPi);
   const Walls walls{{wallLateral(odom, dir_robot, v, 0, travel), wallLateral(odom, dir_robot, v, 1, travel)}};
   for (const auto& o : openings) {
     // Every opening that may be a door is tracked: whether it is one (a double door's width needs a
@@ -51,7 +45,7 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
     if (wall && std::abs(lateral) > *wall + params_.wall_tolerance) continue;
     const double into = dir_robot + side * 0.5 * kPi;  // robot frame
     if (std::abs(normalizeAngle(o.theta - into)) > params_.side_angle) continue;
-    const Eigen::Vector2d c = apply(odom, o.center);
+    const Eigen::Vector2d c = transformPoint(odom, o.center);
     const double into_odom = normalizeAngle(into + odom.theta);
     auto it = std::find_if(tracks_.begin(), tracks_.end(), [&](const DoorTrack& t) {
       return (t.centre_odom - c).norm() < params_.same_distance;
@@ -67,7 +61,7 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
       // First seen already passed: behind where this stretch started, seen in the turn into it
       // (large_floor: a known room's door 1.2 m behind the T where the robot turned into hall_3,
       // entered as new 0.4 s after the turn).
-      t.decided = o.center.dot(unit(dir_robot)) < -params_.pass_distance;
+      t.decided = o.center.dot(unitVector(dir_robot)) < -params_.pass_distance;
       tracks_.push_back(t);
       continue;
     }
@@ -90,7 +84,7 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
 std::optional<DoorTrack> HallwayDoors::abeam(const Pose2D& odom, double dir_robot, double side) const {
   const Eigen::Vector2d robot(odom.x, odom.y);
   const double heading = normalizeAngle(dir_robot + odom.theta);
-  const Eigen::Vector2d u = unit(heading), nrm = unit(heading + 0.5 * kPi);
+  const Eigen::Vector2d u = unitVector(heading), nrm = unitVector(heading + 0.5 * kPi);
   for (const DoorTrack& t : tracks_) {
     if (t.sightings < 2) continue;
     const Eigen::Vector2d rel = t.centre_odom - robot;
@@ -103,7 +97,7 @@ std::optional<DoorTrack> HallwayDoors::abeam(const Pose2D& odom, double dir_robo
 bool HallwayDoors::passed(const Pose2D& odom, double dir_robot, const Walls& walls, DoorTrack* door) {
   const Eigen::Vector2d robot(odom.x, odom.y);
   const double heading = normalizeAngle(dir_robot + odom.theta);
-  const Eigen::Vector2d u = unit(heading), nrm = unit(heading + 0.5 * kPi);
+  const Eigen::Vector2d u = unitVector(heading), nrm = unitVector(heading + 0.5 * kPi);
   for (DoorTrack& t : tracks_) {
     if (t.decided || t.sightings < 3) continue;
     const double along = (t.centre_odom - robot).dot(u);
