@@ -1,0 +1,124 @@
+// A node's side of the simulator's lockstep (ROS). With the global parameter `lockstep/enabled`
+// false or absent — a real robot, a replayed bag, the simulator paced by `rate` — every wrapper here
+// passes straight through and nothing waits. With it true (bullet_sim with rate 0), the node:
+//  - counts what it publishes (lockstep::Publisher) and what it receives (subscribe());
+//  - runs its sensor-driven callbacks (Delivery::Gated) only when the simulator's step of their
+//    stamp has all its inputs (see InputGate), in stamp order, then its step hook, and acknowledges
+//    the step on `lockstep/ack` with what it has published and when it next wants a step of its own.
+// All of this runs on the callback queue of the node handle given (the node's one spinning thread).
+#pragma once
+
+#include <hybrid_slam_msgs/LockstepAck.h>
+#include <hybrid_slam_msgs/LockstepStep.h>
+#include <ros/ros.h>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "lockstep/input_gate.h"
+
+namespace lockstep {
+
+/// A ros::Publisher that counts its messages for the acknowledgements.
+class Publisher {
+ public:
+  Publisher() = default;
+  Publisher(ros::Publisher pub, std::shared_ptr<std::atomic<uint64_t>> count) : pub_(std::move(pub)), count_(std::move(count)) {}
+  template <class M>
+  void publish(const M& msg) const {
+    pub_.publish(msg);
+    if (count_) ++*count_;
+  }
+  uint32_t getNumSubscribers() const { return pub_.getNumSubscribers(); }
+  std::string getTopic() const { return pub_.getTopic(); }
+
+ private:
+  ros::Publisher pub_;
+  std::shared_ptr<std::atomic<uint64_t>> count_;
+};
+
+enum class Delivery {
+  Immediate,  // the callback runs when the message arrives (state: a belief, a map, a status)
+  Gated,      // sensor data with a header: the callback runs at the step of its stamp
+};
+
+class Participant {
+ public:
+  /// `upstream`: the participants (node names, resolved like topics) whose output of a step this
+  /// node uses within the same step.
+  explicit Participant(ros::NodeHandle nh, const std::vector<std::string>& upstream = {});
+
+  bool enabled() const { return enabled_; }
+
+  template <class M>
+  Publisher advertise(ros::NodeHandle& nh, const std::string& topic, uint32_t queue, bool latch = false) {
+    ros::Publisher pub = nh.advertise<M>(topic, queue, latch);
+    auto count = std::make_shared<std::atomic<uint64_t>>(0);
+    published_.emplace_back(pub.getTopic(), count);
+    return Publisher(pub, count);
+  }
+
+  template <class M>
+  ros::Subscriber subscribe(ros::NodeHandle& nh, const std::string& topic, uint32_t queue,
+                            std::function<void(const boost::shared_ptr<const M>&)> callback,
+                            Delivery delivery = Delivery::Immediate,
+                            const ros::TransportHints& hints = ros::TransportHints()) {
+    const std::string resolved = nh.resolveName(topic);
+    gate_.watch(resolved);
+    // In lockstep every counted message goes through the queue of the participant's node handle.
+    ros::NodeHandle& on = enabled_ ? nh_ : nh;
+    ros::Subscriber sub = on.subscribe<M>(
+        topic, queue,
+        [this, resolved, callback, delivery](const boost::shared_ptr<const M>& msg) {
+          if (!enabled_) return callback(msg);
+          gate_.received(resolved);
+          if (delivery == Delivery::Gated) gate_.defer(msg->header.stamp.toNSec(), [callback, msg] { callback(msg); });
+          else callback(msg);
+          advance();
+        },
+        ros::VoidConstPtr(), hints);
+    subscriptions_.push_back(sub);
+    return sub;
+  }
+
+  template <class M, class T>
+  ros::Subscriber subscribe(ros::NodeHandle& nh, const std::string& topic, uint32_t queue,
+                            void (T::*method)(const boost::shared_ptr<const M>&), T* object,
+                            Delivery delivery = Delivery::Immediate,
+                            const ros::TransportHints& hints = ros::TransportHints()) {
+    return subscribe<M>(nh, topic, queue, [object, method](const boost::shared_ptr<const M>& m) { (object->*method)(m); },
+                        delivery, hints);
+  }
+
+  /// Runs at every step, after the step's gated callbacks, with the step's stamp; returns the next
+  /// sim time the node must act at by itself (ros::Time() for none). Lockstep only.
+  void onStep(std::function<ros::Time(const ros::Time&)> hook) { hook_ = std::move(hook); }
+
+ private:
+  void onStepMessage(const hybrid_slam_msgs::LockstepStep::ConstPtr& msg);
+  void onAckMessage(const hybrid_slam_msgs::LockstepAck::ConstPtr& msg);
+  void advance();
+  bool connected(const Counts& announced, std::string* why) const;
+  void acknowledge(const ros::Time& stamp);
+  void onWatchdog(const ros::WallTimerEvent&);
+
+  ros::NodeHandle nh_;
+  bool enabled_ = false;
+  double timeout_ = 10.0;
+  InputGate gate_;
+  std::vector<std::pair<std::string, std::shared_ptr<std::atomic<uint64_t>>>> published_;
+  std::vector<ros::Subscriber> subscriptions_;
+  std::function<ros::Time(const ros::Time&)> hook_;
+  ros::Time wake_;
+  ros::Publisher ack_pub_;
+  ros::Subscriber step_sub_, ack_sub_;
+  ros::WallTimer watchdog_;
+  ros::WallTime waiting_since_;
+  Stamp waiting_stamp_ = -1;
+  bool advancing_ = false;
+};
+
+}  // namespace lockstep

@@ -1,0 +1,105 @@
+#include "lockstep/participant.h"
+
+namespace lockstep {
+namespace {
+
+Counts toCounts(const std::vector<std::string>& topics, const std::vector<uint64_t>& counts) {
+  Counts out;
+  for (size_t i = 0; i < topics.size() && i < counts.size(); ++i) out[topics[i]] = counts[i];
+  return out;
+}
+
+std::vector<std::string> resolved(const ros::NodeHandle& nh, const std::vector<std::string>& names) {
+  std::vector<std::string> out;
+  for (const std::string& n : names) out.push_back(nh.resolveName(n, false));
+  return out;
+}
+
+}  // namespace
+
+Participant::Participant(ros::NodeHandle nh, const std::vector<std::string>& upstream)
+    : nh_(nh), gate_(resolved(nh, upstream)) {
+  nh_.param("lockstep/enabled", enabled_, false);
+  if (!enabled_) return;
+  nh_.param("lockstep/timeout", timeout_, timeout_);
+  ack_pub_ = nh_.advertise<hybrid_slam_msgs::LockstepAck>("lockstep/ack", 100);
+  step_sub_ = nh_.subscribe("lockstep/step", 100, &Participant::onStepMessage, this, ros::TransportHints().tcpNoDelay());
+  ack_sub_ = nh_.subscribe("lockstep/ack", 100, &Participant::onAckMessage, this, ros::TransportHints().tcpNoDelay());
+  watchdog_ = nh_.createWallTimer(ros::WallDuration(1.0), &Participant::onWatchdog, this);
+  ROS_INFO("%s: lockstep with the simulator", ros::this_node::getName().c_str());
+}
+
+void Participant::onStepMessage(const hybrid_slam_msgs::LockstepStep::ConstPtr& msg) {
+  const Counts announced = toCounts(msg->topics, msg->counts);
+  if (msg->start) {
+    // The simulator waits for every participant: acknowledge once this node's subscriptions are
+    // connected to their publishers; what was published before counts as received.
+    std::string why;
+    if (!connected(announced, &why)) {
+      ROS_INFO_THROTTLE(5.0, "%s: lockstep start: waiting for %s", ros::this_node::getName().c_str(), why.c_str());
+      return;
+    }
+    gate_.step(msg->stamp.toNSec(), announced);
+    gate_.forgive();
+  } else {
+    gate_.step(msg->stamp.toNSec(), announced);
+  }
+  advance();
+}
+
+void Participant::onAckMessage(const hybrid_slam_msgs::LockstepAck::ConstPtr& msg) {
+  gate_.ack(msg->node, msg->stamp.toNSec(), toCounts(msg->topics, msg->counts));
+  advance();
+}
+
+bool Participant::connected(const Counts& announced, std::string* why) const {
+  for (const ros::Subscriber& s : subscriptions_) {
+    if (announced.count(s.getTopic()) != 0 && s.getNumPublishers() == 0) {
+      *why = "a publisher of " + s.getTopic();
+      return false;
+    }
+  }
+  return true;
+}
+
+void Participant::advance() {
+  if (advancing_) return;  // a callback of the deferred work published: the loop below goes on
+  advancing_ = true;
+  std::vector<InputGate::Work> work;
+  while (const auto stamp = gate_.takeReadyStep(&work)) {
+    for (auto& w : work) w();
+    work.clear();
+    ros::Time t;
+    t.fromNSec(uint64_t(*stamp));
+    if (hook_) wake_ = hook_(t);
+    acknowledge(t);
+  }
+  advancing_ = false;
+  if (gate_.pendingStamp() != waiting_stamp_) {
+    waiting_stamp_ = gate_.pendingStamp();
+    waiting_since_ = ros::WallTime::now();
+  }
+}
+
+void Participant::acknowledge(const ros::Time& stamp) {
+  hybrid_slam_msgs::LockstepAck a;
+  a.node = ros::this_node::getName();
+  a.stamp = stamp;
+  a.wake = wake_ > stamp ? wake_ : ros::Time();
+  for (const auto& [topic, count] : published_) {
+    a.topics.push_back(topic);
+    a.counts.push_back(count->load());
+  }
+  ack_pub_.publish(a);
+}
+
+void Participant::onWatchdog(const ros::WallTimerEvent&) {
+  // Liveness only: a lost message must not hang the run. Decisions never wait on the wall clock.
+  if (!gate_.hasPendingStep() || (ros::WallTime::now() - waiting_since_).toSec() < timeout_) return;
+  ROS_ERROR("%s: lockstep step at %.3f s waited %.0f s of wall time for %s; going on without it",
+            ros::this_node::getName().c_str(), double(gate_.pendingStamp()) * 1e-9, timeout_, gate_.waitingFor().c_str());
+  gate_.forgive();
+  advance();
+}
+
+}  // namespace lockstep
