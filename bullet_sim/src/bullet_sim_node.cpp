@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "bullet_sim/simulator.h"
+#include "lockstep_driver.h"
 #include "ros_conversions.h"
 
 namespace bullet_sim {
@@ -62,8 +63,8 @@ class Every {
   double next_ = 0.0;
 };
 
-// "a/b, room_c" -> {"a/b", "room_c"}: the ~closed_doors parameter.
-std::vector<std::string> closedDoors(const std::string& list) {
+// "a/b, room_c" -> {"a/b", "room_c"}: the ~closed_doors and ~lockstep_participants parameters.
+std::vector<std::string> commaList(const std::string& list) {
   std::vector<std::string> out;
   std::string item;
   for (const char c : list + ",") {
@@ -112,7 +113,7 @@ class SimNode {
     }
     try {
       World world = loadWorldFile(world_file);
-      world.closeDoors(closedDoors(param<std::string>(pnh_, "closed_doors", "")));
+      world.closeDoors(commaList(param<std::string>(pnh_, "closed_doors", "")));
       const RobotModel robot = robotModelFromUrdf(urdf, base_frame_, laser_frame_);
       sim_ = std::make_unique<Simulator>(world, robot, readSimParams(pnh_));
     } catch (const std::exception& e) {
@@ -123,13 +124,26 @@ class SimNode {
              sim_->world().name.c_str(), sim_->rayCaster().primitiveCount(), world_file.c_str(), sim_->laser().beams,
              scan_rate_, rate_);
 
+    // config/lockstep.yaml, loaded once into lockstep/ for the simulator and every participant.
+    if (param(nh_, "lockstep/enabled", false)) {
+      LockstepDriver::Options o;
+      o.participants = commaList(param<std::string>(nh_, "lockstep/participants", ""));
+      o.timeout = param(nh_, "lockstep/timeout", o.timeout);
+      o.stop_on_timeout = param(nh_, "lockstep/stop_on_timeout", o.stop_on_timeout);
+      if (o.participants.empty()) {
+        ROS_FATAL("bullet_sim: lockstep/enabled is set but lockstep/participants names no node");
+        return false;
+      }
+      lockstep_ = std::make_unique<LockstepDriver>(nh_, o);
+    }
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
-    scan_pub_ = nh_.advertise<sensor_msgs::LaserScan>("scan", 10);
-    odom_pub_ = nh_.advertise<nav_msgs::Odometry>("odom", 50);
-    truth_pub_ = nh_.advertise<nav_msgs::Odometry>("ground_truth", 50);
-    bumper_pub_ = nh_.advertise<std_msgs::Bool>("bumper", 10, true);
+    scan_pub_ = advertise<sensor_msgs::LaserScan>("scan", 10);
+    odom_pub_ = advertise<nav_msgs::Odometry>("odom", 50);
+    truth_pub_ = advertise<nav_msgs::Odometry>("ground_truth", 50);
+    bumper_pub_ = advertise<std_msgs::Bool>("bumper", 10, true);
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("world_markers", 1, true);
     cmd_sub_ = nh_.subscribe("cmd_vel", 10, &SimNode::onCmdVel, this, ros::TransportHints().tcpNoDelay());
+    if (lockstep_) lockstep_->watch(cmd_sub_);
     reset_srv_ = pnh_.advertiseService("reset", &SimNode::onReset, this);
     teleport_srv_ = pnh_.advertiseService("teleport", &SimNode::onTeleport, this);
 
@@ -145,6 +159,7 @@ class SimNode {
   }
 
   void run() {
+    if (lockstep_ && !lockstep_->start([this](const ros::Time& t) { publishClock(t); })) return;
     const ros::WallTime wall_start = ros::WallTime::now();
     ros::WallTime last_report = wall_start;
     Every clock_due(clock_rate_), odom_due(odom_rate_), scan_due(scan_rate_);
@@ -155,11 +170,15 @@ class SimNode {
       sim_->step();
       const double now = sim_->time();
       const ros::Time stamp(now);
-      if (clock_due.due(now)) {
-        rosgraph_msgs::Clock c;
-        c.clock = stamp;
-        clock_pub_.publish(c);
-      }
+      const bool scan_now = scan_due.due(now);
+      // A lockstep step: a scan, or a participant's own wake-up (its control period), due within
+      // half a physics step; the step's odometry and tf go out with it, so it can look them up at
+      // exactly the step's stamp.
+      const bool lockstep_step = lockstep_ && (scan_now || lockstep_->wakeDue(stamp, 0.5 / sim_->params().physics_rate));
+      // In lockstep, time and odometry matter to the nodes only at the steps: publishing them in
+      // between would only wake every node more often.
+      const bool clock_now = clock_due.due(now), odom_now = odom_due.due(now);
+      if (lockstep_ ? lockstep_step : clock_now) publishClock(stamp);
       if (sim_->bumper() != last_bumper_) {
         last_bumper_ = sim_->bumper();
         std_msgs::Bool b;
@@ -167,12 +186,13 @@ class SimNode {
         bumper_pub_.publish(b);
         if (last_bumper_) ROS_WARN_THROTTLE(5.0, "bullet_sim: bumper contact at t = %.2f s", now);
       }
-      if (odom_due.due(now)) publishOdometry(stamp);
-      if (scan_due.due(now)) {
+      if (lockstep_ ? lockstep_step : odom_now) publishOdometry(stamp);
+      if (scan_now) {
         sim_->scan(&ranges_);
         toLaserScan(*sim_, ranges_, stamp, 1.0 / scan_rate_, laser_frame_, &scan_msg_);
         scan_pub_.publish(scan_msg_);
       }
+      if (lockstep_step && !lockstep_->step(stamp)) break;
       const ros::WallTime wall_now = ros::WallTime::now();
       if ((wall_now - last_report).toSec() > 10.0) {
         ROS_INFO("bullet_sim: sim time %.1f s, real-time factor %.1f", now, now / (wall_now - wall_start).toSec());
@@ -182,7 +202,7 @@ class SimNode {
         ROS_INFO("bullet_sim: reached max_sim_time %.1f s", max_sim_time_);
         break;
       }
-      if (rate_ > 0.0) {
+      if (rate_ > 0.0 && !lockstep_) {
         const ros::WallTime target = wall_start + ros::WallDuration(now / rate_);
         const ros::WallDuration wait = target - ros::WallTime::now();
         if (wait.toSec() > 0) wait.sleep();
@@ -191,6 +211,18 @@ class SimNode {
   }
 
  private:
+  template <class M>
+  lockstep::Publisher advertise(const std::string& topic, uint32_t queue, bool latch = false) {
+    if (lockstep_) return lockstep_->advertise<M>(nh_, topic, queue, latch);
+    return lockstep::Publisher(nh_.advertise<M>(topic, queue, latch), nullptr);
+  }
+
+  void publishClock(const ros::Time& stamp) {
+    rosgraph_msgs::Clock c;
+    c.clock = stamp;
+    clock_pub_.publish(c);
+  }
+
   void publishOdometry(const ros::Time& stamp) {
     odom_pub_.publish(toOdometry(*sim_, stamp, odom_frame_, base_frame_));
     truth_pub_.publish(toGroundTruth(*sim_, stamp, world_frame_, base_frame_));
@@ -205,6 +237,7 @@ class SimNode {
   }
 
   void onCmdVel(const geometry_msgs::Twist& msg) {
+    if (lockstep_) lockstep_->received(cmd_sub_.getTopic());
     if (!std::isfinite(msg.linear.x) || !std::isfinite(msg.angular.z)) {
       ROS_WARN_THROTTLE(5.0, "bullet_sim: ignoring a cmd_vel with non-finite values");
       return;
@@ -237,7 +270,9 @@ class SimNode {
   bool last_bumper_ = false;
   std::vector<float> ranges_;
   sensor_msgs::LaserScan scan_msg_;
-  ros::Publisher clock_pub_, scan_pub_, odom_pub_, truth_pub_, bumper_pub_, markers_pub_;
+  std::unique_ptr<LockstepDriver> lockstep_;  // rate 0: deterministic lockstep with the nodes
+  ros::Publisher clock_pub_, markers_pub_;
+  lockstep::Publisher scan_pub_, odom_pub_, truth_pub_, bumper_pub_;
   ros::Subscriber cmd_sub_;
   ros::ServiceServer reset_srv_, teleport_srv_;
   tf2_ros::TransformBroadcaster tf_;

@@ -7,8 +7,11 @@
 #include <std_msgs/Bool.h>
 #include <yaml-cpp/yaml.h>
 
+#include "lockstep/participant.h"
+
 
 #include <cmath>
+#include <functional>
 #include <vector>
 
 namespace {
@@ -19,7 +22,7 @@ struct Waypoint {
 
 class TourDriver {
  public:
-  TourDriver(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh) {
+  TourDriver(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), lockstep_(nh) {
     pnh.param("linear_speed", linear_speed_, 0.5);
     pnh.param("angular_speed", angular_speed_, 1.2);
     pnh.param("goal_tolerance", goal_tolerance_, 0.15);
@@ -41,9 +44,17 @@ class TourDriver {
       waypoints_.push_back({p[0].as<double>(), p[1].as<double>()});
     }
     if (waypoints_.empty()) throw std::runtime_error(file + ": no waypoints");
-    cmd_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 10);
-    done_pub_ = nh_.advertise<std_msgs::Bool>("tour_done", 1, true);
-    truth_sub_ = nh_.subscribe("ground_truth", 10, &TourDriver::onTruth, this);
+    pnh.param("control_rate", control_rate_, 50.0);
+    cmd_pub_ = lockstep_.advertise<geometry_msgs::Twist>(nh_, "cmd_vel", 10);
+    done_pub_ = lockstep_.advertise<std_msgs::Bool>(nh_, "tour_done", 1, true);
+    // In lockstep, each ground truth is acted on at the simulator's step of its stamp, and a step is
+    // asked for every control period (that of the ground truth by default).
+    truth_sub_ = lockstep_.subscribe<nav_msgs::Odometry>(
+        nh_, "ground_truth", 10, [this](const nav_msgs::Odometry::ConstPtr& m) { onTruth(*m); }, lockstep::Delivery::Gated);
+    lockstep_.onStep([this](const ros::Time& t) {
+      const double period = 1.0 / control_rate_;
+      return ros::Time((std::floor(t.toSec() / period + 1e-6) + 1.0) * period);
+    });
     std_msgs::Bool done;
     done.data = false;
     done_pub_.publish(done);
@@ -92,8 +103,9 @@ class TourDriver {
   size_t next_ = 0;
   int loop_ = 0, loops_ = 1;
   bool finished_ = false, shutdown_when_done_ = true;
-  double linear_speed_, angular_speed_, goal_tolerance_, turn_in_place_angle_;
-  ros::Publisher cmd_pub_, done_pub_;
+  double linear_speed_, angular_speed_, goal_tolerance_, turn_in_place_angle_, control_rate_ = 50.0;
+  lockstep::Participant lockstep_;
+  lockstep::Publisher cmd_pub_, done_pub_;
   ros::Subscriber truth_sub_;
 };
 

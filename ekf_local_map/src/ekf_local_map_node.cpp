@@ -18,6 +18,7 @@
 #include <optional>
 
 #include "laser_features/tf_lookup.h"
+#include "lockstep/participant.h"
 #include "ekf_local_map/odometry_noise.h"
 #include "ekf_local_map/params_visit.h"
 #include "ekf_local_map/persistence.h"
@@ -66,12 +67,14 @@ class LocalMapNode {
     pnh.param("odom_inflation", inflation, 1.2);
     noise_ = OdometryNoise::fromWheelModel(wheel_noise, wheel_base, inflation);
 
-    pose_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("local_pose", 10);
-    map_pub_ = nh_.advertise<hybrid_slam_msgs::LocalMap>("local_map", 2, true);
+    transform_timeout_ = lockstep_.transformTimeout(transform_timeout_);
+    pose_pub_ = lockstep_.advertise<geometry_msgs::PoseWithCovarianceStamped>(nh_, "local_pose", 10);
+    map_pub_ = lockstep_.advertise<hybrid_slam_msgs::LocalMap>(nh_, "local_map", 2, true);
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("local_map_markers", 2);
     places_markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("places_markers", 1, true);
-    relocation_pub_ = nh_.advertise<hybrid_slam_msgs::RelocationResult>("relocation", 10);
-    features_sub_ = nh_.subscribe("features", 10, &LocalMapNode::onFeatures, this);
+    relocation_pub_ = lockstep_.advertise<hybrid_slam_msgs::RelocationResult>(nh_, "relocation", 10);
+    // In lockstep, the features of a step wait for laser_features' acknowledgement of it.
+    features_sub_ = lockstep_.subscribe(nh_, "features", 10, &LocalMapNode::onFeatures, this, lockstep::Delivery::Gated);
     services_ = {
         pnh.advertiseService("create_place", &LocalMapNode::onCreate, this),
         pnh.advertiseService("activate_place", &LocalMapNode::onActivate, this),
@@ -337,7 +340,9 @@ class LocalMapNode {
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
-  ros::Publisher pose_pub_, map_pub_, markers_pub_, places_markers_pub_, relocation_pub_;
+  lockstep::Participant lockstep_{nh_, {"laser_features"}};
+  lockstep::Publisher pose_pub_, map_pub_, relocation_pub_;
+  ros::Publisher markers_pub_, places_markers_pub_;
   ros::Subscriber features_sub_;
   std::vector<ros::ServiceServer> services_;
 };

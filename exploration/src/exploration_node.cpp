@@ -35,6 +35,8 @@
 
 #include "exploration/params_visit.h"
 #include "laser_features/building_rules_ros.h"
+#include "laser_features/tf_lookup.h"
+#include "lockstep/participant.h"
 #include "ros_conversions.h"
 
 namespace exploration {
@@ -44,7 +46,12 @@ using laser_features::Pose2D;
 
 class ExplorationNode {
  public:
-  ExplorationNode() : nh_(), pnh_("~"), tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_) {
+  ExplorationNode()
+      : nh_(),
+        pnh_("~"),
+        tf_listener_(tf_buffer_),
+        control_spinner_(1, &control_queue_),
+        lockstep_(nh_, {"laser_features", "pomdp_topo", "ekf_local_map"}) {
     visitParams(&params_, ParamReader{pnh_});
     params_.coordinator.rules = laser_features::readBuildingRules(nh_);
     applyFootprint(laser_features::readRobotFootprint(nh_), &params_);
@@ -69,45 +76,49 @@ class ExplorationNode {
     if (!params_.coordinator.explore) serve_missions_ = true;
     pnh_.param<std::string>("summary_file", summary_file_, "");
 
-    cmd_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 10);
-    status_pub_ = nh_.advertise<hybrid_slam_msgs::ExplorationStatus>("exploration_status", 10, true);
+    cmd_pub_ = lockstep_.advertise<geometry_msgs::Twist>(nh_, "cmd_vel", 10);
+    status_pub_ = lockstep_.advertise<hybrid_slam_msgs::ExplorationStatus>(nh_, "exploration_status", 10, true);
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("exploration_markers", 2);
     // Motion control (scans, bumper, the control timer) has its own thread: the coordinator's
-    // planning in rooms must never starve the watchdog or the velocity commands.
+    // planning in rooms must never starve the watchdog or the velocity commands. In lockstep sim
+    // time waits for the coordinator, and the control runs at the simulator's steps, on one thread.
     control_nh_.setCallbackQueue(&control_queue_);
-    scan_sub_ = control_nh_.subscribe("scan", 10, &ExplorationNode::onScan, this);
-    features_sub_ = nh_.subscribe("features", 10, &ExplorationNode::onFeatures, this);
-    map_sub_ = nh_.subscribe("topological_map", 2, &ExplorationNode::onMap, this);
-    belief_sub_ = nh_.subscribe("topological_belief", 10, &ExplorationNode::onBelief, this);
-    confident_sub_ = nh_.subscribe("topo_confident", 10, &ExplorationNode::onConfident, this);
-    heading_sub_ = nh_.subscribe("topo_heading", 10, &ExplorationNode::onHeading, this);
-    axes_sub_ = nh_.subscribe("building_axes", 1, &ExplorationNode::onAxes, this);
-    mode_sub_ = nh_.subscribe("topo_mode", 10, &ExplorationNode::onMode, this);
-    pose_sub_ = nh_.subscribe("local_pose", 10, &ExplorationNode::onLocalPose, this);
-    bumper_sub_ = control_nh_.subscribe("bumper", 10, &ExplorationNode::onBumper, this);
-    relocation_sub_ = nh_.subscribe("relocation", 10, &ExplorationNode::onRelocation, this);
+    using lockstep::Delivery;
+    scan_sub_ = lockstep_.subscribe(control_nh_, "scan", 10, &ExplorationNode::onScan, this);
+    // In lockstep the features of a step wait for laser_features', pomdp_topo's and
+    // ekf_local_map's output of that step.
+    features_sub_ = lockstep_.subscribe(nh_, "features", 10, &ExplorationNode::onFeatures, this, Delivery::Gated);
+    map_sub_ = lockstep_.subscribe(nh_, "topological_map", 2, &ExplorationNode::onMap, this);
+    belief_sub_ = lockstep_.subscribe(nh_, "topological_belief", 10, &ExplorationNode::onBelief, this);
+    confident_sub_ = lockstep_.subscribe(nh_, "topo_confident", 10, &ExplorationNode::onConfident, this);
+    heading_sub_ = lockstep_.subscribe(nh_, "topo_heading", 10, &ExplorationNode::onHeading, this);
+    axes_sub_ = lockstep_.subscribe(nh_, "building_axes", 1, &ExplorationNode::onAxes, this);
+    mode_sub_ = lockstep_.subscribe(nh_, "topo_mode", 10, &ExplorationNode::onMode, this);
+    pose_sub_ = lockstep_.subscribe(nh_, "local_pose", 10, &ExplorationNode::onLocalPose, this);
+    bumper_sub_ = lockstep_.subscribe(control_nh_, "bumper", 10, &ExplorationNode::onBumper, this);
+    relocation_sub_ = lockstep_.subscribe(nh_, "relocation", 10, &ExplorationNode::onRelocation, this);
     if (serve_missions_) {
       mission_server_ = std::make_unique<MissionServer>(nh_, "go_to_place", false);
       mission_server_->registerGoalCallback([this] { onMissionGoal(); });
       mission_server_->registerPreemptCallback([this] { onMissionPreempt(); });
       mission_server_->start();
     }
-    timer_ = control_nh_.createTimer(ros::Duration(1.0 / control_rate_), &ExplorationNode::onTimer, this);
-    control_spinner_.start();
+    if (lockstep_.enabled()) {
+      lockstep_.onStep([this](const ros::Time& t) { return onStep(t); });
+    } else {
+      timer_ = control_nh_.createTimer(ros::Duration(1.0 / control_rate_), &ExplorationNode::onTimer, this);
+      control_spinner_.start();
+    }
     wall_start_ = std::chrono::steady_clock::now();
     publishStatus(ros::Time::now());
   }
 
  private:
   bool lookup(const std::string& target, const std::string& source, const ros::Time& stamp, Pose2D* out) {
-    try {
-      const auto t = tf_buffer_.lookupTransform(target, source, stamp, ros::Duration(0.1));
-      *out = Pose2D{t.transform.translation.x, t.transform.translation.y, tf2::getYaw(t.transform.rotation)};
-      return true;
-    } catch (const tf2::TransformException& e) {
-      ROS_WARN_THROTTLE(5.0, "exploration: no transform %s <- %s: %s", target.c_str(), source.c_str(), e.what());
-      return false;
-    }
+    std::string why;
+    if (laser_features::lookupPose2D(tf_buffer_, target, source, stamp, lockstep_.transformTimeout(0.1), out, &why)) return true;
+    ROS_WARN_THROTTLE(5.0, "exploration: no transform %s <- %s: %s", target.c_str(), source.c_str(), why.c_str());
+    return false;
   }
 
   void onScan(const sensor_msgs::LaserScan::ConstPtr& msg) {
@@ -150,6 +161,9 @@ class ExplorationNode {
     featuresInRobot(*msg, sensor_in_robot_, &p.lines, &p.openings, &dropped);
     if (dropped > 0) ROS_WARN_THROTTLE(10.0, "exploration: %zu non-finite features dropped", dropped);
     odom_theta_at_features_ = p.odom.theta;
+    // In lockstep pomdp_topo's heading of these very features has arrived (the step waited for it):
+    // pair it with their odometry.
+    if (lockstep_.enabled() && topo_.heading_valid) topo_.heading_offset = laser_features::normalizeAngle(topo_heading_ - p.odom.theta);
     auto pose = local_poses_.find(msg->header.stamp.toNSec());
     if (pose != local_poses_.end() && coordinator_->currentPlace() >= 0 &&
         pose->second.first == coordinator_->currentPlace()) {
@@ -402,14 +416,28 @@ class ExplorationNode {
     }
   }
 
-  void onTimer(const ros::TimerEvent& e) {
+  void onTimer(const ros::TimerEvent&) { control(ros::Time(0), ros::Time::now().toSec()); }
+
+  /// Lockstep: the control at the simulator's steps of its period (the odometry of exactly the
+  /// step), and the next sim time it needs a step at.
+  ros::Time onStep(const ros::Time& t) {
+    if (t >= next_control_) {
+      control(t, t.toSec());
+      // The next multiple of the period: the same grid as the timer's.
+      const double period = 1.0 / control_rate_;
+      next_control_ = ros::Time((std::floor(t.toSec() / period + 1e-6) + 1.0) * period);
+    }
+    return next_control_;
+  }
+
+  /// One control step: the odometry at `odom_stamp` (zero: the latest), at sim time `now`.
+  void control(const ros::Time& odom_stamp, double now) {
     if (done_) {
       cmd_pub_.publish(geometry_msgs::Twist());
       return;
     }
     Pose2D pose;
-    if (!lookup(odom_frame_, base_frame_, ros::Time(0), &pose)) return;
-    const double now = ros::Time::now().toSec();
+    if (!lookup(odom_frame_, base_frame_, odom_stamp, &pose)) return;
     const double dt = last_control_ > 0.0 ? now - last_control_ : 0.0;
     last_control_ = now;
     std::lock_guard<std::mutex> lock(mutex_);
@@ -423,7 +451,6 @@ class ExplorationNode {
       if (last_motion_ == MotionStatus::NoScan || last_motion_ == MotionStatus::Blocked || last_motion_ == MotionStatus::Bumped)
         ROS_WARN("exploration: motion %s: %s", toString(last_motion_), motion_->statusText().c_str());
     }
-    (void)e;
   }
 
   void onMap(const hybrid_slam_msgs::TopologicalMap::ConstPtr& msg) {
@@ -454,6 +481,7 @@ class ExplorationNode {
     if (!std::isfinite(msg->data)) return;
     // pomdp_topo publishes the heading right after the features it came from: pair it with the
     // odometry of the latest features seen here.
+    topo_heading_ = msg->data;
     topo_.heading_offset = laser_features::normalizeAngle(msg->data - odom_theta_at_features_);
     topo_.heading_valid = true;
     topo_.valid = true;
@@ -533,7 +561,10 @@ class ExplorationNode {
   ros::Subscriber relocation_sub_;
   double entropy_ = 0.0;
   geometry_msgs::PoseWithCovarianceStamped last_local_msg_;
-  ros::Publisher cmd_pub_, status_pub_, markers_pub_;
+  lockstep::Participant lockstep_;
+  ros::Time next_control_;  // lockstep: the sim time of the next control step
+  lockstep::Publisher cmd_pub_, status_pub_;
+  ros::Publisher markers_pub_;
   bool axes_known_ = false;  // the building's axes from pomdp_topo, before the coordinator runs
   ros::Subscriber axes_sub_;
   ros::Subscriber scan_sub_, features_sub_, map_sub_, belief_sub_, confident_sub_, heading_sub_, mode_sub_, pose_sub_,
@@ -545,6 +576,7 @@ class ExplorationNode {
   Pose2D sensor_in_robot_;
   bool have_sensor_ = false;
   double odom_theta_at_features_ = 0.0;
+  double topo_heading_ = 0.0;  // pomdp_topo's latest heading (odometry frame)
   std::map<uint64_t, std::pair<int, Pose2D>> local_poses_;
   int last_local_place_ = -1;
   Pose2D last_local_pose_;

@@ -10,6 +10,7 @@
 #include "laser_features/building_rules_ros.h"
 #include "laser_features/params_visit.h"
 #include "laser_features/tf_lookup.h"
+#include "lockstep/participant.h"
 #include "ros_conversions.h"
 
 namespace laser_features {
@@ -41,14 +42,18 @@ FeatureExtractor::Params readParams(const ros::NodeHandle& nh, const ros::NodeHa
 class FeaturesNode {
  public:
   FeaturesNode(ros::NodeHandle nh, ros::NodeHandle pnh)
-      : extractor_(readParams(nh, pnh)), consistency_(extractor_.params().odometry_consistency), tf_listener_(tf_buffer_) {
+      : extractor_(readParams(nh, pnh)),
+        consistency_(extractor_.params().odometry_consistency),
+        tf_listener_(tf_buffer_),
+        lockstep_(nh) {
     pnh.param<std::string>("base_frame", base_frame_, "base_link");
     pnh.param<std::string>("odom_frame", odom_frame_, "odom");
     pnh.param("require_transform", require_transform_, true);
     pnh.param("transform_timeout", transform_timeout_, 0.1);
-    features_pub_ = nh.advertise<hybrid_slam_msgs::LaserFeatures>("features", 10);
+    transform_timeout_ = lockstep_.transformTimeout(transform_timeout_);
+    features_pub_ = lockstep_.advertise<hybrid_slam_msgs::LaserFeatures>(nh, "features", 10);
     markers_pub_ = nh.advertise<visualization_msgs::MarkerArray>("features_markers", 2);
-    scan_sub_ = nh.subscribe("scan", 10, &FeaturesNode::onScan, this);
+    scan_sub_ = lockstep_.subscribe(nh, "scan", 10, &FeaturesNode::onScan, this, lockstep::Delivery::Gated);
     ROS_INFO("laser_features: extracting from '%s' into '%s'", scan_sub_.getTopic().c_str(),
              features_pub_.getTopic().c_str());
   }
@@ -97,7 +102,7 @@ class FeaturesNode {
   double odometryConsistency(const sensor_msgs::LaserScan& scan) {
     Pose2D pose;
     // A bag without odometry: no waiting per scan for a frame that never comes.
-    if (!tf_buffer_._frameExists(odom_frame_) ||
+    if ((!lockstep_.enabled() && !tf_buffer_._frameExists(odom_frame_)) ||
         !lookupPose2D(tf_buffer_, odom_frame_, scan.header.frame_id, scan.header.stamp, transform_timeout_, &pose)) {
       consistency_.reset();
       return -1.0;
@@ -117,7 +122,9 @@ class FeaturesNode {
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   std::map<std::string, ros::WallTime> last_report_;
-  ros::Publisher features_pub_, markers_pub_;
+  lockstep::Participant lockstep_;
+  lockstep::Publisher features_pub_;
+  ros::Publisher markers_pub_;
   ros::Subscriber scan_sub_;
 };
 

@@ -17,7 +17,7 @@ void InputGate::ack(const std::string& node, Stamp stamp, const Counts& publishe
   UpstreamAck& a = acks_[node];
   if (stamp < a.stamp) return;
   a.stamp = stamp;
-  a.published = maxCounts(a.published, published);
+  a.published = published;
 }
 
 bool InputGate::ready(std::string* why) const {

@@ -31,14 +31,15 @@ Participant::Participant(ros::NodeHandle nh, const std::vector<std::string>& ups
 
 void Participant::onStepMessage(const hybrid_slam_msgs::LockstepStep::ConstPtr& msg) {
   const Counts announced = toCounts(msg->topics, msg->counts);
-  if (msg->start) {
-    // The simulator waits for every participant: acknowledge once this node's subscriptions are
-    // connected to their publishers; what was published before counts as received.
+  if (msg->start || !joined_) {
+    // The start (or a node started late, e.g. respawned): acknowledge once this node's
+    // subscriptions are connected to their publishers; what was published before counts as received.
     std::string why;
     if (!connected(announced, &why)) {
-      ROS_INFO_THROTTLE(5.0, "%s: lockstep start: waiting for %s", ros::this_node::getName().c_str(), why.c_str());
+      ROS_INFO_THROTTLE(5.0, "%s: lockstep: waiting for %s", ros::this_node::getName().c_str(), why.c_str());
       return;
     }
+    joined_ = true;
     gate_.step(msg->stamp.toNSec(), announced);
     gate_.forgive();
   } else {

@@ -13,9 +13,10 @@ bool StepBarrier::ack(const Ack& a) {
   State& s = states_[size_t(it - order_.begin())];
   if (s.known && a.stamp < s.stamp) return true;
   s.known = true;
+  s.excused = false;
   s.stamp = a.stamp;
   s.wake = a.wake;
-  s.published = maxCounts(s.published, a.published);
+  s.published = a.published;  // a restarted node counts from zero again
   return true;
 }
 
@@ -24,7 +25,7 @@ bool StepBarrier::finished(Stamp stamp) const { return waitingFor(stamp).empty()
 std::vector<std::string> StepBarrier::waitingFor(Stamp stamp) const {
   std::vector<std::string> out;
   for (size_t i = 0; i < order_.size(); ++i) {
-    if (!states_[i].known || states_[i].stamp < stamp) out.push_back(order_[i]);
+    if (!states_[i].excused && (!states_[i].known || states_[i].stamp < stamp)) out.push_back(order_[i]);
   }
   return out;
 }
@@ -35,6 +36,13 @@ std::optional<Stamp> StepBarrier::nextWake(Stamp after) const {
     if (s.known && s.wake > after && (!best || s.wake < *best)) best = s.wake;
   }
   return best;
+}
+
+void StepBarrier::excuse(const std::vector<std::string>& nodes) {
+  for (const std::string& n : nodes) {
+    const auto it = std::find(order_.begin(), order_.end(), n);
+    if (it != order_.end()) states_[size_t(it - order_.begin())].excused = true;
+  }
 }
 
 Counts StepBarrier::published(const Counts& own) const {

@@ -23,6 +23,7 @@
 
 #include "laser_features/building_rules_ros.h"
 #include "laser_features/tf_lookup.h"
+#include "lockstep/participant.h"
 #include "pomdp_topo/map_io.h"
 #include "pomdp_topo/params_visit.h"
 #include "ros_conversions.h"
@@ -69,7 +70,8 @@ class TopoNodeRos {
         builder_(&map_, &localizer_, params_.builder),
         realigner_(params_.pomdp.heading_bins, readRealignUpdates(pnh)),
         axis_estimator_(params_.axis),
-        tf_listener_(tf_buffer_) {
+        tf_listener_(tf_buffer_),
+        lockstep_(nh, {"laser_features"}) {
     pnh.param<std::string>("map_frame", map_frame_, "map");
     pnh.param<std::string>("odom_frame", odom_frame_, "odom");
     pnh.param<std::string>("base_frame", base_frame_, "base_link");
@@ -77,19 +79,22 @@ class TopoNodeRos {
     pnh.param("load_on_start", load_on_start_, true);
     pnh.param("autosave", autosave_, true);
     pnh.param("transform_timeout", transform_timeout_, 0.1);
+    transform_timeout_ = lockstep_.transformTimeout(transform_timeout_);
     pnh.param("markers_period", markers_period_, 0.5);
     pnh.param("kidnap_consistency", kidnap_consistency_, 0.75);
 
-    map_pub_ = nh_.advertise<hybrid_slam_msgs::TopologicalMap>("topological_map", 1, true);
-    belief_pub_ = nh_.advertise<hybrid_slam_msgs::TopologicalBelief>("topological_belief", 10);
-    confident_pub_ = nh_.advertise<std_msgs::Bool>("topo_confident", 10, true);
-    heading_pub_ = nh_.advertise<std_msgs::Float64>("topo_heading", 10);
-    events_pub_ = nh_.advertise<std_msgs::String>("topo_events", 100);
-    mode_pub_ = nh_.advertise<std_msgs::String>("topo_mode", 1, true);
+    map_pub_ = lockstep_.advertise<hybrid_slam_msgs::TopologicalMap>(nh_, "topological_map", 1, true);
+    belief_pub_ = lockstep_.advertise<hybrid_slam_msgs::TopologicalBelief>(nh_, "topological_belief", 10);
+    confident_pub_ = lockstep_.advertise<std_msgs::Bool>(nh_, "topo_confident", 10, true);
+    heading_pub_ = lockstep_.advertise<std_msgs::Float64>(nh_, "topo_heading", 10);
+    events_pub_ = lockstep_.advertise<std_msgs::String>(nh_, "topo_events", 100);
+    mode_pub_ = lockstep_.advertise<std_msgs::String>(nh_, "topo_mode", 1, true);
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("topo_markers", 2, true);
-    axes_pub_ = nh_.advertise<hybrid_slam_msgs::BuildingAxes>("building_axes", 1, true);
-    features_sub_ = nh_.subscribe("features", 20, &TopoNodeRos::onFeatures, this);
-    status_sub_ = nh_.subscribe("exploration_status", 10, &TopoNodeRos::onStatus, this);
+    axes_pub_ = lockstep_.advertise<hybrid_slam_msgs::BuildingAxes>(nh_, "building_axes", 1, true);
+    // In lockstep, the features of a step wait for laser_features' acknowledgement of it.
+    features_sub_ = lockstep_.subscribe(nh_, "features", 20, &TopoNodeRos::onFeatures, this, lockstep::Delivery::Gated);
+    status_sub_ = lockstep_.subscribe<hybrid_slam_msgs::ExplorationStatus>(
+        nh_, "exploration_status", 10, [this](const hybrid_slam_msgs::ExplorationStatus::ConstPtr& m) { onStatus(*m); });
     services_ = {
         pnh.advertiseService("save_map", &TopoNodeRos::onSave, this),
         pnh.advertiseService("load_map", &TopoNodeRos::onLoad, this),
@@ -452,7 +457,9 @@ class TopoNodeRos {
   bool load_on_start_ = true, autosave_ = true;
   double transform_timeout_ = 0.1, markers_period_ = 0.5;
   double kidnap_consistency_ = 0.75;
-  ros::Publisher map_pub_, belief_pub_, confident_pub_, heading_pub_, events_pub_, mode_pub_, markers_pub_, axes_pub_;
+  lockstep::Participant lockstep_;
+  lockstep::Publisher map_pub_, belief_pub_, confident_pub_, heading_pub_, events_pub_, mode_pub_, axes_pub_;
+  ros::Publisher markers_pub_;
   std::string last_mode_;
   ros::Subscriber features_sub_, status_sub_;
   std::vector<ros::ServiceServer> services_;

@@ -10,8 +10,10 @@
 
 #include <hybrid_slam_msgs/LockstepAck.h>
 #include <hybrid_slam_msgs/LockstepStep.h>
+#include <ros/message_traits.h>
 #include <ros/ros.h>
 
+#include <algorithm>
 #include <atomic>
 #include <functional>
 #include <memory>
@@ -53,6 +55,11 @@ class Participant {
 
   bool enabled() const { return enabled_; }
 
+  /// How long (s, wall) to wait for a transform at a message's stamp: in lockstep the step's tf is
+  /// published before its data and always comes, so a busy machine must not make a node skip data
+  /// (2 s, liveness only); otherwise `configured`.
+  double transformTimeout(double configured) const { return enabled_ ? std::max(configured, 2.0) : configured; }
+
   template <class M>
   Publisher advertise(ros::NodeHandle& nh, const std::string& topic, uint32_t queue, bool latch = false) {
     ros::Publisher pub = nh.advertise<M>(topic, queue, latch);
@@ -70,16 +77,22 @@ class Participant {
     gate_.watch(resolved);
     // In lockstep every counted message goes through the queue of the participant's node handle.
     ros::NodeHandle& on = enabled_ ? nh_ : nh;
+    // Nagle's algorithm would hold a step's small messages back for the peer's delayed ACK.
+    ros::TransportHints transport = enabled_ ? ros::TransportHints(hints).tcpNoDelay() : hints;
     ros::Subscriber sub = on.subscribe<M>(
         topic, queue,
         [this, resolved, callback, delivery](const boost::shared_ptr<const M>& msg) {
           if (!enabled_) return callback(msg);
           gate_.received(resolved);
-          if (delivery == Delivery::Gated) gate_.defer(msg->header.stamp.toNSec(), [callback, msg] { callback(msg); });
-          else callback(msg);
+          if constexpr (ros::message_traits::HasHeader<M>::value) {
+            if (delivery == Delivery::Gated) gate_.defer(msg->header.stamp.toNSec(), [callback, msg] { callback(msg); });
+            else callback(msg);
+          } else {
+            callback(msg);  // only stamped messages can be gated
+          }
           advance();
         },
-        ros::VoidConstPtr(), hints);
+        ros::VoidConstPtr(), transport);
     subscriptions_.push_back(sub);
     return sub;
   }
@@ -119,6 +132,7 @@ class Participant {
   ros::WallTime waiting_since_;
   Stamp waiting_stamp_ = -1;
   bool advancing_ = false;
+  bool joined_ = false;  // the first step since this node started was acknowledged
 };
 
 }  // namespace lockstep

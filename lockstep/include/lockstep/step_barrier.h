@@ -23,7 +23,8 @@ class StepBarrier {
   explicit StepBarrier(const std::vector<std::string>& participants);
 
   /// Records an acknowledgement; false (ignored) for a node that is not a participant. An older
-  /// acknowledgement than one already recorded changes nothing.
+  /// acknowledgement than one already recorded changes nothing; a newer one replaces its counts (a
+  /// restarted node counts from zero).
   bool ack(const Ack& a);
   /// Every participant has acknowledged `stamp` or a later step.
   bool finished(Stamp stamp) const;
@@ -33,12 +34,15 @@ class StepBarrier {
   std::optional<Stamp> nextWake(Stamp after) const;
   /// What the participants have published (their latest acknowledgements), plus `own`.
   Counts published(const Counts& own = {}) const;
+  /// Not waited for until they acknowledge again (silent past the timeout: stopped, or restarting).
+  void excuse(const std::vector<std::string>& nodes);
   /// Every participant has acknowledged at least once.
   bool allKnown() const { return waitingFor(0).empty(); }
 
  private:
   struct State {
     bool known = false;
+    bool excused = false;
     Stamp stamp = 0;
     Stamp wake = 0;
     Counts published;

@@ -1,0 +1,70 @@
+// The simulator's side of lockstep (rate 0): each step's sensor data go out with a LockstepStep, and
+// sim time does not pass the step until every participant has acknowledged it and what they
+// published in it (cmd_vel) has arrived. See the lockstep package for the participants' side.
+#pragma once
+
+#include <hybrid_slam_msgs/LockstepAck.h>
+#include <ros/ros.h>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "lockstep/participant.h"
+#include "lockstep/step_barrier.h"
+
+namespace bullet_sim {
+
+class LockstepDriver {
+ public:
+  struct Options {
+    std::vector<std::string> participants;  // node names, resolved like topics
+    double timeout = 10.0;                  // (s, wall) before a silent participant is reported
+    bool stop_on_timeout = false;           // false: report it and go on
+  };
+
+  LockstepDriver(ros::NodeHandle nh, const Options& options);
+
+  /// A publisher whose messages the steps announce.
+  template <class M>
+  lockstep::Publisher advertise(ros::NodeHandle& nh, const std::string& topic, uint32_t queue, bool latch = false) {
+    ros::Publisher pub = nh.advertise<M>(topic, queue, latch);
+    auto count = std::make_shared<std::atomic<uint64_t>>(0);
+    own_.emplace_back(pub.getTopic(), count);
+    return lockstep::Publisher(pub, count);
+  }
+  /// A subscription of the simulator's whose messages the participants announce (cmd_vel): call
+  /// received() from its callback.
+  void watch(const ros::Subscriber& sub) { watched_.insert(sub.getTopic()); subs_.push_back(sub); }
+  void received(const std::string& topic) { ++received_[topic]; }
+
+  /// Waits until every participant has connected (sim time stays at a few nanoseconds meanwhile,
+  /// published by `publish_clock`). False when ROS shuts down.
+  bool start(const std::function<void(const ros::Time&)>& publish_clock);
+  /// A participant asked for a step at or before `now` (within `tolerance` seconds).
+  bool wakeDue(const ros::Time& now, double tolerance) const;
+  /// Announces the step and waits for it to be finished. False: stop the simulation (a participant
+  /// stayed silent past the timeout with stop_on_timeout).
+  bool step(const ros::Time& stamp);
+
+ private:
+  void onAck(const hybrid_slam_msgs::LockstepAck::ConstPtr& msg);
+  lockstep::Counts ownCounts() const;
+  void publishStep(const ros::Time& stamp, bool start);
+  bool finished(lockstep::Stamp stamp, std::string* why) const;
+
+  ros::NodeHandle nh_;
+  Options options_;
+  lockstep::StepBarrier barrier_;
+  std::vector<std::pair<std::string, std::shared_ptr<std::atomic<uint64_t>>>> own_;
+  std::set<std::string> watched_;
+  std::vector<ros::Subscriber> subs_;
+  lockstep::Counts received_;
+  lockstep::Stamp last_step_ = 0;
+  ros::Publisher step_pub_;
+  ros::Subscriber ack_sub_;
+};
+
+}  // namespace bullet_sim
