@@ -61,6 +61,8 @@ class LocalMapNode {
     pnh.param("transform_tolerance", transform_tolerance_, 0.1);
     pnh.param("transform_timeout", transform_timeout_, 0.1);
     pnh.param<std::string>("map_file", map_file_, "");
+    // Closed places are saved compact (marginals, float32) unless this asks for the joint covariance.
+    pnh.param("store_joint_covariance", save_options_.store_joint_covariance, save_options_.store_joint_covariance);
     double wheel_noise, wheel_base, inflation;
     pnh.param("odom_wheel_noise", wheel_noise, 0.005);
     pnh.param("odom_wheel_base", wheel_base, 0.40);
@@ -266,7 +268,7 @@ class LocalMapNode {
     res.message = "no place active (topological mode)";
     if (!map_file_.empty()) {
       // Nothing lost on a crash: every closed place is on disk.
-      const IoResult saved = savePlaces(maps_, map_file_);
+      const IoResult saved = savePlaces(maps_, map_file_, save_options_);
       if (!saved) res.message += "; autosave failed: " + saved.error;
     }
     return true;
@@ -310,7 +312,7 @@ class LocalMapNode {
       res.message = "no path given and no ~map_file parameter";
       return true;
     }
-    const IoResult r = savePlaces(maps_, path);
+    const IoResult r = savePlaces(maps_, path, save_options_);
     res.success = static_cast<bool>(r);
     res.message = r ? "saved " + std::to_string(maps_.size()) + " places to " + path : r.error;
     return true;
@@ -327,6 +329,7 @@ class LocalMapNode {
   PlaceMaps maps_;
   OdometryNoise noise_;
   std::string map_frame_, odom_frame_, base_frame_, place_prefix_, map_file_;
+  PlacesSaveOptions save_options_;
   bool publish_tf_ = true;
   double transform_tolerance_ = 0.1, transform_timeout_ = 0.1;
   std::optional<Pose2D> last_odom_;

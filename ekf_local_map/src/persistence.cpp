@@ -20,8 +20,20 @@ namespace ekf_local_map {
 
 namespace {
 
+// Record sizes (see persistence.h).
 constexpr size_t kLineRecordBytes = 6 * 8;
 constexpr size_t kDoorRecordBytes = 4 + 9 * 8;
+constexpr size_t kCompactRobotCovBytes = 6 * 4;
+constexpr size_t kCompactLineBytes = 9 * 4;
+constexpr size_t kCompactDoorBytes = 4 + 9 * 4;
+
+constexpr uint32_t kFlagRelocationPending = 1u;
+constexpr uint32_t kFlagCompact = 2u;  // version 2 on
+
+// Tolerances of the positive semi-definite check, relative to the largest eigenvalue: rounding of
+// f64 numbers, and of f32 ones (float32's epsilon is 1.2e-7).
+constexpr double kPsdToleranceF64 = 1e-9;
+constexpr double kPsdToleranceF32 = 1e-6;
 
 std::string headerText(uint32_t version) {
   return std::string(kPlacesMagic) + "\nversion " + std::to_string(version) + "\n";
@@ -37,17 +49,30 @@ class Writer : public laser_features::BinaryWriter {
     f64(p.y);
     f64(p.theta);
   }
+  void f32(float v) {
+    uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    u32(bits);
+  }
+  /// An angle of (-pi, pi] as float32, still inside (-pi, pi]: rounding can carry a value near
+  /// either end past it (float(pi) > pi), so such a value goes one float towards zero (< 3e-7 rad).
+  void angleF32(double a) {
+    float f = static_cast<float>(a);
+    if (double(f) > laser_features::kPi || double(f) <= -laser_features::kPi) f = std::nextafter(f, 0.0f);
+    f32(f);
+  }
+  /// The upper triangle of a symmetric matrix, row by row, as float32.
+  template <typename Matrix>
+  void upperTriangleF32(const Matrix& M) {
+    for (Eigen::Index r = 0; r < M.rows(); ++r)
+      for (Eigen::Index c = r; c < M.cols(); ++c) f32(static_cast<float>(M(r, c)));
+  }
 };
 
-void encodePlace(const Place& place, std::string* out) {
-  Writer w(out);
+/// The full record (version 1's): f64 lines with extents, doors and the joint covariance P.
+void encodeFullBody(const Place& place, Writer* out) {
+  Writer& w = *out;
   const StochasticMap& map = place.map;
-  w.u32(place.id);
-  w.pose(place.display_pose);
-  w.u32(map.relocationPending() ? 1u : 0u);
-  w.u32(uint32_t(map.numLines()));
-  w.u32(uint32_t(place.doors.size()));
-  w.pose(map.robotPose());
   for (size_t i = 0; i < map.numLines(); ++i) {
     const MapLine line = map.line(i);
     w.f64(line.line.alpha);
@@ -69,6 +94,53 @@ void encodePlace(const Place& place, std::string* out) {
     for (Eigen::Index c = 0; c <= r; ++c) w.f64(P(r, c));
 }
 
+/// The compact record: what relocation and missions use, in float32, marginals only.
+void encodeCompactBody(const Place& place, Writer* out) {
+  Writer& w = *out;
+  const StochasticMap& map = place.map;
+  w.upperTriangleF32(map.robotCovariance());
+  for (size_t i = 0; i < map.numLines(); ++i) {
+    const MapLine line = map.line(i);
+    w.angleF32(line.line.alpha);
+    w.f32(static_cast<float>(line.line.r));
+    w.f32(static_cast<float>(line.extent_start.x()));
+    w.f32(static_cast<float>(line.extent_start.y()));
+    w.f32(static_cast<float>(line.extent_end.x()));
+    w.f32(static_cast<float>(line.extent_end.y()));
+    w.upperTriangleF32(line.line.cov);  // the marginal: the 2x2 block of P
+  }
+  for (const auto& entry : place.doors) {
+    const Door& door = entry.second;
+    w.u32(door.id);
+    w.f32(static_cast<float>(door.pose.x));
+    w.f32(static_cast<float>(door.pose.y));
+    w.angleF32(door.pose.theta);
+    w.upperTriangleF32(door.cov);
+  }
+}
+
+void encodePlace(const Place& place, bool compact, std::string* out) {
+  Writer w(out);
+  const StochasticMap& map = place.map;
+  w.u32(place.id);
+  w.pose(place.display_pose);
+  w.u32((map.relocationPending() ? kFlagRelocationPending : 0u) | (compact ? kFlagCompact : 0u));
+  w.u32(uint32_t(map.numLines()));
+  w.u32(uint32_t(place.doors.size()));
+  w.pose(map.robotPose());
+  if (compact) {
+    encodeCompactBody(place, &w);
+  } else {
+    encodeFullBody(place, &w);
+  }
+}
+
+/// The active place keeps its joint covariance (a filter in progress); closed places are compact
+/// unless the options ask for the joint covariance.
+bool writeCompact(const PlaceMaps& maps, uint32_t id, const PlacesSaveOptions& options) {
+  return !options.store_joint_covariance && maps.activeId() != id;
+}
+
 // ---- decoding --------------------------------------------------------------------------------
 
 class Reader : public laser_features::BinaryReader {
@@ -81,49 +153,102 @@ class Reader : public laser_features::BinaryReader {
     p.theta = f64(what);
     return p;
   }
+  double f32(const char* what) {
+    const size_t at = position();
+    const uint32_t bits = u32(what);
+    float v;
+    std::memcpy(&v, &bits, sizeof v);
+    if (!std::isfinite(v)) fail(std::string("non-finite number in ") + what + " at byte " + std::to_string(at));
+    return ok() ? double(v) : 0.0;
+  }
+  /// A symmetric N x N matrix from its upper triangle in float32, row by row.
+  template <int N>
+  Eigen::Matrix<double, N, N> symmetricF32(const char* what) {
+    Eigen::Matrix<double, N, N> M;
+    for (int r = 0; r < N; ++r)
+      for (int c = r; c < N; ++c) M(r, c) = M(c, r) = f32(what);
+    return M;
+  }
 };
 
 bool normalizedAngle(double a) { return a > -laser_features::kPi - 1e-12 && a <= laser_features::kPi + 1e-12; }
 
-/// Positive semi-definite within rounding (the eigenvalues of a saved P are >= 0 up to ~1e-15 of its norm).
-bool positiveSemiDefinite(const Eigen::MatrixXd& M) {
+/// Positive semi-definite within rounding: the smallest eigenvalue is >= -tolerance times the largest
+/// magnitude (the eigenvalues of a saved P are >= 0 up to ~1e-15 of its norm; of a float32 one, ~1e-7).
+bool positiveSemiDefinite(const Eigen::MatrixXd& M, double tolerance = kPsdToleranceF64) {
   if (M.size() == 0) return true;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(M, Eigen::EigenvaluesOnly);
   if (eigen.info() != Eigen::Success) return false;
   const double scale = std::max(eigen.eigenvalues().cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
-  return eigen.eigenvalues().minCoeff() >= -1e-9 * scale;
+  return eigen.eigenvalues().minCoeff() >= -tolerance * scale;
 }
 
 std::string placeContext(size_t index, uint32_t id) {
   return "place #" + std::to_string(index) + " (id " + std::to_string(id) + ")";
 }
 
-/// Reads one place record; returns false with the reader's or `error`'s message.
-bool decodePlace(Reader* in, size_t index, const StochasticMapParams& params, Place* place, std::string* error) {
+/// What precedes a place's body.
+struct PlaceHeader {
+  std::string where;  // "place #k (id i)", for messages
+  uint32_t flags = 0;
+  uint32_t num_lines = 0;
+  uint32_t num_doors = 0;
+  Pose2D robot;
+  bool compact() const { return (flags & kFlagCompact) != 0; }
+};
+
+/// Bytes the body after the header needs (checked before allocating anything for the counts).
+uint64_t bodyBytes(const PlaceHeader& h) {
+  const uint64_t n = h.num_lines, d = h.num_doors;
+  if (h.compact()) return kCompactRobotCovBytes + n * kCompactLineBytes + d * kCompactDoorBytes;
+  const uint64_t N = 3 + 2 * n;
+  return n * kLineRecordBytes + d * kDoorRecordBytes + N * (N + 1) / 2 * 8;
+}
+
+/// The place's id, display pose, flags, counts and robot pose; refuses flags the version does not
+/// know and counts the rest of the file cannot hold.
+bool decodeHeader(Reader* in, size_t index, uint32_t version, Place* place, PlaceHeader* h, std::string* error) {
   place->id = in->u32("a place id");
-  const std::string where = placeContext(index, place->id);
+  h->where = placeContext(index, place->id);
   place->display_pose = in->pose("a place's display pose");
-  const uint32_t flags = in->u32("a place's flags");
-  const uint32_t num_lines = in->u32("a place's line count");
-  const uint32_t num_doors = in->u32("a place's door count");
+  h->flags = in->u32("a place's flags");
+  h->num_lines = in->u32("a place's line count");
+  h->num_doors = in->u32("a place's door count");
+  h->robot = in->pose("the robot pose");
   if (!in->ok()) return false;
-  if (flags > 1u) {
-    *error = where + ": unknown flags " + std::to_string(flags);
+  const uint32_t known = kFlagRelocationPending | (version >= 2 ? kFlagCompact : 0u);
+  if ((h->flags & ~known) != 0) {
+    *error = h->where + ": unknown flags " + std::to_string(h->flags) + " for version " + std::to_string(version);
     return false;
   }
-  // Refuse impossible counts before allocating anything for them.
-  const uint64_t n = 3 + 2 * uint64_t(num_lines);
-  const uint64_t needed = 24 + uint64_t(num_lines) * kLineRecordBytes + uint64_t(num_doors) * kDoorRecordBytes +
-                          n * (n + 1) / 2 * 8;
-  if (needed > in->remaining()) {
-    *error = where + ": " + std::to_string(num_lines) + " lines and " + std::to_string(num_doors) +
-             " doors need " + std::to_string(needed) + " more bytes, the file has " +
+  if (bodyBytes(*h) > in->remaining()) {
+    *error = h->where + ": " + std::to_string(h->num_lines) + " lines and " + std::to_string(h->num_doors) +
+             " doors need " + std::to_string(bodyBytes(*h)) + " more bytes, the file has " +
              std::to_string(in->remaining()) + " (truncated?)";
     return false;
   }
-  const Pose2D robot = in->pose("the robot pose");
-  std::vector<MapLine> lines(num_lines);
-  for (MapLine& line : lines) {
+  return true;
+}
+
+/// Keeps a decoded door; refuses a duplicate id, a heading outside (-pi, pi] or an indefinite covariance.
+bool keepDoor(const Door& door, const PlaceHeader& h, double psd_tolerance, Place* place, std::string* error) {
+  if (!place->doors.emplace(door.id, door).second) {
+    *error = h.where + ": door id " + std::to_string(door.id) + " appears twice";
+    return false;
+  }
+  if (!normalizedAngle(door.pose.theta) || !positiveSemiDefinite(door.cov, psd_tolerance)) {
+    *error = h.where + ", door " + std::to_string(door.id) +
+             ": angle not in (-pi, pi] or covariance not positive semi-definite";
+    return false;
+  }
+  return true;
+}
+
+/// The full record: f64 lines with extents, doors, the joint covariance P (versions 1 and 2).
+bool decodeFullBody(Reader* in, const PlaceHeader& h, Place* place, std::vector<MapLine>* lines,
+                    Eigen::MatrixXd* P, std::string* error) {
+  lines->resize(h.num_lines);
+  for (MapLine& line : *lines) {
     line.line.alpha = in->f64("a line");
     line.line.r = in->f64("a line");
     line.extent_start.x() = in->f64("a line extent");
@@ -131,46 +256,95 @@ bool decodePlace(Reader* in, size_t index, const StochasticMapParams& params, Pl
     line.extent_end.x() = in->f64("a line extent");
     line.extent_end.y() = in->f64("a line extent");
   }
-  for (uint32_t d = 0; d < num_doors; ++d) {
+  for (uint32_t d = 0; d < h.num_doors; ++d) {
     Door door;
     door.id = in->u32("a door id");
     door.pose = in->pose("a door pose");
     for (int r = 0; r < 3; ++r)
       for (int c = r; c < 3; ++c) door.cov(r, c) = door.cov(c, r) = in->f64("a door covariance");
-    if (!in->ok()) return false;
-    if (!place->doors.emplace(door.id, door).second) {
-      *error = where + ": door id " + std::to_string(door.id) + " appears twice";
-      return false;
-    }
-    if (!normalizedAngle(door.pose.theta) || !positiveSemiDefinite(door.cov)) {
-      *error = where + ", door " + std::to_string(door.id) +
-               ": angle not in (-pi, pi] or covariance not positive semi-definite";
-      return false;
-    }
+    if (!in->ok() || !keepDoor(door, h, kPsdToleranceF64, place, error)) return false;
   }
-  Eigen::MatrixXd P(n, n);
-  for (Eigen::Index r = 0; r < Eigen::Index(n); ++r)
-    for (Eigen::Index c = 0; c <= r; ++c) P(r, c) = P(c, r) = in->f64("the covariance");
+  const Eigen::Index n = Eigen::Index(3 + 2 * size_t(h.num_lines));
+  P->resize(n, n);
+  for (Eigen::Index r = 0; r < n; ++r)
+    for (Eigen::Index c = 0; c <= r; ++c) (*P)(r, c) = (*P)(c, r) = in->f64("the covariance");
   if (!in->ok()) return false;
+  if ((P->diagonal().array() < 0.0).any() || !positiveSemiDefinite(*P)) {
+    *error = h.where + ": the covariance (" + std::to_string(n) + "x" + std::to_string(n) +
+             ") is not positive semi-definite";
+    return false;
+  }
+  return true;
+}
 
-  if (!normalizedAngle(robot.theta)) {
-    *error = where + ": robot heading " + std::to_string(robot.theta) + " not in (-pi, pi]";
+/// The compact record (version 2): float32 lines with extents and marginals, the robot's marginal,
+/// doors. P is rebuilt BLOCK-DIAGONAL from the marginals. Why that is enough: after a load no place
+/// is active; entering one, relocation (PlaceMaps::relocateAtDoor -> StochasticMap::relocate)
+/// replaces the robot's pose and covariance and zeroes the robot-line cross-covariances, and the
+/// update that judges it (joint NIS, eqs. 13-14) and fuses it (eqs. 15-17) uses P's line blocks and
+/// line-line cross-covariances. With these zero, each line keeps its exact marginal and the lines
+/// count as independent; the robot's block is its marginal, uncorrelated with the lines, as
+/// relocate() leaves it.
+bool decodeCompactBody(Reader* in, const PlaceHeader& h, Place* place, std::vector<MapLine>* lines,
+                       Eigen::MatrixXd* P, std::string* error) {
+  const Eigen::Index n = Eigen::Index(3 + 2 * size_t(h.num_lines));
+  *P = Eigen::MatrixXd::Zero(n, n);
+  P->topLeftCorner<3, 3>() = in->symmetricF32<3>("the robot covariance");
+  if (in->ok() && !positiveSemiDefinite(P->topLeftCorner<3, 3>(), kPsdToleranceF32)) {
+    *error = h.where + ": the robot covariance is not positive semi-definite";
+    return false;
+  }
+  lines->resize(h.num_lines);
+  for (size_t i = 0; i < lines->size() && in->ok(); ++i) {
+    MapLine& line = (*lines)[i];
+    line.line.alpha = in->f32("a line");
+    line.line.r = in->f32("a line");
+    line.extent_start.x() = in->f32("a line extent");
+    line.extent_start.y() = in->f32("a line extent");
+    line.extent_end.x() = in->f32("a line extent");
+    line.extent_end.y() = in->f32("a line extent");
+    const Eigen::Matrix2d marginal = in->symmetricF32<2>("a line covariance");
+    if (in->ok() && !positiveSemiDefinite(marginal, kPsdToleranceF32)) {
+      *error = h.where + ", line " + std::to_string(i) + ": the covariance is not positive semi-definite";
+      return false;
+    }
+    P->block<2, 2>(Eigen::Index(3 + 2 * i), Eigen::Index(3 + 2 * i)) = marginal;
+  }
+  for (uint32_t d = 0; d < h.num_doors && in->ok(); ++d) {
+    Door door;
+    door.id = in->u32("a door id");
+    door.pose.x = in->f32("a door pose");
+    door.pose.y = in->f32("a door pose");
+    door.pose.theta = in->f32("a door pose");
+    door.cov = in->symmetricF32<3>("a door covariance");
+    if (in->ok() && !keepDoor(door, h, kPsdToleranceF32, place, error)) return false;
+  }
+  return in->ok();
+}
+
+/// Reads one place record; returns false with the reader's or `error`'s message.
+bool decodePlace(Reader* in, size_t index, uint32_t version, const StochasticMapParams& params, Place* place,
+                 std::string* error) {
+  PlaceHeader h;
+  if (!decodeHeader(in, index, version, place, &h, error)) return false;
+  std::vector<MapLine> lines;
+  Eigen::MatrixXd P;
+  const bool body = h.compact() ? decodeCompactBody(in, h, place, &lines, &P, error)
+                                : decodeFullBody(in, h, place, &lines, &P, error);
+  if (!body) return false;
+  if (!normalizedAngle(h.robot.theta)) {
+    *error = h.where + ": robot heading " + std::to_string(h.robot.theta) + " not in (-pi, pi]";
     return false;
   }
   for (size_t i = 0; i < lines.size(); ++i) {
     if (!normalizedAngle(lines[i].line.alpha) || lines[i].line.r < 0.0) {
-      *error = where + ", line " + std::to_string(i) + ": (alpha, r) = (" + std::to_string(lines[i].line.alpha) +
+      *error = h.where + ", line " + std::to_string(i) + ": (alpha, r) = (" + std::to_string(lines[i].line.alpha) +
                ", " + std::to_string(lines[i].line.r) + ") is not canonical (alpha in (-pi, pi], r >= 0)";
       return false;
     }
   }
-  if ((P.diagonal().array() < 0.0).any() || !positiveSemiDefinite(P)) {
-    *error = where + ": the covariance (" + std::to_string(n) + "x" + std::to_string(n) +
-             ") is not positive semi-definite";
-    return false;
-  }
   place->map = StochasticMap(params);
-  place->map.setState(robot, lines, P, flags & 1u);
+  place->map.setState(h.robot, lines, P, (h.flags & kFlagRelocationPending) != 0);
   return true;
 }
 
@@ -180,12 +354,12 @@ IoResult failure(const std::string& name, const std::string& what) {
 
 }  // namespace
 
-std::string encodePlaces(const PlaceMaps& maps) {
+std::string encodePlaces(const PlaceMaps& maps, const PlacesSaveOptions& options) {
   std::string out = headerText(kPlacesFormatVersion);
   Writer w(&out);
   w.u32(uint32_t(maps.size()));
   w.u32(maps.nextId());
-  for (const auto& entry : maps.places()) encodePlace(entry.second, &out);
+  for (const auto& entry : maps.places()) encodePlace(entry.second, writeCompact(maps, entry.first, options), &out);
   w.u32(laser_features::crc32(out.data(), out.size()));
   return out;
 }
@@ -210,10 +384,11 @@ IoResult decodePlaces(const std::string& bytes, const std::string& name, PlaceMa
     return failure(name, "format version " + std::to_string(version) + " is newer than this build reads (" +
                              std::to_string(kPlacesFormatVersion) + "); update the software");
   }
-  if (version < kPlacesFormatVersion) {
+  if (version < kPlacesOldestFormatVersion) {
     // Version 1 is the first format; an older number was never written by hybrid_slam.
     return failure(name, "format version " + std::to_string(version) + " is older than this build reads (" +
-                             std::to_string(kPlacesFormatVersion) + ") and has no migration; build the map again");
+                             std::to_string(kPlacesOldestFormatVersion) + ".." + std::to_string(kPlacesFormatVersion) +
+                             ") and has no migration; build the map again");
   }
   const size_t body = version_end + 1;
   if (bytes.size() < body + 4) return failure(name, "the file ends early (truncated?) before the checksum");
@@ -227,7 +402,7 @@ IoResult decodePlaces(const std::string& bytes, const std::string& name, PlaceMa
   std::string error;
   for (uint32_t k = 0; k < count && in.ok() && error.empty(); ++k) {
     Place place{0, {}, StochasticMap(StochasticMapParams{}), {}};
-    if (!decodePlace(&in, k, maps->params(), &place, &error)) break;
+    if (!decodePlace(&in, k, uint32_t(version), maps->params(), &place, &error)) break;
     const uint32_t id = place.id;
     if (!places.emplace(id, std::move(place)).second) error = "place id " + std::to_string(id) + " appears twice";
   }
@@ -253,9 +428,9 @@ IoResult decodePlaces(const std::string& bytes, const std::string& name, PlaceMa
   return {};
 }
 
-IoResult savePlaces(const PlaceMaps& maps, const std::string& path) {
+IoResult savePlaces(const PlaceMaps& maps, const std::string& path, const PlacesSaveOptions& options) {
   std::string error;
-  if (!laser_features::writeFileAtomically(path, encodePlaces(maps), &error)) {
+  if (!laser_features::writeFileAtomically(path, encodePlaces(maps, options), &error)) {
     return {false, "cannot save places to '" + path + "': " + error};
   }
   return {};
@@ -267,17 +442,22 @@ IoResult loadPlaces(const std::string& path, PlaceMaps* maps) {
   return decodePlaces(bytes, path, maps);
 }
 
-std::vector<PlaceStorage> storageStats(const PlaceMaps& maps) {
+std::vector<PlaceStorage> storageStats(const PlaceMaps& maps, const PlacesSaveOptions& options) {
   std::vector<PlaceStorage> stats;
   for (const auto& entry : maps.places()) {
     const StochasticMap& map = entry.second.map;
     PlaceStorage s;
     s.id = entry.first;
     s.lines = map.numLines();
-    std::string record;
-    encodePlace(entry.second, &record);
-    s.bytes = record.size();
-    s.line_bytes = map.numLines() * kLineRecordBytes;
+    s.doors = entry.second.doors.size();
+    s.compact = writeCompact(maps, entry.first, options);
+    std::string compact, full;
+    encodePlace(entry.second, true, &compact);
+    encodePlace(entry.second, false, &full);
+    s.compact_bytes = compact.size();
+    s.full_bytes = full.size();
+    s.bytes = s.compact ? s.compact_bytes : s.full_bytes;
+    s.line_bytes = map.numLines() * (s.compact ? kCompactLineBytes : kLineRecordBytes);
     if (map.numLines() > 0) {
       Eigen::Vector2d lo = map.line(0).extent_start, hi = lo;
       for (size_t i = 0; i < map.numLines(); ++i) {

@@ -1,6 +1,9 @@
-// Saving and loading places: an exact round trip; refusal of truncated files, flipped bytes, a bad
-// magic line, a newer version, non-finite numbers and non-PSD covariances (with a valid checksum),
-// always leaving the maps in memory as they were; atomic writes; storage size per place and per m^2.
+// Saving and loading places: an exact round trip with the joint covariance, a compact one (float32
+// lines, extents, marginals, doors; P rebuilt block-diagonal) within float precision, the active
+// place kept whole; a version-1 file still read; refusal of truncated files, flipped bytes, a bad
+// magic line, a newer version, unknown flags, non-finite numbers and non-PSD covariances (with a
+// valid checksum), always leaving the maps in memory as they were; atomic writes; storage size per
+// line, door, place and m^2, compact and full.
 #include "laser_features/file_io.h"
 #include "ekf_local_map/persistence.h"
 
@@ -25,6 +28,8 @@ using laser_features::compose;
 using namespace testing_support;
 
 const Pose2D kSensorMount{0.12, -0.03, 0.05};
+const PlacesSaveOptions kJoint{true};  // store_joint_covariance
+const std::string kHeaderV2 = "hybrid_slam_places\nversion 2\n";
 
 /// Two mapped places with doors.
 PlaceMaps twoPlaces() {
@@ -76,11 +81,20 @@ std::string withValidChecksum(std::string bytes) {
   return bytes;
 }
 
-/// Byte offset of the first line's alpha in place #0: after the header, counts, place fields.
-size_t firstLineOffset(const std::string& bytes) {
+/// Byte offset of place #0's flags: after the header lines, counts, id and display pose.
+size_t firstFlagsOffset(const std::string& bytes) {
   const size_t body = bytes.find('\n', bytes.find('\n') + 1) + 1;
-  return body + 8 /* count, next id */ + 4 + 24 + 4 + 4 + 4 + 24 /* id, display, flags, n, d, robot */;
+  return body + 8 /* count, next id */ + 4 + 24 /* id, display */;
 }
+
+/// Byte offset of the first line's alpha in place #0 of a full record: after the header, counts,
+/// place fields.
+size_t firstLineOffset(const std::string& bytes) {
+  return firstFlagsOffset(bytes) + 4 + 4 + 4 + 24 /* flags, n, d, robot */;
+}
+
+/// The same in a compact record: after the robot's covariance (6 float32).
+size_t firstCompactLineOffset(const std::string& bytes) { return firstLineOffset(bytes) + 24; }
 
 void expectSamePlaces(const PlaceMaps& a, const PlaceMaps& b) {
   ASSERT_EQ(a.placeIds(), b.placeIds());
@@ -105,29 +119,175 @@ void expectSamePlaces(const PlaceMaps& a, const PlaceMaps& b) {
   }
 }
 
-TEST(Persistence, RoundTripIsExact) {
+TEST(Persistence, RoundTripWithTheJointCovarianceIsExact) {
   const PlaceMaps places = twoPlaces();
   const std::string path = tempPath("round_trip.places");
-  const IoResult saved = savePlaces(places, path);
+  const IoResult saved = savePlaces(places, path, kJoint);
   ASSERT_TRUE(saved) << saved.error;
   EXPECT_FALSE(exists(path + ".tmp"));
-  EXPECT_EQ(readFile(path).rfind("hybrid_slam_places\nversion 1\n", 0), 0u);
+  EXPECT_EQ(readFile(path).rfind(kHeaderV2, 0), 0u);
 
   PlaceMaps loaded(testParams());
   const IoResult result = loadPlaces(path, &loaded);
   ASSERT_TRUE(result) << result.error;
   expectSamePlaces(places, loaded);
-  EXPECT_EQ(encodePlaces(loaded), readFile(path));  // bit for bit
+  EXPECT_EQ(encodePlaces(loaded, kJoint), readFile(path));  // bit for bit
   EXPECT_FALSE(loaded.activeId().has_value());
   // The loaded maps work: a new place gets a fresh id.
   EXPECT_EQ(loaded.createPlace({}), places.nextId());
   std::remove(path.c_str());
 }
 
+/// |a - b| within float32 rounding of a: half an ulp is 6e-8 of |a| (alpha may also move one
+/// float towards zero to stay in (-pi, pi]: 2.4e-7 rad).
+::testing::AssertionResult nearFloat(double a, double b, double tolerance = 1.3e-7) {
+  if (std::abs(a - b) <= tolerance * std::max(std::abs(a), 1e-30)) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << a << " vs " << b << ": more than float rounding apart";
+}
+
+template <typename Matrix>
+::testing::AssertionResult nearFloat(const Matrix& A, const Matrix& B) {
+  for (Eigen::Index i = 0; i < A.size(); ++i) {
+    // Each entry rounded on its own: relative to itself.
+    ::testing::AssertionResult near = nearFloat(A.data()[i], B.data()[i]);
+    if (!near) return near << " (entry " << i << ")";
+  }
+  return ::testing::AssertionSuccess();
+}
+
+/// The loaded compact place: every line, extent and marginal within float precision of the
+/// original, the lines' and the robot's cross-covariances zero, doors within float precision.
+void expectCompactCopy(const Place& p, const Place& q) {
+  EXPECT_EQ(p.display_pose.x, q.display_pose.x);  // f64 in both records
+  EXPECT_EQ(p.display_pose.theta, q.display_pose.theta);
+  EXPECT_EQ(p.map.robotPose().x, q.map.robotPose().x);
+  EXPECT_EQ(p.map.robotPose().theta, q.map.robotPose().theta);
+  EXPECT_EQ(p.map.relocationPending(), q.map.relocationPending());
+  EXPECT_TRUE(nearFloat(p.map.robotCovariance(), q.map.robotCovariance()));
+  ASSERT_EQ(p.map.numLines(), q.map.numLines());
+  const Eigen::MatrixXd Q = q.map.covariance();
+  for (size_t i = 0; i < p.map.numLines(); ++i) {
+    SCOPED_TRACE("line " + std::to_string(i));
+    const MapLine a = p.map.line(i), b = q.map.line(i);
+    EXPECT_TRUE(nearFloat(a.line.alpha, b.line.alpha, 2.5e-7));
+    EXPECT_TRUE(nearFloat(a.line.r, b.line.r));
+    EXPECT_TRUE(nearFloat(a.extent_start, b.extent_start));
+    EXPECT_TRUE(nearFloat(a.extent_end, b.extent_end));
+    EXPECT_TRUE(nearFloat(a.line.cov, b.line.cov));
+    EXPECT_NE(a.line.cov(0, 1), 0.0);  // the marginal's correlation is kept
+    // Block-diagonal: no robot-line, no line-line cross-covariance.
+    EXPECT_TRUE(Q.block(3 + 2 * Eigen::Index(i), 0, 2, 3).isZero(0.0));
+    for (size_t j = 0; j < i; ++j) EXPECT_TRUE(q.map.lineCrossCovariance(i, j).isZero(0.0));
+  }
+  ASSERT_EQ(p.doors.size(), q.doors.size());
+  for (const auto& [id, door] : p.doors) {
+    ASSERT_EQ(q.doors.count(id), 1u);
+    const Door& copy = q.doors.at(id);
+    EXPECT_TRUE(nearFloat(door.pose.x, copy.pose.x));
+    EXPECT_TRUE(nearFloat(door.pose.y, copy.pose.y));
+    EXPECT_TRUE(nearFloat(door.pose.theta, copy.pose.theta, 2.5e-7));
+    EXPECT_TRUE(nearFloat(door.cov, copy.cov));
+  }
+}
+
+TEST(Persistence, CompactRoundTripKeepsLinesMarginalsAndDoors) {
+  PlaceMaps places = twoPlaces();
+  // A closed place may carry a pending relocation (entered, not confirmed, left again).
+  ASSERT_TRUE(places.relocateAtDoor(1, 1, {0.3, 0.0, 0.1}, Eigen::Matrix3d::Identity() * 1e-3));
+  places.close();
+  const std::string bytes = encodePlaces(places);  // the default: compact
+  EXPECT_EQ(bytes.rfind(kHeaderV2, 0), 0u);
+  EXPECT_LT(bytes.size(), encodePlaces(places, kJoint).size());
+
+  PlaceMaps loaded(testParams());
+  const IoResult result = decodePlaces(bytes, "compact", &loaded);
+  ASSERT_TRUE(result) << result.error;
+  ASSERT_EQ(loaded.placeIds(), places.placeIds());
+  EXPECT_EQ(loaded.nextId(), places.nextId());
+  EXPECT_FALSE(loaded.activeId().has_value());
+  for (const uint32_t id : places.placeIds()) {
+    SCOPED_TRACE("place " + std::to_string(id));
+    expectCompactCopy(*places.place(id), *loaded.place(id));
+  }
+  EXPECT_TRUE(loaded.place(1)->map.relocationPending());
+  // Float32 numbers survive another save unchanged: loading and saving again is lossless.
+  EXPECT_EQ(encodePlaces(loaded), bytes);
+}
+
+TEST(Persistence, AnAngleAtPiStaysCanonicalInFloat32) {
+  // float(pi) > pi: the writer moves it one float down, the reader accepts it.
+  PlaceMaps places(testParams());
+  const uint32_t id = places.createPlace({});
+  places.addDoor(id, 4, {1.0, 2.0, kPi}, Eigen::Matrix3d::Identity() * 1e-4);
+  places.addDoor(id, 5, {1.0, 2.0, std::nextafter(-kPi, 0.0)}, Eigen::Matrix3d::Identity() * 1e-4);
+  places.close();
+  PlaceMaps loaded(testParams());
+  const IoResult result = decodePlaces(encodePlaces(places), "pi", &loaded);
+  ASSERT_TRUE(result) << result.error;
+  EXPECT_LE(loaded.place(id)->doors.at(4).pose.theta, kPi);
+  EXPECT_NEAR(loaded.place(id)->doors.at(4).pose.theta, kPi, 3e-7);
+  EXPECT_GT(loaded.place(id)->doors.at(5).pose.theta, -kPi);
+  EXPECT_NEAR(loaded.place(id)->doors.at(5).pose.theta, -kPi, 3e-7);
+}
+
+TEST(Persistence, TheActivePlaceKeepsItsJointCovariance) {
+  PlaceMaps places = twoPlaces();
+  ASSERT_TRUE(places.activate(1));
+  const std::vector<PlaceStorage> stats = storageStats(places);
+  ASSERT_EQ(stats.size(), 2u);
+  EXPECT_TRUE(stats[0].compact);
+  EXPECT_FALSE(stats[1].compact);
+  PlaceMaps loaded(testParams());
+  const IoResult result = decodePlaces(encodePlaces(places), "active", &loaded);
+  ASSERT_TRUE(result) << result.error;
+  expectCompactCopy(*places.place(0), *loaded.place(0));
+  EXPECT_EQ(loaded.place(1)->map.state(), places.place(1)->map.state());
+  EXPECT_EQ(loaded.place(1)->map.covariance(), places.place(1)->map.covariance());
+}
+
+TEST(Persistence, AVersion1FileIsStillRead) {
+  // Written by the version-1 code from twoPlaces(); the same places rebuilt now agree with it (up
+  // to rounding: the update kernel may differ between machines).
+  const std::string path = std::string(TEST_DATA_DIR) + "/two_places_v1.places";
+  const std::string bytes = readFile(path);
+  ASSERT_EQ(bytes.rfind("hybrid_slam_places\nversion 1\n", 0), 0u) << path;
+  PlaceMaps loaded(testParams());
+  const IoResult result = loadPlaces(path, &loaded);
+  ASSERT_TRUE(result) << result.error;
+  const PlaceMaps places = twoPlaces();
+  ASSERT_EQ(loaded.placeIds(), places.placeIds());
+  EXPECT_EQ(loaded.nextId(), places.nextId());
+  for (const uint32_t id : places.placeIds()) {
+    const Place& p = *places.place(id);
+    const Place& q = *loaded.place(id);
+    ASSERT_EQ(q.map.numLines(), p.map.numLines());
+    EXPECT_TRUE(q.map.state().isApprox(p.map.state(), 1e-9));
+    EXPECT_TRUE(q.map.covariance().isApprox(p.map.covariance(), 1e-9));
+    ASSERT_EQ(q.doors.size(), p.doors.size());
+    for (const auto& [door_id, door] : p.doors) EXPECT_TRUE(q.doors.at(door_id).cov.isApprox(door.cov, 1e-9));
+  }
+  EXPECT_EQ(loaded.place(0)->map.numLines(), officeRoom().size());
+  // Saved again, it is a version-2 file; with the joint covariance nothing changes but the version.
+  std::string v2 = bytes;
+  v2.replace(0, kHeaderV2.size(), kHeaderV2);
+  EXPECT_EQ(encodePlaces(loaded, kJoint), withValidChecksum(v2));
+  EXPECT_LT(encodePlaces(loaded).size(), bytes.size());
+
+  // Version 1 had no compact record: its flag is refused there.
+  std::string flagged = bytes;
+  flagged[firstFlagsOffset(bytes)] |= 0x02;
+  PlaceMaps kept(testParams());
+  const IoResult refused = decodePlaces(withValidChecksum(flagged), "v1", &kept);
+  EXPECT_FALSE(refused.ok);
+  EXPECT_NE(refused.error.find("unknown flags 2 for version 1"), std::string::npos) << refused.error;
+  EXPECT_EQ(kept.size(), 0u);
+}
+
 class RefusedFile : public ::testing::Test {
  protected:
   void SetUp() override {
-    good_ = encodePlaces(twoPlaces());
+    good_ = encodePlaces(twoPlaces());  // compact records
+    good_full_ = encodePlaces(twoPlaces(), kJoint);
     // The maps in memory before each load: one place of their own.
     std::mt19937 rng(9);
     kept_.createPlace({1.0, 2.0, 3.0});
@@ -147,7 +307,7 @@ class RefusedFile : public ::testing::Test {
     EXPECT_TRUE(kept_.activeId().has_value());
     std::remove(path.c_str());
   }
-  std::string good_;
+  std::string good_, good_full_;
   PlaceMaps kept_{testParams()};
   std::string kept_bytes_;
 };
@@ -169,12 +329,15 @@ TEST_F(RefusedFile, Truncated) {
 }
 
 TEST_F(RefusedFile, FlippedByteInANumber) {
-  std::string flipped = good_;
-  flipped[firstLineOffset(good_) + 3] ^= 0x10;  // inside the first line's alpha
+  std::string flipped = good_full_;
+  flipped[firstLineOffset(good_full_) + 3] ^= 0x10;  // inside the first line's alpha
   expectRefused(flipped, "checksum");
-  std::string in_covariance = good_;
-  in_covariance[good_.size() / 2] ^= 0x01;
+  std::string in_covariance = good_full_;
+  in_covariance[good_full_.size() / 2] ^= 0x01;
   expectRefused(in_covariance, "checksum");
+  std::string compact = good_;
+  compact[firstCompactLineOffset(good_) + 2] ^= 0x10;  // inside the first line's alpha (float32)
+  expectRefused(compact, "checksum");
 }
 
 TEST_F(RefusedFile, BadMagic) {
@@ -186,29 +349,39 @@ TEST_F(RefusedFile, BadMagic) {
 
 TEST_F(RefusedFile, NewerOrOlderVersion) {
   std::string newer = good_;
-  const size_t at = newer.find("version 1\n");
+  const size_t at = newer.find("version 2\n");
   ASSERT_NE(at, std::string::npos);
-  newer[at + 8] = '2';
-  expectRefused(newer, "newer");
+  newer[at + 8] = '3';
+  expectRefused(newer, "format version 3 is newer than this build reads (2)");
   std::string older = good_;
   older[at + 8] = '0';
-  expectRefused(older, "format version 0 is older than this build reads (1) and has no migration");
+  expectRefused(older, "format version 0 is older than this build reads (1..2) and has no migration");
   std::string garbage = good_;
   garbage[at + 8] = 'x';
   expectRefused(garbage, "version");
 }
 
 TEST_F(RefusedFile, NonFiniteNumberEvenWithAValidChecksum) {
-  std::string nan = good_;
+  std::string nan = good_full_;
   const double value = std::numeric_limits<double>::quiet_NaN();
-  std::memcpy(&nan[firstLineOffset(good_) + 8], &value, 8);  // the first line's r (little-endian host)
+  std::memcpy(&nan[firstLineOffset(good_full_) + 8], &value, 8);  // the first line's r (little-endian host)
   expectRefused(withValidChecksum(nan), "non-finite");
+  std::string compact = good_;
+  const float infinite = std::numeric_limits<float>::infinity();
+  std::memcpy(&compact[firstCompactLineOffset(good_) + 4], &infinite, 4);  // the first line's r
+  expectRefused(withValidChecksum(compact), "non-finite number in a line at byte");
+}
+
+TEST_F(RefusedFile, UnknownFlags) {
+  std::string flagged = good_;
+  flagged[firstFlagsOffset(good_)] |= 0x04;
+  expectRefused(withValidChecksum(flagged), "unknown flags 6 for version 2");
 }
 
 TEST_F(RefusedFile, NonCanonicalLineOrIndefiniteCovariance) {
-  std::string negative_r = good_;
+  std::string negative_r = good_full_;
   const double r = -1.0;
-  std::memcpy(&negative_r[firstLineOffset(good_) + 8], &r, 8);
+  std::memcpy(&negative_r[firstLineOffset(good_full_) + 8], &r, 8);
   expectRefused(withValidChecksum(negative_r), "canonical");
 
   // A large off-diagonal entry in place #0's covariance (last stored row: P(N-1, 0)).
@@ -216,14 +389,34 @@ TEST_F(RefusedFile, NonCanonicalLineOrIndefiniteCovariance) {
   const Place& first = *places.place(places.placeIds()[0]);
   const size_t n = first.map.stateSize();
   std::string record;
-  const size_t body = good_.find('\n', good_.find('\n') + 1) + 1;
+  const size_t body = good_full_.find('\n', good_full_.find('\n') + 1) + 1;
   const size_t covariance_start = body + 8 + 4 + 24 + 4 + 4 + 4 + 24 + first.map.numLines() * 48 +
                                   first.doors.size() * (4 + 9 * 8);
   const size_t last_row = covariance_start + (n - 1) * n / 2 * 8;  // P(n-1, 0)
-  std::string indefinite = good_;
+  std::string indefinite = good_full_;
   const double big = 1e3;
   std::memcpy(&indefinite[last_row], &big, 8);
   expectRefused(withValidChecksum(indefinite), "positive semi-definite");
+}
+
+TEST_F(RefusedFile, CompactNonCanonicalLineOrIndefiniteMarginal) {
+  const size_t line = firstCompactLineOffset(good_);  // alpha, r, 4 extents, c_aa, c_ar, c_rr
+  std::string negative_r = good_;
+  const float r = -1.0f;
+  std::memcpy(&negative_r[line + 4], &r, 4);
+  expectRefused(withValidChecksum(negative_r), "line 0: (alpha, r) = ");
+  std::string alpha = good_;
+  const float past_pi = 3.2f;
+  std::memcpy(&alpha[line], &past_pi, 4);
+  expectRefused(withValidChecksum(alpha), "is not canonical");
+  std::string indefinite = good_;
+  const float big = 1.0f;  // |c_ar| far above sqrt(c_aa c_rr)
+  std::memcpy(&indefinite[line + 7 * 4], &big, 4);
+  expectRefused(withValidChecksum(indefinite), "line 0: the covariance is not positive semi-definite");
+  std::string robot = good_;
+  const float negative = -1.0f;  // the robot's c00
+  std::memcpy(&robot[firstLineOffset(good_)], &negative, 4);
+  expectRefused(withValidChecksum(robot), "the robot covariance is not positive semi-definite");
 }
 
 TEST_F(RefusedFile, TrailingBytes) {
@@ -274,17 +467,86 @@ TEST(Persistence, StorageSizePerSquareMetre) {
   ASSERT_EQ(stats.size(), 2u);
   size_t total = 0;
   for (const PlaceStorage& s : stats) {
-    std::printf("place %u: %zu lines, %zu bytes (lines with extents: %zu), %.1f m^2 -> %.1f bytes/m^2 "
-                "(lines only %.1f bytes/m^2)\n",
-                s.id, s.lines, s.bytes, s.line_bytes, s.area_m2, s.bytes_per_m2, s.line_bytes_per_m2);
+    std::printf("place %u: %zu lines, %zu bytes compact (lines: %zu), %zu bytes full, %.1f m^2 -> %.1f bytes/m^2 "
+                "(lines only %.1f bytes/m^2; full %.1f bytes/m^2)\n",
+                s.id, s.lines, s.bytes, s.line_bytes, s.full_bytes, s.area_m2, s.bytes_per_m2, s.line_bytes_per_m2,
+                double(s.full_bytes) / s.area_m2);
+    EXPECT_TRUE(s.compact);
+    EXPECT_EQ(s.bytes, s.compact_bytes);
     EXPECT_GT(s.area_m2, 10.0);
     EXPECT_GT(s.bytes, s.line_bytes);
     total += s.bytes;
   }
   // The whole file: header, counts and checksum around the place records.
-  EXPECT_EQ(encodePlaces(places).size(), total + std::strlen("hybrid_slam_places\nversion 1\n") + 8 + 4);
-  // The office room (7 lines, 27 m^2): the full covariance dominates; an 8-bit grid at 5 cm takes 400 bytes/m^2.
-  EXPECT_LT(stats[0].bytes_per_m2, 400.0);
+  EXPECT_EQ(encodePlaces(places).size(), total + kHeaderV2.size() + 8 + 4);
+  // The office room (7 lines, 2 doors, 27 m^2): 16 bytes/m^2 compact, 66 with the joint covariance
+  // (which an 8-bit grid at 5 cm, 400 bytes/m^2, still exceeds).
+  EXPECT_LT(stats[0].bytes_per_m2, 20.0);
+  EXPECT_LT(double(stats[0].full_bytes) / stats[0].area_m2, 400.0);
+  const std::vector<PlaceStorage> joint = storageStats(places, kJoint);
+  EXPECT_FALSE(joint[0].compact);
+  EXPECT_EQ(joint[0].bytes, stats[0].full_bytes);
+}
+
+/// A 12 m x 8 m room: 4 walls and `pieces` 1 m furniture edges, each on a line of its own (the
+/// angles step by 37 degrees, the centres on a grid), for rooms with many lines.
+std::vector<TrueSegment> furnishedRoom(int pieces) {
+  std::vector<TrueSegment> room = {
+      {{-6.0, -4.0}, {6.0, -4.0}}, {{6.0, -4.0}, {6.0, 4.0}}, {{6.0, 4.0}, {-6.0, 4.0}}, {{-6.0, 4.0}, {-6.0, -4.0}}};
+  for (int i = 0; i < pieces; ++i) {
+    const double angle = (37.0 * i + 11.0) * kPi / 180.0;
+    const Eigen::Vector2d centre(-5.0 + 1.6 * (i % 7), -3.0 + 1.4 * (i / 7));
+    const Eigen::Vector2d half(0.5 * std::cos(angle), 0.5 * std::sin(angle));
+    room.push_back({centre - half, centre + half});
+  }
+  return room;
+}
+
+/// One place mapped along a short arc in `room`, with `doors` doors.
+PlaceMaps placeIn(const std::vector<TrueSegment>& room, int doors, uint32_t seed) {
+  std::mt19937 rng(seed);
+  PlaceMaps places(testParams());
+  const OdometryNoise noise = testOdometryNoise();
+  places.createPlace({});
+  Pose2D truth{0, 0, 0};
+  places.active()->update(observeAll(room, truth, kSensorMount, &rng), kSensorMount, nullptr);
+  for (int step = 0; step < 20; ++step) {
+    const Pose2D u = arcIncrement(0.05, 0.0625);
+    truth = compose(truth, u);
+    places.active()->predict(noisyIncrement(u, noise, &rng), noise.covariance(u));
+    places.active()->update(observeAll(room, truth, kSensorMount, &rng), kSensorMount, nullptr);
+  }
+  for (int d = 0; d < doors; ++d) places.addDoorAtRobot(uint32_t(d), {0.2 * d, 0.0, 0.0});
+  places.close();
+  return places;
+}
+
+TEST(Persistence, SizePerLineAndDoor) {
+  // The records' sizes as persistence.h states them, for n lines and d doors: the place header
+  // (id, display pose, flags, counts, robot pose) is 64 bytes; compact: 24 (robot marginal) + 36 per
+  // line + 40 per door; full: 48 per line + 76 per door + 8 (N^2 + N) / 2 for N = 3 + 2 n.
+  std::printf("| place | lines | doors | compact bytes | per line | full bytes | per line | full / compact |\n");
+  const std::vector<std::pair<std::string, PlaceMaps>> cases = {
+      {"twoPlaces", twoPlaces()},
+      {"12 lines", placeIn(furnishedRoom(8), 1, 11)},
+      {"24 lines", placeIn(furnishedRoom(20), 2, 12)},
+      {"40 lines", placeIn(furnishedRoom(36), 3, 13)},
+  };
+  for (const auto& [name, places] : cases) {
+    for (const PlaceStorage& s : storageStats(places)) {
+      const size_t n = s.lines, d = s.doors, N = 3 + 2 * n;
+      EXPECT_EQ(s.compact_bytes, 64 + 24 + 36 * n + 40 * d) << name;
+      EXPECT_EQ(s.full_bytes, 64 + 48 * n + 76 * d + 8 * (N * N + N) / 2) << name;
+      EXPECT_EQ(s.line_bytes, 36 * n);
+      std::printf("| %s #%u | %zu | %zu | %zu | %.1f | %zu | %.1f | %.1f |\n", name.c_str(), s.id, n, d,
+                  s.compact_bytes, double(s.compact_bytes) / double(n), s.full_bytes,
+                  double(s.full_bytes) / double(n), double(s.full_bytes) / double(s.compact_bytes));
+    }
+    // The whole files, compact and full.
+    const size_t compact = encodePlaces(places).size(), full = encodePlaces(places, kJoint).size();
+    std::printf("| %s: file | | | %zu | | %zu | | %.1f |\n", name.c_str(), compact, full, double(full) / double(compact));
+  }
+  EXPECT_EQ(cases[3].second.place(0)->map.numLines(), 40u);  // each furniture edge its own line
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // Places: creation (origin at the robot's pose on entry), activation, closing, only the active place
 // updated; doors; relocation on entering a known place through a door, its success in the right
-// room and its failure (nothing fused) in a wrong room or with only parallel lines.
+// room and its failure (nothing fused) in a wrong room or with only parallel lines; both again after
+// the places were saved compact (marginals only) and loaded.
+#include "ekf_local_map/persistence.h"
 #include "ekf_local_map/place_maps.h"
 
 #include "simulated_room.h"
@@ -180,6 +182,102 @@ TEST(Relocation, TooFewLinesFails) {
   map.update(two, kSensorMount, &report);
   EXPECT_EQ(report.relocation.verdict, RelocationResult::Verdict::kTooFewMatches);
   EXPECT_TRUE(map.relocationPending());
+}
+
+/// The places as the node has them after load_map: saved (compact unless `options` say otherwise)
+/// and loaded into fresh maps.
+PlaceMaps reloaded(const PlaceMaps& places, const PlacesSaveOptions& options = PlacesSaveOptions()) {
+  PlaceMaps loaded(testParams());
+  const IoResult result = decodePlaces(encodePlaces(places, options), "reloaded", &loaded);
+  EXPECT_TRUE(result.ok) << result.error;
+  return loaded;
+}
+
+/// What one relocation did: the verdict, the robot's errors against the truth, the second scan's matches.
+struct RelocationOutcome {
+  RelocationResult relocation;
+  double position_error = 0.0, heading_error = 0.0, nees = 0.0;
+  uint32_t matched_after = 0;
+};
+
+/// AtADoorOfTheRightRoomSucceeds's relocation, in `places` as they are.
+RelocationOutcome relocateInOffice(PlaceMaps* places, uint32_t office, const Pose2D& truth_at_door,
+                                   std::mt19937* rng) {
+  const Pose2D truth = compose(truth_at_door, {0.3, 0.0, 0.17});
+  const Eigen::Matrix3d offset_cov = Eigen::Vector3d(0.1 * 0.1, 0.1 * 0.1, 0.08 * 0.08).asDiagonal();
+  RelocationOutcome out;
+  if (!places->relocateAtDoor(office, 1, {0.35, -0.05, 0.22}, offset_cov)) return out;
+  StochasticMap& map = *places->active();
+  UpdateReport report;
+  map.update(observeAll(officeRoom(), truth, kSensorMount, rng), kSensorMount, &report);
+  out.relocation = report.relocation;
+  out.position_error = positionError(map.robotPose(), truth);
+  out.heading_error = std::abs(normalizeAngle(map.robotPose().theta - truth.theta));
+  out.nees = map.robotNees(truth);
+  map.update(observeAll(officeRoom(), truth, kSensorMount, rng), kSensorMount, &report);
+  out.matched_after = report.matched;
+  return out;
+}
+
+TEST(Relocation, AfterLoadingACompactMapSucceeds) {
+  // The office mapped with 20 seeds; each map saved compact and loaded (P block-diagonal), and the
+  // same map saved whole and loaded, then the same relocation in both.
+  double nees_compact = 0.0, nees_full = 0.0, nis_compact = 0.0, nis_full = 0.0;
+  const int seeds = 20;
+  for (int seed = 0; seed < seeds; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    std::mt19937 rng(100 + seed);
+    PlaceMaps places(testParams());
+    const uint32_t office = places.createPlace({});
+    const Pose2D truth_at_door = mapOfficeRoom(places.active(), &rng);
+    ASSERT_TRUE(places.addDoorAtRobot(1, {0.0, 0.0, 0.0}));
+    places.close();
+
+    PlaceMaps compact = reloaded(places);
+    ASSERT_EQ(compact.place(office)->map.numLines(), officeRoom().size());
+    ASSERT_TRUE(compact.place(office)->map.lineCrossCovariance(1, 0).isZero(0.0));  // the compact record was read
+    std::mt19937 rng_compact(200 + seed), rng_full(200 + seed);  // the same scans for both
+    const RelocationOutcome c = relocateInOffice(&compact, office, truth_at_door, &rng_compact);
+    PlaceMaps full = reloaded(places, PlacesSaveOptions{true});
+    const RelocationOutcome f = relocateInOffice(&full, office, truth_at_door, &rng_full);
+
+    EXPECT_TRUE(c.relocation.success()) << toString(c.relocation.verdict) << ", joint NIS " << c.relocation.joint_nis;
+    EXPECT_GE(c.relocation.matched, 5u);
+    EXPECT_LT(c.position_error, 0.01);
+    EXPECT_LT(c.heading_error, 0.005);
+    EXPECT_LT(c.nees, 16.3);  // chi^2_3 at 0.999
+    EXPECT_EQ(c.matched_after, officeRoom().size());  // and the filter carries on
+    EXPECT_TRUE(f.relocation.success());
+    nees_compact += c.nees / seeds;
+    nees_full += f.nees / seeds;
+    nis_compact += c.relocation.joint_nis / seeds;
+    nis_full += f.relocation.joint_nis / seeds;
+  }
+  // Printed for the record: the mean robot NEES after relocation (3 when consistent) and the mean
+  // joint NIS of the relocation (2 x 7 = 14 when consistent), compact vs whole map.
+  std::printf("after relocation, mean over %d seeds: robot NEES %.2f compact, %.2f full; joint NIS %.2f compact, "
+              "%.2f full\n", seeds, nees_compact, nees_full, nis_compact, nis_full);
+}
+
+TEST(Relocation, AfterLoadingACompactMapTheWrongRoomStillFails) {
+  std::mt19937 rng(3);
+  PlaceMaps places(testParams());
+  const uint32_t office = places.createPlace({});
+  mapOfficeRoom(places.active(), &rng);
+  ASSERT_TRUE(places.addDoor(office, 1, {0.0, 0.0, 0.0}, Eigen::Matrix3d::Identity() * 1e-6));
+  places.close();
+  PlaceMaps loaded = reloaded(places);
+  ASSERT_TRUE(loaded.relocateAtDoor(office, 1, {0.0, 0.0, 0.0}, Eigen::Vector3d(0.04, 0.04, 0.01).asDiagonal()));
+  StochasticMap& map = *loaded.active();
+  const Eigen::VectorXd x = map.state();
+  UpdateReport report;
+  for (int scan = 0; scan < 5; ++scan) {
+    map.update(observeAll(otherRoom(), {0.0, 0.0, 0.0}, kSensorMount, &rng), kSensorMount, &report);
+    ASSERT_TRUE(report.relocation_attempted);
+    EXPECT_FALSE(report.relocation.success()) << "scan " << scan;
+    EXPECT_FALSE(report.fused);
+    EXPECT_EQ(map.state(), x);
+  }
 }
 
 TEST(PlaceMaps, RelocateAtAnUnknownDoorChangesNothing) {

@@ -1,29 +1,45 @@
 // Saving and loading all places (DESIGN.md: written atomically, versioned; a corrupt or newer file
 // is refused with a clear error and the maps in memory are kept).
 //
-// File format, version 1: two text lines, then little-endian binary (u32: 4-byte unsigned integer,
-// f64: IEEE-754 binary64):
+// File format, version 2: two text lines, then little-endian binary (u32: 4-byte unsigned integer,
+// f32 / f64: IEEE-754 binary32 / binary64):
 //
 //   "hybrid_slam_places\n"              magic line
-//   "version 1\n"                       format version, decimal
+//   "version 2\n"                       format version, decimal
 //   u32 place_count, u32 next_id        next_id: the id the next created place gets
 //   per place:
 //     u32 id
 //     f64 x, y, theta                   display pose of the place frame in `map`
-//     u32 flags                         bit 0: a relocation is pending
+//     u32 flags                         bit 0: a relocation is pending; bit 1: compact record
 //     u32 line_count n, u32 door_count d
 //     f64 x, y, theta                   robot pose in the place frame (state, eq. 6)
-//     n x { f64 alpha, r, extent_start x, y, extent_end x, y }
-//     d x { u32 door_id, f64 x, y, theta, f64 c00, c01, c02, c11, c12, c22 }   (door pose, upper
+//     compact record (bit 1 set: a closed place, unless store_joint_covariance), 24 + 36 n + 40 d bytes:
+//       f32 c00, c01, c02, c11, c12, c22                 the robot's 3x3 marginal covariance (upper triangle)
+//       n x { f32 alpha, r, extent_start x, y, extent_end x, y, c_aa, c_ar, c_rr }   (36 bytes: the line
+//                                       with its 2x2 marginal covariance, upper triangle)
+//       d x { u32 door_id, f32 x, y, theta, c00, c01, c02, c11, c12, c22 }            (40 bytes)
+//     full record (bit 1 clear: the active place, or every place with store_joint_covariance), as
+//     version 1, 48 n + 76 d + 4 N (N + 1) bytes:
+//       n x { f64 alpha, r, extent_start x, y, extent_end x, y }
+//       d x { u32 door_id, f64 x, y, theta, f64 c00, c01, c02, c11, c12, c22 }   (door pose, upper
 //                                       triangle of its covariance)
-//     f64 x (N (N + 1) / 2)             the full covariance P (eq. 6), N = 3 + 2 n, as its lower
+//       f64 x (N (N + 1) / 2)           the full covariance P (eq. 6), N = 3 + 2 n, as its lower
 //                                       triangle row by row: P(0,0), P(1,0), P(1,1), P(2,0), ...
 //   u32 CRC-32 (IEEE 802.3 polynomial, as zlib's crc32) of every byte before it
 //
+// Version 1 is version 2 with full records only (flags bit 1 never set); it is still read.
+//
+// A compact record keeps what relocation and missions use: the lines, their extents and marginals,
+// the robot pose, the doors. Loading it rebuilds P block-diagonal (see decodeCompactBody in
+// persistence.cpp): the lines' cross-covariances are gone, each line's marginal is kept. Its
+// numbers are float32 (7 significant digits: at most 3e-7 rad, 1 um at 10 m, far below the lines'
+// sigmas); angles are written inside (-pi, pi] after rounding.
+//
 // Covariances are stored as triangles, so they are symmetric by construction; a flipped byte
 // anywhere fails the checksum. Loading also refuses: a wrong magic line, a newer or unknown version,
-// a file that ends early or has bytes after the checksum, non-finite numbers, angles outside
-// (-pi, pi], negative r, duplicate ids, and covariances that are not positive semi-definite.
+// unknown flags, a file that ends early or has bytes after the checksum, non-finite numbers, angles
+// outside (-pi, pi], negative r, duplicate ids, and covariances that are not positive semi-definite
+// (within 1e-9 of their largest eigenvalue for f64, 1e-6 for f32).
 #pragma once
 
 #include "ekf_local_map/place_maps.h"
@@ -35,7 +51,8 @@
 
 namespace ekf_local_map {
 
-constexpr uint32_t kPlacesFormatVersion = 1;
+constexpr uint32_t kPlacesFormatVersion = 2;
+constexpr uint32_t kPlacesOldestFormatVersion = 1;  // still read
 constexpr const char* kPlacesMagic = "hybrid_slam_places";
 
 struct IoResult {
@@ -44,30 +61,44 @@ struct IoResult {
   explicit operator bool() const { return ok; }
 };
 
+/// How closed places are written (the node's ~store_joint_covariance; config/ekf_local_map.yaml).
+struct PlacesSaveOptions {
+  // bool, default false: also store each closed place's full joint covariance (f64, (N^2 + N) / 2
+  // numbers for N = 3 + 2 lines: the bulk of a map); false stores the compact record (float32 lines,
+  // extents, marginal covariances, robot pose, doors), which is what relocation and missions use.
+  bool store_joint_covariance = false;
+};
+
 /// Writes all places to `path` atomically: `path`.tmp is written and fsync'ed, then renamed over
 /// `path` (and the directory fsync'ed). On failure `path` is untouched and no .tmp is left.
-IoResult savePlaces(const PlaceMaps& maps, const std::string& path);
+IoResult savePlaces(const PlaceMaps& maps, const std::string& path,
+                    const PlacesSaveOptions& options = PlacesSaveOptions());
 
 /// Reads places from `path` into a temporary and swaps it into `maps` only when the whole file is
 /// valid; on failure `maps` is untouched. Loaded places take `maps`' current parameters, and no
-/// place is active afterwards.
+/// place is active afterwards. Reads versions kPlacesOldestFormatVersion..kPlacesFormatVersion.
 IoResult loadPlaces(const std::string& path, PlaceMaps* maps);
 
-/// The encoded file contents (what savePlaces writes).
-std::string encodePlaces(const PlaceMaps& maps);
+/// The encoded file contents (what savePlaces writes). The active place, if any, is always written
+/// with its joint covariance: it is a filter in progress, and a save must not change it.
+std::string encodePlaces(const PlaceMaps& maps, const PlacesSaveOptions& options = PlacesSaveOptions());
 /// Decodes file contents; `name` is used in error messages.
 IoResult decodePlaces(const std::string& bytes, const std::string& name, PlaceMaps* maps);
 
-/// Storage size of each place as written by savePlaces.
+/// Storage size of each place as written by savePlaces with `options`, and in both record kinds.
 struct PlaceStorage {
   uint32_t id = 0;
   size_t lines = 0;
-  size_t bytes = 0;        // the place's record: state, lines, extents, doors, full covariance
-  size_t line_bytes = 0;   // of which the lines with their extents only (48 bytes per line)
+  size_t doors = 0;
+  bool compact = false;    // the record savePlaces writes for this place is the compact one
+  size_t bytes = 0;        // that record: state, lines, extents, doors, covariance(s)
+  size_t compact_bytes = 0;  // the compact record (f32 marginals): 64 + 24 + 36 n + 40 d
+  size_t full_bytes = 0;     // the full record (f64, joint covariance): 64 + 48 n + 76 d + 4 N (N + 1)
+  size_t line_bytes = 0;   // of `bytes`, the lines with their extents (and marginals, if compact)
   double area_m2 = 0.0;    // bounding box of the line extents
   double bytes_per_m2 = 0.0;
   double line_bytes_per_m2 = 0.0;
 };
-std::vector<PlaceStorage> storageStats(const PlaceMaps& maps);
+std::vector<PlaceStorage> storageStats(const PlaceMaps& maps, const PlacesSaveOptions& options = PlacesSaveOptions());
 
 }  // namespace ekf_local_map
