@@ -195,7 +195,13 @@ class SimNode {
       if (lockstep_step && !lockstep_->step(stamp)) break;
       const ros::WallTime wall_now = ros::WallTime::now();
       if ((wall_now - last_report).toSec() > 10.0) {
-        ROS_INFO("bullet_sim: sim time %.1f s, real-time factor %.1f", now, now / (wall_now - wall_start).toSec());
+        const double wall = (wall_now - wall_start).toSec();
+        if (lockstep_)
+          ROS_INFO("bullet_sim: sim time %.1f s, real-time factor %.1f; lockstep: %lu steps, %.0f %% of the wall time "
+                   "waiting for the nodes (%.2f ms a step)", now, now / wall, (unsigned long)lockstep_->steps(),
+                   100.0 * lockstep_->waited() / wall, 1e3 * lockstep_->waited() / std::max<double>(1, lockstep_->steps()));
+        else
+          ROS_INFO("bullet_sim: sim time %.1f s, real-time factor %.1f", now, now / wall);
         last_report = wall_now;
       }
       if (max_sim_time_ > 0.0 && now >= max_sim_time_) {

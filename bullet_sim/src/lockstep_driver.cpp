@@ -25,7 +25,8 @@ std::vector<std::string> resolved(const ros::NodeHandle& nh, const std::vector<s
 LockstepDriver::LockstepDriver(ros::NodeHandle nh, const Options& options)
     : nh_(nh), options_(options), barrier_(resolved(nh, options.participants)) {
   step_pub_ = nh_.advertise<hybrid_slam_msgs::LockstepStep>("lockstep/step", 100);
-  ack_sub_ = nh_.subscribe("lockstep/ack", 100, &LockstepDriver::onAck, this, ros::TransportHints().tcpNoDelay());
+  for (const std::string& node : resolved(nh, options.participants))
+    ack_subs_.push_back(nh_.subscribe(lockstep::ackTopic(node), 100, &LockstepDriver::onAck, this, ros::TransportHints().tcpNoDelay()));
 }
 
 void LockstepDriver::onAck(const hybrid_slam_msgs::LockstepAck::ConstPtr& msg) {
@@ -120,6 +121,8 @@ bool LockstepDriver::step(const ros::Time& stamp) {
     received_ = lockstep::maxCounts(received_, barrier_.published());
     return true;
   }
+  waited_ += (ros::WallTime::now() - begin).toSec();
+  ++steps_;
   return ros::ok();
 }
 

@@ -48,6 +48,9 @@ class LockstepDriver {
   /// Announces the step and waits for it to be finished. False: stop the simulation (a participant
   /// stayed silent past the timeout with stop_on_timeout).
   bool step(const ros::Time& stamp);
+  /// Wall time spent waiting for the participants (s), and the steps made.
+  double waited() const { return waited_; }
+  uint64_t steps() const { return steps_; }
 
  private:
   void onAck(const hybrid_slam_msgs::LockstepAck::ConstPtr& msg);
@@ -63,8 +66,10 @@ class LockstepDriver {
   std::vector<ros::Subscriber> subs_;
   lockstep::Counts received_;
   lockstep::Stamp last_step_ = 0;
+  double waited_ = 0.0;
+  uint64_t steps_ = 0;
   ros::Publisher step_pub_;
-  ros::Subscriber ack_sub_;
+  std::vector<ros::Subscriber> ack_subs_;
 };
 
 }  // namespace bullet_sim

@@ -256,21 +256,19 @@ void OccupancyGrid::fillTriangle(const Eigen::Vector2d& a, const Eigen::Vector2d
 }
 
 void OccupancyGrid::applyUpdates() {
-  std::sort(hits_.begin(), hits_.end());
-  hits_.erase(std::unique(hits_.begin(), hits_.end()), hits_.end());
-  std::sort(misses_.begin(), misses_.end());
-  misses_.erase(std::unique(misses_.begin(), misses_.end()), misses_.end());
-  const auto update = [this](std::size_t i, int delta) {
+  // Each cell the scan touched is updated once: as a hit if any beam ended in it (a return of this
+  // scan wins over the beams that crossed it), else as free. A bit per cell for this scan alone
+  // finds the duplicates in linear time (sorting the touched cells took a quarter of the
+  // coordinator's time); it is not part of the map's memory.
+  std::vector<bool> touched(cells_.size(), false);
+  const auto update = [this, &touched](std::size_t i, int delta) {
+    if (touched[i]) return;
+    touched[i] = true;
     const int v = cells_[i] == kNever ? 0 : cells_[i];
     cells_[i] = static_cast<std::int8_t>(std::clamp(v + delta, v_min_, v_max_));
   };
-  auto h = hits_.begin();
-  for (const std::size_t i : misses_) {
-    while (h != hits_.end() && *h < i) ++h;
-    if (h != hits_.end() && *h == i) continue;  // a return of this scan: the hit wins
-    update(i, d_free_);
-  }
   for (const std::size_t i : hits_) update(i, d_occ_);
+  for (const std::size_t i : misses_) update(i, d_free_);
   hits_.clear();
   misses_.clear();
 }

@@ -22,14 +22,18 @@ Participant::Participant(ros::NodeHandle nh, const std::vector<std::string>& ups
   nh_.param("lockstep/enabled", enabled_, false);
   if (!enabled_) return;
   nh_.param("lockstep/timeout", timeout_, timeout_);
-  ack_pub_ = nh_.advertise<hybrid_slam_msgs::LockstepAck>("lockstep/ack", 100);
+  // Each participant acknowledges on its own topic: only the simulator and its downstream
+  // participants listen, so a step wakes no node that does not need it.
+  ack_pub_ = nh_.advertise<hybrid_slam_msgs::LockstepAck>(ackTopic(ros::this_node::getName()), 100);
   step_sub_ = nh_.subscribe("lockstep/step", 100, &Participant::onStepMessage, this, ros::TransportHints().tcpNoDelay());
-  ack_sub_ = nh_.subscribe("lockstep/ack", 100, &Participant::onAckMessage, this, ros::TransportHints().tcpNoDelay());
+  for (const std::string& node : resolved(nh, upstream))
+    ack_subs_.push_back(nh_.subscribe(ackTopic(node), 100, &Participant::onAckMessage, this, ros::TransportHints().tcpNoDelay()));
   watchdog_ = nh_.createWallTimer(ros::WallDuration(1.0), &Participant::onWatchdog, this);
   ROS_INFO("%s: lockstep with the simulator", ros::this_node::getName().c_str());
 }
 
 void Participant::onStepMessage(const hybrid_slam_msgs::LockstepStep::ConstPtr& msg) {
+  step_arrivals_.emplace(msg->stamp.toNSec(), ros::WallTime::now());
   const Counts announced = toCounts(msg->topics, msg->counts);
   if (msg->start || !joined_) {
     // The start (or a node started late, e.g. respawned): acknowledge once this node's
@@ -68,12 +72,14 @@ void Participant::advance() {
   advancing_ = true;
   std::vector<InputGate::Work> work;
   while (const auto stamp = gate_.takeReadyStep(&work)) {
+    const ros::WallTime begin = ros::WallTime::now();
     for (auto& w : work) w();
     work.clear();
     ros::Time t;
     t.fromNSec(uint64_t(*stamp));
     if (hook_) wake_ = hook_(t);
     acknowledge(t);
+    account(*stamp, begin);
   }
   advancing_ = false;
   if (gate_.pendingStamp() != waiting_stamp_) {
@@ -92,6 +98,22 @@ void Participant::acknowledge(const ros::Time& stamp) {
     a.counts.push_back(count->load());
   }
   ack_pub_.publish(a);
+}
+
+void Participant::account(Stamp stamp, const ros::WallTime& work_begin) {
+  const ros::WallTime now = ros::WallTime::now();
+  const auto arrival = step_arrivals_.find(stamp);
+  if (arrival != step_arrivals_.end()) waiting_ += (work_begin - arrival->second).toSec();
+  step_arrivals_.erase(step_arrivals_.begin(), step_arrivals_.upper_bound(stamp));
+  working_ += (now - work_begin).toSec();
+  ++steps_;
+  if (report_.isZero()) report_ = now;
+  if ((now - report_).toSec() < 10.0) return;
+  // Which node is the run's bottleneck: the one that works longest per step.
+  ROS_INFO("%s: lockstep: %lu steps, %.2f ms a step working, %.2f ms waiting for the step's inputs",
+           ros::this_node::getName().c_str(), (unsigned long)steps_, 1e3 * working_ / double(steps_),
+           1e3 * waiting_ / double(steps_));
+  report_ = now;
 }
 
 void Participant::onWatchdog(const ros::WallTimerEvent&) {

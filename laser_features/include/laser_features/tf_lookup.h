@@ -29,7 +29,7 @@ inline bool lookupTransform(const tf2_ros::Buffer& tf, const std::string& target
       if (why != nullptr) *why = error;
       return false;
     }
-    ros::WallDuration(0.002).sleep();
+    ros::WallDuration(0.0001).sleep();  // fine: a lockstep step waits on this
     error.clear();
   }
   try {

@@ -4,7 +4,7 @@
 //  - counts what it publishes (lockstep::Publisher) and what it receives (subscribe());
 //  - runs its sensor-driven callbacks (Delivery::Gated) only when the simulator's step of their
 //    stamp has all its inputs (see InputGate), in stamp order, then its step hook, and acknowledges
-//    the step on `lockstep/ack` with what it has published and when it next wants a step of its own.
+//    the step on `<node>/lockstep_ack` with what it has published and when it next wants a step of its own.
 // All of this runs on the callback queue of the node handle given (the node's one spinning thread).
 #pragma once
 
@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <atomic>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,6 +24,9 @@
 #include "lockstep/input_gate.h"
 
 namespace lockstep {
+
+/// The topic a participant acknowledges steps on: `<its resolved node name>/lockstep_ack`.
+inline std::string ackTopic(const std::string& node) { return node + "/lockstep_ack"; }
 
 /// A ros::Publisher that counts its messages for the acknowledgements.
 class Publisher {
@@ -117,6 +121,7 @@ class Participant {
   bool connected(const Counts& announced, std::string* why) const;
   void acknowledge(const ros::Time& stamp);
   void onWatchdog(const ros::WallTimerEvent&);
+  void account(Stamp stamp, const ros::WallTime& work_begin);
 
   ros::NodeHandle nh_;
   bool enabled_ = false;
@@ -127,11 +132,16 @@ class Participant {
   std::function<ros::Time(const ros::Time&)> hook_;
   ros::Time wake_;
   ros::Publisher ack_pub_;
-  ros::Subscriber step_sub_, ack_sub_;
+  ros::Subscriber step_sub_;
+  std::vector<ros::Subscriber> ack_subs_;
   ros::WallTimer watchdog_;
   ros::WallTime waiting_since_;
   Stamp waiting_stamp_ = -1;
   bool advancing_ = false;
+  std::map<Stamp, ros::WallTime> step_arrivals_;  // wall time each step message came
+  double working_ = 0.0, waiting_ = 0.0;            // (s, wall) over all steps, for the report
+  uint64_t steps_ = 0;
+  ros::WallTime report_;
   bool joined_ = false;  // the first step since this node started was acknowledged
 };
 
