@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # Runs explore.launch on a world and reports, next to its summary and evaluation, the peak resident
 # memory of every node (sampled every second from /proc) and the wall time.
-# Usage: bash scripts/measure_exploration.sh WORLD OUT_DIR [rate] [max_sim_time_s]
+# Usage: bash scripts/measure_exploration.sh WORLD OUT_DIR [rate] [max_sim_time_s]   (rate 0: lockstep, the default)
 # (needs a built workspace: source .ws/devel/setup.bash first)
 set -uo pipefail
 WORLD="$1"
 # A world file given by a relative path: roslaunch's nodes run in ~/.ros, so make it absolute.
 [ -f "$WORLD" ] && WORLD="$(cd "$(dirname "$WORLD")" && pwd)/$(basename "$WORLD")"
 OUT="$(mkdir -p "$2" && cd "$2" && pwd)"
-RATE="${3:-10}"
+RATE="${3:-0}"
 MAX_TIME="${4:-4000}"
 NAME="$(basename "$WORLD" .yaml)"
 rm -f "$OUT/$NAME".{topo,topo.places,summary.json,evaluation.json,memory.json}

@@ -20,8 +20,8 @@ set -u
 NAME="$(basename "$WORLD" .yaml)"
 MAP="$OUT/$NAME.topo"
 rm -f "$MAP" "$MAP.places" "$OUT/$NAME.summary.json" "$OUT/$NAME.evaluation.json"
-echo "[main] exploring '$WORLD' at 10x real time (at most $MAX_TIME s of sim time); the map goes to $MAP"
-roslaunch hybrid_slam explore.launch world:="$WORLD" rate:=10 seed:=1 rviz:=false map_file:="$MAP" \
+echo "[main] exploring '$WORLD' in lockstep: deterministic, as fast as the stack goes (at most $MAX_TIME s of sim time); the map goes to $MAP"
+roslaunch hybrid_slam explore.launch world:="$WORLD" rate:=0 seed:=1 rviz:=false map_file:="$MAP" \
   summary:="$OUT/$NAME.summary.json" evaluate:="$OUT/$NAME.evaluation.json" max_time:="$MAX_TIME"
 sleep 2
 echo "[main] summary:    $(cat "$OUT/$NAME.summary.json" 2>/dev/null || echo none)"
