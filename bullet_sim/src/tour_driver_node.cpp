@@ -51,10 +51,7 @@ class TourDriver {
     // asked for every control period (that of the ground truth by default).
     truth_sub_ = lockstep_.subscribe<nav_msgs::Odometry>(
         nh_, "ground_truth", 10, [this](const nav_msgs::Odometry::ConstPtr& m) { onTruth(*m); }, lockstep::Delivery::Gated);
-    lockstep_.onStep([this](const ros::Time& t) {
-      const double period = 1.0 / control_rate_;
-      return ros::Time((std::floor(t.toSec() / period + 1e-6) + 1.0) * period);
-    });
+    lockstep_.onStep([this](const ros::Time& t) { return lockstep::nextMultiple(t, 1.0 / control_rate_); });
     std_msgs::Bool done;
     done.data = false;
     done_pub_.publish(done);

@@ -423,9 +423,7 @@ class ExplorationNode {
   ros::Time onStep(const ros::Time& t) {
     if (t >= next_control_) {
       control(t, t.toSec());
-      // The next multiple of the period: the same grid as the timer's.
-      const double period = 1.0 / control_rate_;
-      next_control_ = ros::Time((std::floor(t.toSec() / period + 1e-6) + 1.0) * period);
+      next_control_ = lockstep::nextMultiple(t, 1.0 / control_rate_);
     }
     return next_control_;
   }

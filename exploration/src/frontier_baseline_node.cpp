@@ -63,6 +63,8 @@
 
 #include "exploration/baseline_params.h"
 #include "laser_features/building_rules_ros.h"
+#include "laser_features/tf_lookup.h"
+#include "lockstep/participant.h"
 #include "exploration/motion_controller.h"
 #include "ros_conversions.h"
 
@@ -81,7 +83,8 @@ bool nonNegative(double v) { return std::isfinite(v) && v >= 0.0; }
 
 class FrontierBaselineNode {
  public:
-  FrontierBaselineNode() : nh_(), pnh_("~"), tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_) {
+  FrontierBaselineNode()
+      : nh_(), pnh_("~"), tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_), lockstep_(nh_) {
     visitBaselineParams(&p_, ParamReader{pnh_});
     applyFootprint(laser_features::readRobotFootprint(nh_), &p_);
     std::string why;
@@ -103,24 +106,38 @@ class FrontierBaselineNode {
     explorer_ = std::make_unique<FrontierExplorer>(p_.frontier, p_.planner);
     motion_ = std::make_unique<MotionController>(p_.motion);
 
-    cmd_pub_ = nh_.advertise<geometry_msgs::Twist>("cmd_vel", 10);
+    cmd_pub_ = lockstep_.advertise<geometry_msgs::Twist>(nh_, "cmd_vel", 10);
     map_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("baseline_map", 1, true);
     path_pub_ = nh_.advertise<nav_msgs::Path>("baseline_path", 2, true);
     // The grid and the planning: the global queue (ros::spin in main). A small queue: when planning
     // falls behind, old scans are dropped rather than mapped late.
     // Both scan subscriptions share one connection: both ask for TCP_NODELAY (no batching of scans,
     // the watchdog's scan_timeout is 0.5 s of sim time, 50 ms of wall time at rate 10).
-    map_scan_sub_ = nh_.subscribe("scan", 2, &FrontierBaselineNode::onMapScan, this, ros::TransportHints().tcpNoDelay());
+    // In lockstep every scan is mapped at its step, and the control runs at the simulator's steps
+    // of its period, on the one thread.
+    using lockstep::Delivery;
+    const auto nodelay = ros::TransportHints().tcpNoDelay();
+    map_scan_sub_ = lockstep_.subscribe(nh_, "scan", 2, &FrontierBaselineNode::onMapScan, this, Delivery::Gated, nodelay);
     // Motion control: its own queue and thread.
     control_nh_.setCallbackQueue(&control_queue_);
     control_scan_sub_ =
-        control_nh_.subscribe("scan", 10, &FrontierBaselineNode::onControlScan, this, ros::TransportHints().tcpNoDelay());
-    bumper_sub_ = control_nh_.subscribe("bumper", 10, &FrontierBaselineNode::onBumper, this);
-    timer_ = control_nh_.createTimer(ros::Duration(1.0 / p_.control_rate), &FrontierBaselineNode::onTimer, this);
+        lockstep_.subscribe(control_nh_, "scan", 10, &FrontierBaselineNode::onControlScan, this, Delivery::Immediate, nodelay);
+    bumper_sub_ = lockstep_.subscribe(control_nh_, "bumper", 10, &FrontierBaselineNode::onBumper, this);
+    if (lockstep_.enabled()) {
+      lockstep_.onStep([this](const ros::Time& t) {
+        if (t >= next_control_) {
+          control(t, t.toSec());
+          next_control_ = lockstep::nextMultiple(t, 1.0 / p_.control_rate);
+        }
+        return next_control_;
+      });
+    } else {
+      timer_ = control_nh_.createTimer(ros::Duration(1.0 / p_.control_rate), &FrontierBaselineNode::onTimer, this);
+    }
     wall_start_ = std::chrono::steady_clock::now();
     sim_start_ = ros::Time::now();
     last_progress_ = last_map_publish_ = sim_start_;
-    control_spinner_.start();
+    if (!lockstep_.enabled()) control_spinner_.start();
     ROS_INFO("frontier_baseline: exploring (grid %.3f m, replan every %.1f s, goal timeout %.0f s%s)",
              p_.grid.resolution, p_.replan_period, p_.goal_timeout,
              p_.max_time > 0.0 ? (", max " + std::to_string(int(p_.max_time)) + " s").c_str() : "");
@@ -136,14 +153,11 @@ class FrontierBaselineNode {
  private:
   bool lookup(const std::string& target, const std::string& source, const ros::Time& stamp, Pose2D* out,
               double timeout = 0.1) {
-    try {
-      const auto t = tf_buffer_.lookupTransform(target, source, stamp, ros::Duration(timeout));
-      *out = Pose2D{t.transform.translation.x, t.transform.translation.y, tf2::getYaw(t.transform.rotation)};
+    std::string why;
+    if (laser_features::lookupPose2D(tf_buffer_, target, source, stamp, lockstep_.transformTimeout(timeout), out, &why))
       return true;
-    } catch (const tf2::TransformException& e) {
-      ROS_WARN_THROTTLE(5.0, "frontier_baseline: no transform %s <- %s: %s", target.c_str(), source.c_str(), e.what());
-      return false;
-    }
+    ROS_WARN_THROTTLE(5.0, "frontier_baseline: no transform %s <- %s: %s", target.c_str(), source.c_str(), why.c_str());
+    return false;
   }
 
   static bool wellFormed(const sensor_msgs::LaserScan& msg) {
@@ -427,15 +441,17 @@ class FrontierBaselineNode {
     bumper_ = msg->data;
   }
 
-  void onTimer(const ros::TimerEvent&) {
+  void onTimer(const ros::TimerEvent&) { control(ros::Time(0), ros::Time::now().toSec()); }
+
+  /// One control step: the poses at `stamp` (zero: the latest), at sim time `now`.
+  void control(const ros::Time& stamp, double now) {
     if (done_) {
       cmd_pub_.publish(geometry_msgs::Twist());
       return;
     }
     Pose2D pose, odom;
-    if (!lookup(p_.map_frame, p_.base_frame, ros::Time(0), &pose)) return;
-    const bool have_odom = lookup(p_.odom_frame, p_.base_frame, ros::Time(0), &odom);
-    const double now = ros::Time::now().toSec();
+    if (!lookup(p_.map_frame, p_.base_frame, stamp, &pose)) return;
+    const bool have_odom = lookup(p_.odom_frame, p_.base_frame, stamp, &odom);
     const double dt = last_control_ > 0.0 ? now - last_control_ : 0.0;
     last_control_ = now;
     std::lock_guard<std::mutex> lock(mutex_);
@@ -490,7 +506,10 @@ class FrontierBaselineNode {
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   ros::AsyncSpinner control_spinner_;
-  ros::Publisher cmd_pub_, map_pub_, path_pub_;
+  lockstep::Participant lockstep_;
+  ros::Time next_control_;  // lockstep: the sim time of the next control step
+  lockstep::Publisher cmd_pub_;
+  ros::Publisher map_pub_, path_pub_;
   ros::Subscriber map_scan_sub_, control_scan_sub_, bumper_sub_;
   ros::Timer timer_;
 

@@ -14,6 +14,7 @@
 #include <ros/ros.h>
 
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <functional>
 #include <map>
@@ -24,6 +25,12 @@
 #include "lockstep/input_gate.h"
 
 namespace lockstep {
+
+/// The first multiple of `period` (s) after `t`: the sim time a periodic step hook asks for next, on
+/// the same grid as a ros::Timer of that period.
+inline ros::Time nextMultiple(const ros::Time& t, double period) {
+  return ros::Time((std::floor(t.toSec() / period + 1e-6) + 1.0) * period);
+}
 
 /// The topic a participant acknowledges steps on: `<its resolved node name>/lockstep_ack`.
 inline std::string ackTopic(const std::string& node) { return node + "/lockstep_ack"; }
