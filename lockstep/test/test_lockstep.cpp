@@ -45,16 +45,28 @@ TEST(StepBarrier, AnOlderAcknowledgementChangesNothingAndTheNextWakeIsTheEarlies
   EXPECT_FALSE(b.nextWake(250).has_value());  // nobody asked for a step after 250
 }
 
+TEST(StepBarrier, ASilentParticipantExcusedIsNotWaitedForUntilItAcknowledgesAgain) {
+  StepBarrier b({"/a", "/b"});
+  b.ack({"/a", 100, 0, {}});
+  b.ack({"/b", 100, 0, {{"/cmd_vel", 7}}});
+  b.excuse(b.waitingFor(200));  // /b died at 100
+  b.ack({"/a", 200, 0, {}});
+  EXPECT_TRUE(b.finished(200));
+  // Restarted, it counts from zero again and is waited for from its next acknowledgement on.
+  b.ack({"/b", 300, 0, {{"/cmd_vel", 1}}});
+  EXPECT_EQ(b.published().at("/cmd_vel"), 1u);
+  EXPECT_EQ(b.waitingFor(400).size(), 2u);
+}
+
 namespace {
-std::vector<int> runReady(InputGate* g, std::vector<Stamp>* steps = nullptr) {
-  std::vector<int> ran;
+// Runs every ready step's work, as a participant does; the stamps of the steps finished.
+void runReady(InputGate* g, std::vector<Stamp>* steps = nullptr) {
   std::vector<InputGate::Work> work;
   while (const auto s = g->takeReadyStep(&work)) {
     for (auto& w : work) w();
     work.clear();
     if (steps != nullptr) steps->push_back(*s);
   }
-  return ran;
 }
 }  // namespace
 
