@@ -46,6 +46,7 @@ void Participant::onStepMessage(const hybrid_slam_msgs::LockstepStep::ConstPtr& 
     joined_ = true;
     gate_.step(msg->stamp.toNSec(), announced);
     gate_.forgive();
+    if (msg->start) start_steps_.insert(msg->stamp.toNSec());
   } else {
     gate_.step(msg->stamp.toNSec(), announced);
   }
@@ -77,7 +78,8 @@ void Participant::advance() {
     work.clear();
     ros::Time t;
     t.fromNSec(uint64_t(*stamp));
-    if (hook_) wake_ = hook_(t);
+    // A start step carries no data yet: the hook waits for the first real step.
+    if (hook_ && start_steps_.erase(*stamp) == 0) wake_ = hook_(t);
     acknowledge(t);
     account(*stamp, begin);
   }

@@ -18,6 +18,7 @@
 #include <atomic>
 #include <functional>
 #include <map>
+#include <set>
 #include <memory>
 #include <string>
 #include <vector>
@@ -149,7 +150,8 @@ class Participant {
   double working_ = 0.0, waiting_ = 0.0;            // (s, wall) over all steps, for the report
   uint64_t steps_ = 0;
   ros::WallTime report_;
-  bool joined_ = false;  // the first step since this node started was acknowledged
+  bool joined_ = false;
+  std::set<Stamp> start_steps_;  // acknowledged without running the hook  // the first step since this node started was acknowledged
 };
 
 }  // namespace lockstep

@@ -1,0 +1,2 @@
+"""The participant's side of the simulator's lockstep for rospy nodes (see participant.h)."""
+from lockstep.participant import Participant  # noqa: F401
