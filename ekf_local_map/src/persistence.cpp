@@ -24,7 +24,8 @@ namespace {
 constexpr size_t kLineRecordBytes = 6 * 8;
 constexpr size_t kDoorRecordBytes = 4 + 9 * 8;
 constexpr size_t kCompactRobotCovBytes = 6 * 4;
-constexpr size_t kCompactLineBytes = 9 * 4;
+constexpr size_t kCompactLineBytes = 7 * 4;       // version 3: the extent as two positions on the line
+constexpr size_t kCompactLineBytesV2 = 9 * 4;     // version 2: the extent as two points
 constexpr size_t kCompactDoorBytes = 4 + 9 * 4;
 
 constexpr uint32_t kFlagRelocationPending = 1u;
@@ -49,17 +50,10 @@ class Writer : public laser_features::BinaryWriter {
     f64(p.y);
     f64(p.theta);
   }
-  void f32(float v) {
-    uint32_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    u32(bits);
-  }
-  /// An angle of (-pi, pi] as float32, still inside (-pi, pi]: rounding can carry a value near
-  /// either end past it (float(pi) > pi), so such a value goes one float towards zero (< 3e-7 rad).
-  void angleF32(double a) {
-    float f = static_cast<float>(a);
-    if (double(f) > laser_features::kPi || double(f) <= -laser_features::kPi) f = std::nextafter(f, 0.0f);
-    f32(f);
+  void poseF32(const Pose2D& p) {
+    f32(static_cast<float>(p.x));
+    f32(static_cast<float>(p.y));
+    f32(laser_features::angleToFloat(p.theta));
   }
   /// The upper triangle of a symmetric matrix, row by row, as float32.
   template <typename Matrix>
@@ -94,27 +88,34 @@ void encodeFullBody(const Place& place, Writer* out) {
     for (Eigen::Index c = 0; c <= r; ++c) w.f64(P(r, c));
 }
 
+/// The point at signed position `s` along `line` (direction t = (-sin alpha, cos alpha)) from the
+/// foot of its normal: r n + s t. The compact record's extents are rebuilt with it.
+Eigen::Vector2d pointOnLine(const Line& line, double s) { return line.r * line.normal() + s * line.direction(); }
+
 /// The compact record: what relocation and missions use, in float32, marginals only.
 void encodeCompactBody(const Place& place, Writer* out) {
   Writer& w = *out;
   const StochasticMap& map = place.map;
+  w.poseF32(place.display_pose);
+  w.poseF32(map.robotPose());
   w.upperTriangleF32(map.robotCovariance());
   for (size_t i = 0; i < map.numLines(); ++i) {
     const MapLine line = map.line(i);
-    w.angleF32(line.line.alpha);
-    w.f32(static_cast<float>(line.line.r));
-    w.f32(static_cast<float>(line.extent_start.x()));
-    w.f32(static_cast<float>(line.extent_start.y()));
-    w.f32(static_cast<float>(line.extent_end.x()));
-    w.f32(static_cast<float>(line.extent_end.y()));
+    // The line as it will be read back; the extent's end points as positions along it, so that
+    // the reader rebuilds each as the original's projection onto the stored line.
+    Line stored;
+    stored.alpha = laser_features::angleToFloat(line.line.alpha);
+    stored.r = static_cast<float>(line.line.r);
+    w.f32(static_cast<float>(stored.alpha));
+    w.f32(static_cast<float>(stored.r));
+    w.f32(static_cast<float>(stored.direction().dot(line.extent_start)));
+    w.f32(static_cast<float>(stored.direction().dot(line.extent_end)));
     w.upperTriangleF32(line.line.cov);  // the marginal: the 2x2 block of P
   }
   for (const auto& entry : place.doors) {
     const Door& door = entry.second;
     w.u32(door.id);
-    w.f32(static_cast<float>(door.pose.x));
-    w.f32(static_cast<float>(door.pose.y));
-    w.angleF32(door.pose.theta);
+    w.poseF32(door.pose);
     w.upperTriangleF32(door.cov);
   }
 }
@@ -123,14 +124,14 @@ void encodePlace(const Place& place, bool compact, std::string* out) {
   Writer w(out);
   const StochasticMap& map = place.map;
   w.u32(place.id);
-  w.pose(place.display_pose);
   w.u32((map.relocationPending() ? kFlagRelocationPending : 0u) | (compact ? kFlagCompact : 0u));
   w.u32(uint32_t(map.numLines()));
   w.u32(uint32_t(place.doors.size()));
-  w.pose(map.robotPose());
   if (compact) {
     encodeCompactBody(place, &w);
   } else {
+    w.pose(place.display_pose);
+    w.pose(map.robotPose());
     encodeFullBody(place, &w);
   }
 }
@@ -153,13 +154,12 @@ class Reader : public laser_features::BinaryReader {
     p.theta = f64(what);
     return p;
   }
-  double f32(const char* what) {
-    const size_t at = position();
-    const uint32_t bits = u32(what);
-    float v;
-    std::memcpy(&v, &bits, sizeof v);
-    if (!std::isfinite(v)) fail(std::string("non-finite number in ") + what + " at byte " + std::to_string(at));
-    return ok() ? double(v) : 0.0;
+  Pose2D poseF32(const char* what) {
+    Pose2D p;
+    p.x = f32(what);
+    p.y = f32(what);
+    p.theta = f32(what);
+    return p;
   }
   /// A symmetric N x N matrix from its upper triangle in float32, row by row.
   template <int N>
@@ -190,6 +190,7 @@ std::string placeContext(size_t index, uint32_t id) {
 /// What precedes a place's body.
 struct PlaceHeader {
   std::string where;  // "place #k (id i)", for messages
+  uint32_t version = 0;
   uint32_t flags = 0;
   uint32_t num_lines = 0;
   uint32_t num_doors = 0;
@@ -200,26 +201,36 @@ struct PlaceHeader {
 /// Bytes the body after the header needs (checked before allocating anything for the counts).
 uint64_t bodyBytes(const PlaceHeader& h) {
   const uint64_t n = h.num_lines, d = h.num_doors;
-  if (h.compact()) return kCompactRobotCovBytes + n * kCompactLineBytes + d * kCompactDoorBytes;
+  if (h.compact()) {
+    const uint64_t line = h.version >= 3 ? kCompactLineBytes : kCompactLineBytesV2;
+    return kCompactRobotCovBytes + n * line + d * kCompactDoorBytes;
+  }
   const uint64_t N = 3 + 2 * n;
   return n * kLineRecordBytes + d * kDoorRecordBytes + N * (N + 1) / 2 * 8;
 }
 
-/// The place's id, display pose, flags, counts and robot pose; refuses flags the version does not
-/// know and counts the rest of the file cannot hold.
+/// The place's id, flags, counts, display pose and robot pose (version 3: after the counts, float32
+/// in a compact record; versions 1 and 2: f64, the display pose before the flags); refuses flags the
+/// version does not know and counts the rest of the file cannot hold.
 bool decodeHeader(Reader* in, size_t index, uint32_t version, Place* place, PlaceHeader* h, std::string* error) {
   place->id = in->u32("a place id");
   h->where = placeContext(index, place->id);
-  place->display_pose = in->pose("a place's display pose");
+  h->version = version;
+  if (version < 3) place->display_pose = in->pose("a place's display pose");
   h->flags = in->u32("a place's flags");
   h->num_lines = in->u32("a place's line count");
   h->num_doors = in->u32("a place's door count");
-  h->robot = in->pose("the robot pose");
+  if (version < 3) h->robot = in->pose("the robot pose");
   if (!in->ok()) return false;
   const uint32_t known = kFlagRelocationPending | (version >= 2 ? kFlagCompact : 0u);
   if ((h->flags & ~known) != 0) {
     *error = h->where + ": unknown flags " + std::to_string(h->flags) + " for version " + std::to_string(version);
     return false;
+  }
+  if (version >= 3) {
+    place->display_pose = h->compact() ? in->poseF32("a place's display pose") : in->pose("a place's display pose");
+    h->robot = h->compact() ? in->poseF32("the robot pose") : in->pose("the robot pose");
+    if (!in->ok()) return false;
   }
   if (bodyBytes(*h) > in->remaining()) {
     *error = h->where + ": " + std::to_string(h->num_lines) + " lines and " + std::to_string(h->num_doors) +
@@ -277,14 +288,30 @@ bool decodeFullBody(Reader* in, const PlaceHeader& h, Place* place, std::vector<
   return true;
 }
 
-/// The compact record (version 2): float32 lines with extents and marginals, the robot's marginal,
-/// doors. P is rebuilt BLOCK-DIAGONAL from the marginals. Why that is enough: after a load no place
-/// is active; entering one, relocation (PlaceMaps::relocateAtDoor -> StochasticMap::relocate)
-/// replaces the robot's pose and covariance and zeroes the robot-line cross-covariances, and the
-/// update that judges it (joint NIS, eqs. 13-14) and fuses it (eqs. 15-17) uses P's line blocks and
-/// line-line cross-covariances. With these zero, each line keeps its exact marginal and the lines
-/// count as independent; the robot's block is its marginal, uncorrelated with the lines, as
-/// relocate() leaves it.
+/// A compact line's extent: version 3 stores its end points as positions along the line and rebuilds
+/// them on the line just read (alpha, r); version 2 stores the points themselves.
+void decodeCompactExtent(Reader* in, uint32_t version, MapLine* line) {
+  if (version >= 3) {
+    const double start = in->f32("a line extent");
+    const double end = in->f32("a line extent");
+    line->extent_start = pointOnLine(line->line, start);
+    line->extent_end = pointOnLine(line->line, end);
+    return;
+  }
+  line->extent_start.x() = in->f32("a line extent");
+  line->extent_start.y() = in->f32("a line extent");
+  line->extent_end.x() = in->f32("a line extent");
+  line->extent_end.y() = in->f32("a line extent");
+}
+
+/// The compact record (versions 2 and 3): float32 lines with extents and marginals, the robot's
+/// marginal, doors (the poses are read with the header). P is rebuilt BLOCK-DIAGONAL from the
+/// marginals. Why that is enough: after a load no place is active; entering one, relocation
+/// (PlaceMaps::relocateAtDoor -> StochasticMap::relocate) replaces the robot's pose and covariance
+/// and zeroes the robot-line cross-covariances, and the update that judges it (joint NIS, eqs.
+/// 13-14) and fuses it (eqs. 15-17) uses P's line blocks and line-line cross-covariances. With
+/// these zero, each line keeps its exact marginal and the lines count as independent; the robot's
+/// block is its marginal, uncorrelated with the lines, as relocate() leaves it.
 bool decodeCompactBody(Reader* in, const PlaceHeader& h, Place* place, std::vector<MapLine>* lines,
                        Eigen::MatrixXd* P, std::string* error) {
   const Eigen::Index n = Eigen::Index(3 + 2 * size_t(h.num_lines));
@@ -299,10 +326,7 @@ bool decodeCompactBody(Reader* in, const PlaceHeader& h, Place* place, std::vect
     MapLine& line = (*lines)[i];
     line.line.alpha = in->f32("a line");
     line.line.r = in->f32("a line");
-    line.extent_start.x() = in->f32("a line extent");
-    line.extent_start.y() = in->f32("a line extent");
-    line.extent_end.x() = in->f32("a line extent");
-    line.extent_end.y() = in->f32("a line extent");
+    decodeCompactExtent(in, h.version, &line);
     const Eigen::Matrix2d marginal = in->symmetricF32<2>("a line covariance");
     if (in->ok() && !positiveSemiDefinite(marginal, kPsdToleranceF32)) {
       *error = h.where + ", line " + std::to_string(i) + ": the covariance is not positive semi-definite";
@@ -313,9 +337,7 @@ bool decodeCompactBody(Reader* in, const PlaceHeader& h, Place* place, std::vect
   for (uint32_t d = 0; d < h.num_doors && in->ok(); ++d) {
     Door door;
     door.id = in->u32("a door id");
-    door.pose.x = in->f32("a door pose");
-    door.pose.y = in->f32("a door pose");
-    door.pose.theta = in->f32("a door pose");
+    door.pose = in->poseF32("a door pose");
     door.cov = in->symmetricF32<3>("a door covariance");
     if (in->ok() && !keepDoor(door, h, kPsdToleranceF32, place, error)) return false;
   }

@@ -1,6 +1,7 @@
 // Saving and loading places: an exact round trip with the joint covariance, a compact one (float32
-// lines, extents, marginals, doors; P rebuilt block-diagonal) within float precision, the active
-// place kept whole; a version-1 file still read; refusal of truncated files, flipped bytes, a bad
+// lines, extents as positions along the lines, marginals, poses, doors; P rebuilt block-diagonal)
+// within the bounds persistence.h states, the active place kept whole; version-1 and version-2 files
+// still read; refusal of truncated files, flipped bytes, a bad
 // magic line, a newer version, unknown flags, non-finite numbers and non-PSD covariances (with a
 // valid checksum), always leaving the maps in memory as they were; atomic writes; storage size per
 // line, door, place and m^2, compact and full.
@@ -29,7 +30,7 @@ using namespace testing_support;
 
 const Pose2D kSensorMount{0.12, -0.03, 0.05};
 const PlacesSaveOptions kJoint{true};  // store_joint_covariance
-const std::string kHeaderV2 = "hybrid_slam_places\nversion 2\n";
+const std::string kHeader = "hybrid_slam_places\nversion 3\n";
 
 /// Two mapped places with doors.
 PlaceMaps twoPlaces() {
@@ -52,6 +53,9 @@ PlaceMaps twoPlaces() {
   places.close();
   return places;
 }
+
+/// The point at signed position s along a line (r n + s t): how persistence.h defines an extent's end.
+Eigen::Vector2d pointOn(const Line& line, double s) { return line.r * line.normal() + s * line.direction(); }
 
 std::string tempPath(const std::string& name) {
   return ::testing::TempDir() + "ekf_local_map_" + std::to_string(::getpid()) + "_" + name;
@@ -81,20 +85,24 @@ std::string withValidChecksum(std::string bytes) {
   return bytes;
 }
 
-/// Byte offset of place #0's flags: after the header lines, counts, id and display pose.
-size_t firstFlagsOffset(const std::string& bytes) {
-  const size_t body = bytes.find('\n', bytes.find('\n') + 1) + 1;
-  return body + 8 /* count, next id */ + 4 + 24 /* id, display */;
-}
+size_t bodyOffset(const std::string& bytes) { return bytes.find('\n', bytes.find('\n') + 1) + 1; }
+
+/// Byte offset of place #0's flags: after the header lines, counts and id (versions 1 and 2: and
+/// the display pose).
+size_t firstFlagsOffset(const std::string& bytes) { return bodyOffset(bytes) + 8 /* count, next id */ + 4 /* id */; }
+size_t firstFlagsOffsetV1(const std::string& bytes) { return firstFlagsOffset(bytes) + 24 /* display */; }
 
 /// Byte offset of the first line's alpha in place #0 of a full record: after the header, counts,
-/// place fields.
+/// place fields and the f64 display and robot poses.
 size_t firstLineOffset(const std::string& bytes) {
-  return firstFlagsOffset(bytes) + 4 + 4 + 4 + 24 /* flags, n, d, robot */;
+  return firstFlagsOffset(bytes) + 4 + 4 + 4 + 48 /* flags, n, d, poses */;
 }
 
-/// The same in a compact record: after the robot's covariance (6 float32).
-size_t firstCompactLineOffset(const std::string& bytes) { return firstLineOffset(bytes) + 24; }
+/// In a compact record: the robot's covariance after the float32 poses, then the first line.
+size_t firstCompactRobotCovOffset(const std::string& bytes) {
+  return firstFlagsOffset(bytes) + 4 + 4 + 4 + 24 /* flags, n, d, poses */;
+}
+size_t firstCompactLineOffset(const std::string& bytes) { return firstCompactRobotCovOffset(bytes) + 24; }
 
 void expectSamePlaces(const PlaceMaps& a, const PlaceMaps& b) {
   ASSERT_EQ(a.placeIds(), b.placeIds());
@@ -125,7 +133,7 @@ TEST(Persistence, RoundTripWithTheJointCovarianceIsExact) {
   const IoResult saved = savePlaces(places, path, kJoint);
   ASSERT_TRUE(saved) << saved.error;
   EXPECT_FALSE(exists(path + ".tmp"));
-  EXPECT_EQ(readFile(path).rfind(kHeaderV2, 0), 0u);
+  EXPECT_EQ(readFile(path).rfind(kHeader, 0), 0u);
 
   PlaceMaps loaded(testParams());
   const IoResult result = loadPlaces(path, &loaded);
@@ -155,13 +163,46 @@ template <typename Matrix>
   return ::testing::AssertionSuccess();
 }
 
-/// The loaded compact place: every line, extent and marginal within float precision of the
-/// original, the lines' and the robot's cross-covariances zero, doors within float precision.
+// The compact record's bounds (persistence.h), far inside the EKF's millimetres and 1e-4 rad:
+// angles within 2.4e-7 rad; lengths within float rounding (nearFloat); an extent's end point on the
+// stored line, along it within float rounding of its position, off the original by no more than
+// its distance from the original line plus kExtentBound.
+constexpr double kAngleBound = 2.4e-7;
+constexpr double kExtentBound = 1e-5;  // m: r's rounding plus |s| times alpha's, for |s| < 40 m
+
+/// A loaded extent end point `q` against the original `p`, of the original line `a` and the loaded `b`.
+::testing::AssertionResult extentWithinBound(const Line& a, const Line& b, const Eigen::Vector2d& p,
+                                             const Eigen::Vector2d& q) {
+  const double off_loaded = std::abs(b.normal().dot(q) - b.r);
+  const double along = std::abs(b.direction().dot(q - p));
+  const double off_original = std::abs(a.normal().dot(p) - a.r);
+  const double scale = std::max(1.0, q.norm());
+  if (off_loaded <= 1e-12 * scale && along <= 6e-8 * scale && (q - p).norm() <= off_original + kExtentBound) {
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << "extent " << p.transpose() << " read back as " << q.transpose()
+                                       << ": off the loaded line " << off_loaded << ", along it " << along
+                                       << ", moved " << (q - p).norm() << " (off the original line "
+                                       << off_original << ")";
+}
+
+::testing::AssertionResult nearAngle(double a, double b) {
+  if (std::abs(laser_features::normalizeAngle(a - b)) <= kAngleBound) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << a << " vs " << b << ": more than " << kAngleBound << " rad apart";
+}
+
+/// Poses in float32: positions within float rounding, the angle within kAngleBound.
+::testing::AssertionResult nearPose(const Pose2D& a, const Pose2D& b) {
+  if (nearFloat(a.x, b.x) && nearFloat(a.y, b.y) && nearAngle(a.theta, b.theta)) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "(" << a.x << ", " << a.y << ", " << a.theta << ") vs (" << b.x << ", "
+                                       << b.y << ", " << b.theta << ")";
+}
+
+/// The loaded compact place: every line, extent, marginal and pose within the bounds above, the
+/// lines' and the robot's cross-covariances zero, doors within float precision.
 void expectCompactCopy(const Place& p, const Place& q) {
-  EXPECT_EQ(p.display_pose.x, q.display_pose.x);  // f64 in both records
-  EXPECT_EQ(p.display_pose.theta, q.display_pose.theta);
-  EXPECT_EQ(p.map.robotPose().x, q.map.robotPose().x);
-  EXPECT_EQ(p.map.robotPose().theta, q.map.robotPose().theta);
+  EXPECT_TRUE(nearPose(p.display_pose, q.display_pose));
+  EXPECT_TRUE(nearPose(p.map.robotPose(), q.map.robotPose()));
   EXPECT_EQ(p.map.relocationPending(), q.map.relocationPending());
   EXPECT_TRUE(nearFloat(p.map.robotCovariance(), q.map.robotCovariance()));
   ASSERT_EQ(p.map.numLines(), q.map.numLines());
@@ -169,10 +210,10 @@ void expectCompactCopy(const Place& p, const Place& q) {
   for (size_t i = 0; i < p.map.numLines(); ++i) {
     SCOPED_TRACE("line " + std::to_string(i));
     const MapLine a = p.map.line(i), b = q.map.line(i);
-    EXPECT_TRUE(nearFloat(a.line.alpha, b.line.alpha, 2.5e-7));
+    EXPECT_TRUE(nearAngle(a.line.alpha, b.line.alpha));
     EXPECT_TRUE(nearFloat(a.line.r, b.line.r));
-    EXPECT_TRUE(nearFloat(a.extent_start, b.extent_start));
-    EXPECT_TRUE(nearFloat(a.extent_end, b.extent_end));
+    EXPECT_TRUE(extentWithinBound(a.line, b.line, a.extent_start, b.extent_start));
+    EXPECT_TRUE(extentWithinBound(a.line, b.line, a.extent_end, b.extent_end));
     EXPECT_TRUE(nearFloat(a.line.cov, b.line.cov));
     EXPECT_NE(a.line.cov(0, 1), 0.0);  // the marginal's correlation is kept
     // Block-diagonal: no robot-line, no line-line cross-covariance.
@@ -183,9 +224,7 @@ void expectCompactCopy(const Place& p, const Place& q) {
   for (const auto& [id, door] : p.doors) {
     ASSERT_EQ(q.doors.count(id), 1u);
     const Door& copy = q.doors.at(id);
-    EXPECT_TRUE(nearFloat(door.pose.x, copy.pose.x));
-    EXPECT_TRUE(nearFloat(door.pose.y, copy.pose.y));
-    EXPECT_TRUE(nearFloat(door.pose.theta, copy.pose.theta, 2.5e-7));
+    EXPECT_TRUE(nearPose(door.pose, copy.pose));
     EXPECT_TRUE(nearFloat(door.cov, copy.cov));
   }
 }
@@ -196,7 +235,7 @@ TEST(Persistence, CompactRoundTripKeepsLinesMarginalsAndDoors) {
   ASSERT_TRUE(places.relocateAtDoor(1, 1, {0.3, 0.0, 0.1}, Eigen::Matrix3d::Identity() * 1e-3));
   places.close();
   const std::string bytes = encodePlaces(places);  // the default: compact
-  EXPECT_EQ(bytes.rfind(kHeaderV2, 0), 0u);
+  EXPECT_EQ(bytes.rfind(kHeader, 0), 0u);
   EXPECT_LT(bytes.size(), encodePlaces(places, kJoint).size());
 
   PlaceMaps loaded(testParams());
@@ -267,20 +306,116 @@ TEST(Persistence, AVersion1FileIsStillRead) {
     for (const auto& [door_id, door] : p.doors) EXPECT_TRUE(q.doors.at(door_id).cov.isApprox(door.cov, 1e-9));
   }
   EXPECT_EQ(loaded.place(0)->map.numLines(), officeRoom().size());
-  // Saved again, it is a version-2 file; with the joint covariance nothing changes but the version.
-  std::string v2 = bytes;
-  v2.replace(0, kHeaderV2.size(), kHeaderV2);
-  EXPECT_EQ(encodePlaces(loaded, kJoint), withValidChecksum(v2));
+  // Saved again, it is a version-3 file; with the joint covariance it reads back exactly, and it
+  // is the same size (the same fields, reordered).
+  const std::string v3 = encodePlaces(loaded, kJoint);
+  EXPECT_EQ(v3.rfind(kHeader, 0), 0u);
+  EXPECT_EQ(v3.size(), bytes.size());
+  PlaceMaps reloaded(testParams());
+  ASSERT_TRUE(decodePlaces(v3, "v3", &reloaded));
+  expectSamePlaces(loaded, reloaded);
   EXPECT_LT(encodePlaces(loaded).size(), bytes.size());
 
   // Version 1 had no compact record: its flag is refused there.
   std::string flagged = bytes;
-  flagged[firstFlagsOffset(bytes)] |= 0x02;
+  flagged[firstFlagsOffsetV1(bytes)] |= 0x02;
   PlaceMaps kept(testParams());
   const IoResult refused = decodePlaces(withValidChecksum(flagged), "v1", &kept);
   EXPECT_FALSE(refused.ok);
   EXPECT_NE(refused.error.find("unknown flags 2 for version 1"), std::string::npos) << refused.error;
   EXPECT_EQ(kept.size(), 0u);
+}
+
+/// twoPlaces() with place 0 closed compact with a relocation pending and place 1 active (a full
+/// record): what two_places_v2.places holds.
+PlaceMaps mixedPlaces() {
+  PlaceMaps places = twoPlaces();
+  EXPECT_TRUE(places.relocateAtDoor(0, 1, {0.3, 0.0, 0.1}, Eigen::Matrix3d::Identity() * 1e-3));
+  places.close();
+  EXPECT_TRUE(places.activate(1));
+  return places;
+}
+
+TEST(Persistence, AVersion2FileIsStillRead) {
+  // Written by the version-2 code (at 359597d) from mixedPlaces(): place 0 a compact record with
+  // the extents as points and f64 poses, place 1 a full one. Compared with the same places built
+  // now: within float precision and 1e-9 (the update kernel may differ between machines).
+  const std::string path = std::string(TEST_DATA_DIR) + "/two_places_v2.places";
+  const std::string bytes = readFile(path);
+  ASSERT_EQ(bytes.rfind("hybrid_slam_places\nversion 2\n", 0), 0u) << path;
+  PlaceMaps loaded(testParams());
+  const IoResult result = loadPlaces(path, &loaded);
+  ASSERT_TRUE(result) << result.error;
+  PlaceMaps places = mixedPlaces();
+  ASSERT_EQ(loaded.placeIds(), places.placeIds());
+  EXPECT_EQ(loaded.nextId(), places.nextId());
+  EXPECT_FALSE(loaded.activeId().has_value());
+  const Place& compact = *loaded.place(0);
+  const Place& original = *places.place(0);
+  EXPECT_TRUE(compact.map.relocationPending());
+  EXPECT_EQ(compact.display_pose.x, original.display_pose.x);  // f64 in version 2
+  ASSERT_EQ(compact.map.numLines(), original.map.numLines());
+  for (size_t i = 0; i < compact.map.numLines(); ++i) {
+    const MapLine a = original.map.line(i), b = compact.map.line(i);
+    EXPECT_NEAR(a.line.alpha, b.line.alpha, 1e-6) << i;
+    EXPECT_NEAR(a.line.r, b.line.r, 1e-6) << i;
+    EXPECT_TRUE(a.extent_start.isApprox(b.extent_start, 1e-6)) << i;  // the points themselves
+    EXPECT_TRUE(a.extent_end.isApprox(b.extent_end, 1e-6)) << i;
+    EXPECT_TRUE(a.line.cov.isApprox(b.line.cov, 1e-6)) << i;
+  }
+  EXPECT_EQ(compact.doors.size(), original.doors.size());
+  const Place& full = *loaded.place(1);
+  EXPECT_TRUE(full.map.state().isApprox(places.place(1)->map.state(), 1e-9));
+  EXPECT_TRUE(full.map.covariance().isApprox(places.place(1)->map.covariance(), 1e-9));
+  // Saved again, it is a version-3 file, smaller, and reads back within the bounds.
+  const std::string v3 = encodePlaces(loaded);
+  EXPECT_EQ(v3.rfind(kHeader, 0), 0u);
+  EXPECT_LT(v3.size(), bytes.size());
+  PlaceMaps reloaded(testParams());
+  ASSERT_TRUE(decodePlaces(v3, "v3", &reloaded));
+  expectCompactCopy(compact, *reloaded.place(0));
+
+  // The version-2 compact record's size is its own: one line fewer does not parse.
+  std::string short_count = bytes;
+  short_count[firstFlagsOffsetV1(bytes) + 4] -= 1;  // place #0's line count
+  PlaceMaps kept(testParams());
+  EXPECT_FALSE(decodePlaces(withValidChecksum(short_count), "v2", &kept).ok);
+  EXPECT_EQ(kept.size(), 0u);
+}
+
+TEST(Persistence, CompactPrecisionFarFromTheOrigin) {
+  // A place 60 m out, with lines at pi and near -pi/2, extents up to 38 m along their lines and
+  // 0.4 mm off them: every number read back within the bounds persistence.h states.
+  MapLine far_line, through_origin, off_line;
+  far_line.line.alpha = kPi;
+  far_line.line.r = 60.123456789;
+  far_line.extent_start = {-60.123456789, -37.7654321};
+  far_line.extent_end = {-60.123456789, 12.5};
+  through_origin.line.alpha = -kPi / 2 + 1e-9;
+  through_origin.line.r = 0.0007;
+  through_origin.extent_start = pointOn(through_origin.line, -38.0);
+  through_origin.extent_end = pointOn(through_origin.line, 0.0001);
+  off_line.line.alpha = 1.2345678901234;
+  off_line.line.r = 33.3;
+  off_line.extent_start = pointOn(off_line.line, -5.5) + 0.0004 * off_line.line.normal();
+  off_line.extent_end = pointOn(off_line.line, 21.25) - 0.0004 * off_line.line.normal();
+  const std::vector<MapLine> lines = {far_line, through_origin, off_line};
+  Eigen::MatrixXd P = Eigen::MatrixXd::Identity(9, 9) * 1e-4;
+  for (Eigen::Index l = 3; l < 9; l += 2) P(l + 1, l) = P(l, l + 1) = 2e-5;  // each line's c_ar
+
+  std::map<uint32_t, Place> stored;
+  Place place{7, {1234.5678, -987.654321, -kPi + 1e-12}, StochasticMap(testParams()), {}};
+  ASSERT_TRUE(place.map.setState({55.123456789, -47.9876543, kPi}, lines, P));
+  place.doors[3] = Door{3, {-59.9, 10.0, kPi}, Eigen::Matrix3d::Identity() * 1e-4};
+  stored.emplace(7, std::move(place));
+  PlaceMaps places(testParams());
+  places.assign(std::move(stored), 8);
+
+  PlaceMaps loaded(testParams());
+  const std::string bytes = encodePlaces(places);
+  ASSERT_TRUE(decodePlaces(bytes, "far", &loaded));
+  expectCompactCopy(*places.place(7), *loaded.place(7));
+  EXPECT_EQ(encodePlaces(loaded), bytes);  // lossless from then on
 }
 
 class RefusedFile : public ::testing::Test {
@@ -349,13 +484,13 @@ TEST_F(RefusedFile, BadMagic) {
 
 TEST_F(RefusedFile, NewerOrOlderVersion) {
   std::string newer = good_;
-  const size_t at = newer.find("version 2\n");
+  const size_t at = newer.find("version 3\n");
   ASSERT_NE(at, std::string::npos);
-  newer[at + 8] = '3';
-  expectRefused(newer, "format version 3 is newer than this build reads (2)");
+  newer[at + 8] = '4';
+  expectRefused(newer, "format version 4 is newer than this build reads (3)");
   std::string older = good_;
   older[at + 8] = '0';
-  expectRefused(older, "format version 0 is older than this build reads (1..2) and has no migration");
+  expectRefused(older, "format version 0 is older than this build reads (1..3) and has no migration");
   std::string garbage = good_;
   garbage[at + 8] = 'x';
   expectRefused(garbage, "version");
@@ -375,7 +510,7 @@ TEST_F(RefusedFile, NonFiniteNumberEvenWithAValidChecksum) {
 TEST_F(RefusedFile, UnknownFlags) {
   std::string flagged = good_;
   flagged[firstFlagsOffset(good_)] |= 0x04;
-  expectRefused(withValidChecksum(flagged), "unknown flags 6 for version 2");
+  expectRefused(withValidChecksum(flagged), "unknown flags 6 for version 3");
 }
 
 TEST_F(RefusedFile, NonCanonicalLineOrIndefiniteCovariance) {
@@ -400,7 +535,7 @@ TEST_F(RefusedFile, NonCanonicalLineOrIndefiniteCovariance) {
 }
 
 TEST_F(RefusedFile, CompactNonCanonicalLineOrIndefiniteMarginal) {
-  const size_t line = firstCompactLineOffset(good_);  // alpha, r, 4 extents, c_aa, c_ar, c_rr
+  const size_t line = firstCompactLineOffset(good_);  // alpha, r, s_start, s_end, c_aa, c_ar, c_rr
   std::string negative_r = good_;
   const float r = -1.0f;
   std::memcpy(&negative_r[line + 4], &r, 4);
@@ -411,11 +546,11 @@ TEST_F(RefusedFile, CompactNonCanonicalLineOrIndefiniteMarginal) {
   expectRefused(withValidChecksum(alpha), "is not canonical");
   std::string indefinite = good_;
   const float big = 1.0f;  // |c_ar| far above sqrt(c_aa c_rr)
-  std::memcpy(&indefinite[line + 7 * 4], &big, 4);
+  std::memcpy(&indefinite[line + 5 * 4], &big, 4);
   expectRefused(withValidChecksum(indefinite), "line 0: the covariance is not positive semi-definite");
   std::string robot = good_;
   const float negative = -1.0f;  // the robot's c00
-  std::memcpy(&robot[firstLineOffset(good_)], &negative, 4);
+  std::memcpy(&robot[firstCompactRobotCovOffset(good_)], &negative, 4);
   expectRefused(withValidChecksum(robot), "the robot covariance is not positive semi-definite");
 }
 
@@ -478,7 +613,7 @@ TEST(Persistence, StorageSizePerSquareMetre) {
     total += s.bytes;
   }
   // The whole file: header, counts and checksum around the place records.
-  EXPECT_EQ(encodePlaces(places).size(), total + kHeaderV2.size() + 8 + 4);
+  EXPECT_EQ(encodePlaces(places).size(), total + kHeader.size() + 8 + 4);
   // The office room (7 lines, 2 doors, 27 m^2): 16 bytes/m^2 compact, 66 with the joint covariance
   // (which an 8-bit grid at 5 cm, 400 bytes/m^2, still exceeds).
   EXPECT_LT(stats[0].bytes_per_m2, 20.0);
@@ -522,9 +657,9 @@ PlaceMaps placeIn(const std::vector<TrueSegment>& room, int doors, uint32_t seed
 }
 
 TEST(Persistence, SizePerLineAndDoor) {
-  // The records' sizes as persistence.h states them, for n lines and d doors: the place header
-  // (id, display pose, flags, counts, robot pose) is 64 bytes; compact: 24 (robot marginal) + 36 per
-  // line + 40 per door; full: 48 per line + 76 per door + 8 (N^2 + N) / 2 for N = 3 + 2 n.
+  // The records' sizes as persistence.h states them, for n lines and d doors: the place's id,
+  // flags and counts (16 bytes), then compact: 24 (f32 poses) + 24 (robot marginal) + 28 per line +
+  // 40 per door; full: 48 (f64 poses) + 48 per line + 76 per door + 8 (N^2 + N) / 2 for N = 3 + 2 n.
   std::printf("| place | lines | doors | compact bytes | per line | full bytes | per line | full / compact |\n");
   const std::vector<std::pair<std::string, PlaceMaps>> cases = {
       {"twoPlaces", twoPlaces()},
@@ -535,9 +670,9 @@ TEST(Persistence, SizePerLineAndDoor) {
   for (const auto& [name, places] : cases) {
     for (const PlaceStorage& s : storageStats(places)) {
       const size_t n = s.lines, d = s.doors, N = 3 + 2 * n;
-      EXPECT_EQ(s.compact_bytes, 64 + 24 + 36 * n + 40 * d) << name;
+      EXPECT_EQ(s.compact_bytes, 64 + 28 * n + 40 * d) << name;
       EXPECT_EQ(s.full_bytes, 64 + 48 * n + 76 * d + 8 * (N * N + N) / 2) << name;
-      EXPECT_EQ(s.line_bytes, 36 * n);
+      EXPECT_EQ(s.line_bytes, 28 * n);
       std::printf("| %s #%u | %zu | %zu | %zu | %.1f | %zu | %.1f | %.1f |\n", name.c_str(), s.id, n, d,
                   s.compact_bytes, double(s.compact_bytes) / double(n), s.full_bytes,
                   double(s.full_bytes) / double(n), double(s.full_bytes) / double(s.compact_bytes));

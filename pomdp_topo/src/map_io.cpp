@@ -16,14 +16,25 @@ namespace {
 using laser_features::kPi;
 using laser_features::normalizeAngle;
 
-// Smallest records, to refuse impossible counts before allocating anything for them.
-constexpr size_t kMinNodeBytesV1 = 4 + 4 + 24 + 4 + 24 + 4 + 4 + 4;  // with the node's place and door
-constexpr size_t kMinNodeBytes = 4 + 4 + 24 + 4 + 4 + 4;
-constexpr size_t kOpeningBytesV1 = 3 * 8 + 4;
-constexpr size_t kOpeningBytes = 3 * 8 + 4 + 4 + 24;  // with the door's place and pose in it
-constexpr size_t kFingerprintEntryBytes = 4 + 8;
-constexpr size_t kMinEdgeBytes = 3 * 4 + 2 * 8 + 4;
-constexpr size_t kLandmarkBytes = 4 + 4 * 8 + 4;
+/// The widths of a version's fields: real numbers (f64 until version 2, f32 from version 3) and
+/// small codes (types, flags, kinds: u32, then u8). Ids, counts, place ids and observation counts
+/// are 4 bytes in every version. Version 3 has version 2's fields in version 2's order.
+struct Layout {
+  uint32_t version;
+  size_t real;
+  size_t small;
+  explicit Layout(uint32_t v) : version(v), real(v >= 3 ? 4 : 8), small(v >= 3 ? 1 : 4) {}
+  // Smallest records, to refuse impossible counts before allocating anything for them.
+  size_t minNode() const {  // version 1: with the node's place and door
+    return 4 + small + 3 * real + small + 4 + 4 + (version == 1 ? 4 + 3 * real : 0);
+  }
+  size_t opening() const {  // from version 2: with the door's place and pose in it
+    return 3 * real + small + (version >= 2 ? 4 + 3 * real : 0);
+  }
+  size_t fingerprintEntry() const { return small + real; }
+  size_t minEdge() const { return 3 * 4 + 2 * real + 4; }
+  size_t landmark() const { return small + 4 * real + 4; }
+};
 
 std::string headerText(uint32_t version) {
   return std::string(kTopoMapMagic) + "\nversion " + std::to_string(version) + "\n";
@@ -31,35 +42,38 @@ std::string headerText(uint32_t version) {
 
 // ---- encoding --------------------------------------------------------------------------------
 
+/// Writes version 3: real numbers as float32 (the localizer computes in float32; poses, offsets
+/// and widths within 6e-8 of their size, e.g. 1 um at 16 m), codes as u8.
 class Writer : public laser_features::BinaryWriter {
  public:
   using BinaryWriter::BinaryWriter;
-  /// An angle, normalized to (-pi, pi] (identity for a normalized angle, NaN stays NaN).
-  void angle(double a) { f64(normalizeAngle(a)); }
+  void real(double v) { f32(static_cast<float>(v)); }
+  /// An angle, normalized to (-pi, pi] and rounded inside it (within 2.4e-7 rad; NaN stays NaN).
+  void angle(double a) { f32(laser_features::angleToFloat(normalizeAngle(a))); }
   void pose(const Pose2D& p) {
-    f64(p.x);
-    f64(p.y);
+    real(p.x);
+    real(p.y);
     angle(p.theta);
   }
 };
 
 void encodeNode(const TopoNode& node, Writer* w) {
   w->u32(node.id);
-  w->u32(uint32_t(node.type));
+  w->u8(uint8_t(node.type));
   w->pose(node.pose);
-  w->u32(node.explored ? 1u : 0u);
+  w->u8(node.explored ? 1u : 0u);
   w->u32(uint32_t(node.openings.size()));
   w->u32(uint32_t(node.fingerprint.entries.size()));
   for (const NodeOpening& o : node.openings) {
     w->angle(o.bearing);
-    w->f64(o.offset);
-    w->f64(o.width);
-    w->u32(o.explored ? 1u : 0u);
+    w->real(o.offset);
+    w->real(o.width);
+    w->u8(o.explored ? 1u : 0u);
     w->i32(o.place_id);
     w->pose(o.door_in_place);
   }
   for (const FingerprintEntry& e : node.fingerprint.entries) {
-    w->u32(uint32_t(e.kind));
+    w->u8(uint8_t(e.kind));
     w->angle(e.bearing);
   }
 }
@@ -69,39 +83,47 @@ void encodeEdge(const TopoEdge& edge, Writer* w) {
   w->u32(edge.source);
   w->u32(edge.target);
   w->angle(edge.heading);
-  w->f64(edge.length);
+  w->real(edge.length);
   w->u32(uint32_t(edge.landmarks.size()));
   for (const EdgeLandmark& l : edge.landmarks) {
-    w->u32(uint32_t(l.type));
-    w->f64(l.distance);
-    w->f64(l.lateral);
+    w->u8(uint8_t(l.type));
+    w->real(l.distance);
+    w->real(l.lateral);
     w->angle(l.orientation);
-    w->f64(l.p_lmap);
+    w->real(l.p_lmap);
     w->u32(l.observations);
   }
 }
 
 // ---- decoding --------------------------------------------------------------------------------
 
+/// Reads the fields of any version, in the widths of its Layout.
 class Reader : public laser_features::BinaryReader {
  public:
-  using BinaryReader::BinaryReader;
+  Reader(const std::string& bytes, size_t begin, size_t end, const Layout& layout)
+      : BinaryReader(bytes, begin, end), layout_(layout) {}
+  const Layout& layout() const { return layout_; }
+  double real(const char* what) { return layout_.real == 8 ? f64(what) : double(f32(what)); }
+  uint32_t small(const char* what) { return layout_.small == 4 ? u32(what) : uint32_t(u8(what)); }
   /// An angle, which must lie in (-pi, pi].
   double angle(const char* what) {
-    const double a = f64(what);
+    const double a = real(what);
     if (ok() && !(a > -kPi && a <= kPi)) {
-      fail(std::string("angle ") + std::to_string(a) + " in " + what + " at byte " + std::to_string(position() - 8) +
-           " is not in (-pi, pi]");
+      fail(std::string("angle ") + std::to_string(a) + " in " + what + " at byte " +
+           std::to_string(position() - layout_.real) + " is not in (-pi, pi]");
     }
     return a;
   }
   Pose2D pose(const char* what) {
     Pose2D p;
-    p.x = f64(what);
-    p.y = f64(what);
+    p.x = real(what);
+    p.y = real(what);
     p.theta = angle(what);
     return p;
   }
+
+ private:
+  Layout layout_;
 };
 
 std::string nodeContext(size_t index, uint32_t id) {
@@ -117,10 +139,11 @@ bool validPlaceId(int32_t id, const std::string& where, std::string* error) {
   return false;
 }
 
-/// Reads one node record of format `version`; false with the reader's error or `error` set.
-bool decodeNode(Reader* in, uint32_t version, size_t index, TopoNode* node, std::string* error) {
+/// Reads one node record (in the reader's layout); false with the reader's error or `error` set.
+bool decodeNode(Reader* in, size_t index, TopoNode* node, std::string* error) {
+  const uint32_t version = in->layout().version;
   node->id = in->u32("a node id");
-  const uint32_t type = in->u32("a node type");
+  const uint32_t type = in->small("a node type");
   node->pose = in->pose("a node pose");
   // Version 1: one place per node, behind its first opening (the door it was entered by).
   int32_t v1_place = -1;
@@ -129,7 +152,7 @@ bool decodeNode(Reader* in, uint32_t version, size_t index, TopoNode* node, std:
     v1_place = in->i32("a node's place id");
     v1_door = in->pose("a node's door pose in its place");
   }
-  const uint32_t flags = in->u32("a node's flags");
+  const uint32_t flags = in->small("a node's flags");
   const uint32_t num_openings = in->u32("a node's opening count");
   const uint32_t num_entries = in->u32("a node's fingerprint size");
   if (!in->ok()) return false;
@@ -149,8 +172,8 @@ bool decodeNode(Reader* in, uint32_t version, size_t index, TopoNode* node, std:
     return false;
   }
   node->explored = flags & 1u;
-  const uint64_t needed = uint64_t(num_openings) * (version == 1 ? kOpeningBytesV1 : kOpeningBytes) +
-                         uint64_t(num_entries) * kFingerprintEntryBytes;
+  const uint64_t needed = uint64_t(num_openings) * in->layout().opening() +
+                         uint64_t(num_entries) * in->layout().fingerprintEntry();
   if (needed > in->remaining()) {
     *error = where + ": " + std::to_string(num_openings) + " openings and " + std::to_string(num_entries) +
              " fingerprint entries need " + std::to_string(needed) + " more bytes, the file has " +
@@ -161,9 +184,9 @@ bool decodeNode(Reader* in, uint32_t version, size_t index, TopoNode* node, std:
   for (size_t i = 0; i < node->openings.size(); ++i) {
     NodeOpening& o = node->openings[i];
     o.bearing = in->angle("an opening bearing");
-    o.offset = in->f64("an opening offset");
-    o.width = in->f64("an opening width");
-    const uint32_t explored = in->u32("an opening's flags");
+    o.offset = in->real("an opening offset");
+    o.width = in->real("an opening width");
+    const uint32_t explored = in->small("an opening's flags");
     if (version >= 2) {
       o.place_id = in->i32("an opening's place id");
       o.door_in_place = in->pose("an opening's door pose in its place");
@@ -186,7 +209,7 @@ bool decodeNode(Reader* in, uint32_t version, size_t index, TopoNode* node, std:
   node->fingerprint.entries.resize(num_entries);
   for (size_t i = 0; i < node->fingerprint.entries.size(); ++i) {
     FingerprintEntry& e = node->fingerprint.entries[i];
-    const uint32_t kind = in->u32("a fingerprint entry kind");
+    const uint32_t kind = in->small("a fingerprint entry kind");
     e.bearing = in->angle("a fingerprint entry bearing");
     if (!in->ok()) return false;
     if (kind > uint32_t(FingerprintEntry::LineDirection)) {
@@ -204,7 +227,7 @@ bool decodeEdge(Reader* in, size_t index, TopoEdge* edge, std::string* error) {
   edge->source = in->u32("an edge source");
   edge->target = in->u32("an edge target");
   edge->heading = in->angle("an edge heading");
-  edge->length = in->f64("an edge length");
+  edge->length = in->real("an edge length");
   const uint32_t num_landmarks = in->u32("an edge's landmark count");
   if (!in->ok()) return false;
   const std::string where = edgeContext(index, edge->id);
@@ -212,7 +235,7 @@ bool decodeEdge(Reader* in, size_t index, TopoEdge* edge, std::string* error) {
     *error = where + ": negative length " + std::to_string(edge->length);
     return false;
   }
-  const uint64_t needed = uint64_t(num_landmarks) * kLandmarkBytes;
+  const uint64_t needed = uint64_t(num_landmarks) * in->layout().landmark();
   if (needed > in->remaining()) {
     *error = where + ": " + std::to_string(num_landmarks) + " landmarks need " + std::to_string(needed) +
              " more bytes, the file has " + std::to_string(in->remaining()) + " (truncated?)";
@@ -221,11 +244,11 @@ bool decodeEdge(Reader* in, size_t index, TopoEdge* edge, std::string* error) {
   edge->landmarks.resize(num_landmarks);
   for (size_t i = 0; i < edge->landmarks.size(); ++i) {
     EdgeLandmark& l = edge->landmarks[i];
-    const uint32_t type = in->u32("a landmark type");
-    l.distance = in->f64("a landmark distance");
-    l.lateral = in->f64("a landmark lateral offset");
+    const uint32_t type = in->small("a landmark type");
+    l.distance = in->real("a landmark distance");
+    l.lateral = in->real("a landmark lateral offset");
     l.orientation = in->angle("a landmark orientation");
-    l.p_lmap = in->f64("a landmark p_lmap");
+    l.p_lmap = in->real("a landmark p_lmap");
     l.observations = in->u32("a landmark observation count");
     if (!in->ok()) return false;
     if (type > uint32_t(LandmarkType::Opening)) {
@@ -280,23 +303,24 @@ std::string decode(const std::string& bytes, Decoded* out) {
   if (bytes.size() < body + 4) return "the file ends early (truncated?) before the checksum";
   const size_t checksum_at = bytes.size() - 4;
 
-  Reader in(bytes, body, checksum_at);
+  Reader in(bytes, body, checksum_at, Layout(uint32_t(version)));
   std::string error;
   const uint32_t num_nodes = in.u32("the node count");
-  const size_t min_node_bytes = version == 1 ? kMinNodeBytesV1 : kMinNodeBytes;
+  const size_t min_node_bytes = in.layout().minNode();
   if (in.ok() && uint64_t(num_nodes) * min_node_bytes > in.remaining()) {
     error = std::to_string(num_nodes) + " nodes need at least " + std::to_string(uint64_t(num_nodes) * min_node_bytes) +
             " more bytes, the file has " + std::to_string(in.remaining()) + " (truncated?)";
   }
   for (uint32_t k = 0; k < num_nodes && in.ok() && error.empty(); ++k) {
     TopoNode node;
-    if (!decodeNode(&in, uint32_t(version), k, &node, &error)) break;
+    if (!decodeNode(&in, k, &node, &error)) break;
     const uint32_t id = node.id;
     if (!out->nodes.emplace(id, std::move(node)).second) error = "node id " + std::to_string(id) + " appears twice";
   }
   const uint32_t num_edges = error.empty() ? in.u32("the edge count") : 0;
-  if (in.ok() && error.empty() && uint64_t(num_edges) * kMinEdgeBytes > in.remaining()) {
-    error = std::to_string(num_edges) + " edges need at least " + std::to_string(uint64_t(num_edges) * kMinEdgeBytes) +
+  const size_t min_edge_bytes = in.layout().minEdge();
+  if (in.ok() && error.empty() && uint64_t(num_edges) * min_edge_bytes > in.remaining()) {
+    error = std::to_string(num_edges) + " edges need at least " + std::to_string(uint64_t(num_edges) * min_edge_bytes) +
             " more bytes, the file has " + std::to_string(in.remaining()) + " (truncated?)";
   }
   for (uint32_t k = 0; k < num_edges && in.ok() && error.empty(); ++k) {
@@ -332,7 +356,7 @@ std::string decode(const std::string& bytes, Decoded* out) {
   if (!in.ok()) error = in.error();
 
   // The checksum first (a truncated or damaged file fails both; report the structure as a hint).
-  Reader trailer(bytes, checksum_at, bytes.size());
+  Reader trailer(bytes, checksum_at, bytes.size(), in.layout());
   const uint32_t stored = trailer.u32("the checksum");
   const uint32_t computed = laser_features::crc32(bytes.data(), checksum_at);
   if (stored != computed) {

@@ -1,6 +1,7 @@
-// Saving and loading the topological map: an exact round trip of every field; refusal of a wrong
-// magic line, newer/unknown versions, flipped bytes anywhere, truncation, trailing bytes, and of
-// structurally invalid content behind a valid checksum (non-finite numbers, unnormalized angles,
+// Saving and loading the topological map: a round trip of every field within float32's bounds (and
+// bit for bit from then on); version-1 and version-2 files still read; record sizes; refusal of a
+// wrong magic line, newer/unknown versions, flipped bytes anywhere, truncation, trailing bytes, and
+// of structurally invalid content behind a valid checksum (non-finite numbers, unnormalized angles,
 // negative lengths/widths, p_lmap outside [0, 1], unknown types, duplicate ids, dangling edges,
 // self-loops), always keeping the map in memory; atomic writes; empty maps.
 #include "pomdp_topo/map_io.h"
@@ -22,6 +23,24 @@ namespace pomdp_topo {
 namespace {
 
 using laser_features::kPi;
+
+const std::string kHeader = "hybrid_slam_topological_map\nversion 3\n";
+
+/// How two maps must agree: exactly, or within the float32 bounds of map_io.h (reals within 6e-8
+/// of their size, angles within 2.4e-7 rad).
+enum class Precision { kExact, kFloat32 };
+
+::testing::AssertionResult nearReal(double a, double b, Precision precision) {
+  const double bound = precision == Precision::kExact ? 0.0 : 6e-8 * std::abs(a);
+  if (std::abs(a - b) <= bound) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << a << " vs " << b << ": more than " << bound << " apart";
+}
+
+::testing::AssertionResult nearAngle(double a, double b, Precision precision) {
+  const double bound = precision == Precision::kExact ? 0.0 : 2.4e-7;
+  if (std::abs(laser_features::normalizeAngle(a - b)) <= bound) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << a << " vs " << b << ": more than " << bound << " rad apart";
+}
 
 std::string tempPath(const std::string& name) {
   return ::testing::TempDir() + "pomdp_topo_" + std::to_string(::getpid()) + "_" + name;
@@ -87,7 +106,8 @@ TopologicalMap fullMap() {
   return map;
 }
 
-void expectSameMaps(const TopologicalMap& a, const TopologicalMap& b) {
+void expectSameMaps(const TopologicalMap& a, const TopologicalMap& b, Precision precision) {
+  const Precision& m = precision;
   EXPECT_EQ(a.nextNodeId(), b.nextNodeId());
   EXPECT_EQ(a.nextEdgeId(), b.nextEdgeId());
   ASSERT_EQ(a.nodeCount(), b.nodeCount());
@@ -98,25 +118,25 @@ void expectSameMaps(const TopologicalMap& a, const TopologicalMap& b) {
     ASSERT_NE(q, nullptr) << "node " << entry.first;
     EXPECT_EQ(p.id, q->id);
     EXPECT_EQ(p.type, q->type);
-    EXPECT_EQ(p.pose.x, q->pose.x);
-    EXPECT_EQ(p.pose.y, q->pose.y);
-    EXPECT_EQ(p.pose.theta, q->pose.theta);
+    EXPECT_TRUE(nearReal(p.pose.x, q->pose.x, m));
+    EXPECT_TRUE(nearReal(p.pose.y, q->pose.y, m));
+    EXPECT_TRUE(nearAngle(p.pose.theta, q->pose.theta, m));
     EXPECT_EQ(p.explored, q->explored);
     ASSERT_EQ(p.openings.size(), q->openings.size());
     for (size_t i = 0; i < p.openings.size(); ++i) {
-      EXPECT_EQ(p.openings[i].bearing, q->openings[i].bearing);
-      EXPECT_EQ(p.openings[i].offset, q->openings[i].offset);
-      EXPECT_EQ(p.openings[i].width, q->openings[i].width);
+      EXPECT_TRUE(nearAngle(p.openings[i].bearing, q->openings[i].bearing, m));
+      EXPECT_TRUE(nearReal(p.openings[i].offset, q->openings[i].offset, m));
+      EXPECT_TRUE(nearReal(p.openings[i].width, q->openings[i].width, m));
       EXPECT_EQ(p.openings[i].explored, q->openings[i].explored);
       EXPECT_EQ(p.openings[i].place_id, q->openings[i].place_id);
-      EXPECT_EQ(p.openings[i].door_in_place.x, q->openings[i].door_in_place.x);
-      EXPECT_EQ(p.openings[i].door_in_place.y, q->openings[i].door_in_place.y);
-      EXPECT_EQ(p.openings[i].door_in_place.theta, q->openings[i].door_in_place.theta);
+      EXPECT_TRUE(nearReal(p.openings[i].door_in_place.x, q->openings[i].door_in_place.x, m));
+      EXPECT_TRUE(nearReal(p.openings[i].door_in_place.y, q->openings[i].door_in_place.y, m));
+      EXPECT_TRUE(nearAngle(p.openings[i].door_in_place.theta, q->openings[i].door_in_place.theta, m));
     }
     ASSERT_EQ(p.fingerprint.entries.size(), q->fingerprint.entries.size());
     for (size_t i = 0; i < p.fingerprint.entries.size(); ++i) {
       EXPECT_EQ(p.fingerprint.entries[i].kind, q->fingerprint.entries[i].kind);
-      EXPECT_EQ(p.fingerprint.entries[i].bearing, q->fingerprint.entries[i].bearing);
+      EXPECT_TRUE(nearAngle(p.fingerprint.entries[i].bearing, q->fingerprint.entries[i].bearing, m));
     }
   }
   for (const auto& entry : a.edges()) {
@@ -126,15 +146,15 @@ void expectSameMaps(const TopologicalMap& a, const TopologicalMap& b) {
     EXPECT_EQ(e.id, f->id);
     EXPECT_EQ(e.source, f->source);
     EXPECT_EQ(e.target, f->target);
-    EXPECT_EQ(e.heading, f->heading);
-    EXPECT_EQ(e.length, f->length);
+    EXPECT_TRUE(nearAngle(e.heading, f->heading, m));
+    EXPECT_TRUE(nearReal(e.length, f->length, m));
     ASSERT_EQ(e.landmarks.size(), f->landmarks.size());
     for (size_t i = 0; i < e.landmarks.size(); ++i) {
       EXPECT_EQ(e.landmarks[i].type, f->landmarks[i].type);
-      EXPECT_EQ(e.landmarks[i].distance, f->landmarks[i].distance);
-      EXPECT_EQ(e.landmarks[i].lateral, f->landmarks[i].lateral);
-      EXPECT_EQ(e.landmarks[i].orientation, f->landmarks[i].orientation);
-      EXPECT_EQ(e.landmarks[i].p_lmap, f->landmarks[i].p_lmap);
+      EXPECT_TRUE(nearReal(e.landmarks[i].distance, f->landmarks[i].distance, m));
+      EXPECT_TRUE(nearReal(e.landmarks[i].lateral, f->landmarks[i].lateral, m));
+      EXPECT_TRUE(nearAngle(e.landmarks[i].orientation, f->landmarks[i].orientation, m));
+      EXPECT_TRUE(nearReal(e.landmarks[i].p_lmap, f->landmarks[i].p_lmap, m));
       EXPECT_EQ(e.landmarks[i].observations, f->landmarks[i].observations);
     }
   }
@@ -144,8 +164,16 @@ void expectSameMaps(const TopologicalMap& a, const TopologicalMap& b) {
 
 size_t bodyOffset(const std::string& bytes) { return bytes.find('\n', bytes.find('\n') + 1) + 1; }
 
+// Record sizes of version 3 (map_io.h) and field offsets inside them.
+constexpr size_t kNodeBytes = 26, kOpeningBytes = 29, kEntryBytes = 5, kEdgeBytes = 24, kLandmarkBytes = 21;
+constexpr size_t kNodeType = 4, kNodeX = 5, kNodeTheta = 13, kNodeFlags = 17, kNodeOpeningCount = 18;
+constexpr size_t kOpeningOffset = 4, kOpeningWidth = 8, kOpeningFlags = 12, kOpeningPlace = 13, kOpeningDoorX = 17,
+                 kOpeningDoorTheta = 25;
+constexpr size_t kEdgeTarget = 8, kEdgeHeading = 12, kEdgeLength = 16, kEdgeLandmarkCount = 20;
+constexpr size_t kLandmarkLateral = 5, kLandmarkOrientation = 9, kLandmarkPlmap = 13;
+
 size_t nodeRecordSize(const TopoNode& node) {
-  return 44 + 56 * node.openings.size() + 12 * node.fingerprint.entries.size();
+  return kNodeBytes + kOpeningBytes * node.openings.size() + kEntryBytes * node.fingerprint.entries.size();
 }
 
 /// Offset of the record of the `index`-th node (in id order).
@@ -160,7 +188,7 @@ size_t nodeOffset(const TopologicalMap& map, const std::string& bytes, size_t in
 size_t edgeOffset(const TopologicalMap& map, const std::string& bytes, size_t index) {
   size_t at = nodeOffset(map, bytes, map.nodeCount()) + 4;
   auto it = map.edges().begin();
-  for (size_t i = 0; i < index; ++i, ++it) at += 32 + 40 * it->second.landmarks.size();
+  for (size_t i = 0; i < index; ++i, ++it) at += kEdgeBytes + kLandmarkBytes * it->second.landmarks.size();
   return at;
 }
 
@@ -172,6 +200,11 @@ void putF64(std::string* bytes, size_t at, double v) {
   std::memcpy(&bits, &v, 8);
   for (int b = 0; b < 8; ++b) (*bytes)[at + size_t(b)] = char((bits >> (8 * b)) & 0xffu);
 }
+void putF32(std::string* bytes, size_t at, float v) {
+  uint32_t bits;
+  std::memcpy(&bits, &v, 4);
+  putU32(bytes, at, bits);
+}
 
 /// Replaces the trailing CRC so that a deliberately altered body passes the checksum.
 std::string withValidChecksum(std::string bytes) {
@@ -179,7 +212,7 @@ std::string withValidChecksum(std::string bytes) {
   return bytes;
 }
 
-TEST(MapIo, RoundTripOfEveryFieldIsExact) {
+TEST(MapIo, RoundTripOfEveryFieldWithinFloat32) {
   const TopologicalMap map = fullMap();
   ASSERT_EQ(map.nodeCount(), 4u);
   ASSERT_EQ(map.edgeCount(), 3u);
@@ -188,7 +221,7 @@ TEST(MapIo, RoundTripOfEveryFieldIsExact) {
   ASSERT_TRUE(saved) << saved.error;
   EXPECT_FALSE(exists(path + ".tmp"));
   const std::string bytes = readFile(path);
-  EXPECT_EQ(bytes.rfind("hybrid_slam_topological_map\nversion 2\n", 0), 0u);
+  EXPECT_EQ(bytes.rfind(kHeader, 0), 0u);
   EXPECT_EQ(bytes, encodeMap(map));
 
   TopologicalMap loaded;
@@ -196,9 +229,10 @@ TEST(MapIo, RoundTripOfEveryFieldIsExact) {
   const uint64_t revision = loaded.revision();
   const IoResult result = loadMap(path, &loaded);
   ASSERT_TRUE(result) << result.error;
-  expectSameMaps(map, loaded);
+  expectSameMaps(map, loaded, Precision::kFloat32);
+  EXPECT_NE(loaded.edge(0)->landmarks[1].orientation, map.edge(0)->landmarks[1].orientation);  // 0.785 is no float
   EXPECT_GT(loaded.revision(), revision);  // the localizer sees the change
-  EXPECT_EQ(encodeMap(loaded), bytes);     // bit for bit
+  EXPECT_EQ(encodeMap(loaded), bytes);     // bit for bit from then on
   // The loaded map works: new ids continue after the stored next ids.
   EXPECT_EQ(loaded.addNode({}), map.nextNodeId());
   EXPECT_EQ(loaded.addEdge(0, 1, 0.0, 1.0), map.nextEdgeId());
@@ -213,7 +247,7 @@ TEST(MapIo, EmptyMapRoundTrips) {
   EXPECT_EQ(loaded.edgeCount(), 0u);
   EXPECT_EQ(loaded.nextNodeId(), 0u);
   EXPECT_EQ(loaded.nextEdgeId(), 0u);
-  EXPECT_EQ(encodeMap(empty).size(), std::strlen("hybrid_slam_topological_map\nversion 2\n") + 4 * 5);
+  EXPECT_EQ(encodeMap(empty).size(), kHeader.size() + 4 * 5);
 
   // Empty, but with ids already used: through a file.
   TopologicalMap emptied;
@@ -235,8 +269,9 @@ TEST(MapIo, AnglesAreNormalizedWhenWritten) {
   TopologicalMap loaded;
   const IoResult result = decodeMap(encodeMap(map), "angles", &loaded);
   ASSERT_TRUE(result) << result.error;
-  EXPECT_EQ(loaded.node(0)->pose.theta, kPi);
-  EXPECT_NEAR(loaded.node(0)->openings[0].bearing, 0.5, 1e-12);
+  EXPECT_LE(loaded.node(0)->pose.theta, kPi);  // pi rounded to float32 stays inside (-pi, pi]
+  EXPECT_NEAR(loaded.node(0)->pose.theta, kPi, 2.4e-7);
+  EXPECT_NEAR(loaded.node(0)->openings[0].bearing, 0.5, 3e-8);
 }
 
 /// A version-1 file (one place per node, stored with the node) of one door node with two openings
@@ -281,12 +316,12 @@ TEST(MapIo, AVersionOneFileIsReadWithItsNodesPlaceOnTheFirstOpening) {
   EXPECT_EQ(n->openings[1].place_id, -1);
   EXPECT_TRUE(n->explored);
   EXPECT_EQ(loaded.nextNodeId(), 4u);
-  // Saved again, it is version 2, and reads back the same.
+  // Saved again, it is version 3, and reads back within float32.
   const std::string again = encodeMap(loaded);
-  EXPECT_EQ(again.rfind("hybrid_slam_topological_map\nversion 2\n", 0), 0u);
+  EXPECT_EQ(again.rfind(kHeader, 0), 0u);
   TopologicalMap reloaded;
-  ASSERT_TRUE(decodeMap(again, "v2", &reloaded));
-  expectSameMaps(loaded, reloaded);
+  ASSERT_TRUE(decodeMap(again, "v3", &reloaded));
+  expectSameMaps(loaded, reloaded, Precision::kFloat32);
   // Without a place: no opening links one.
   ASSERT_TRUE(decodeMap(versionOneFile(-1), "v1", &loaded));
   EXPECT_EQ(loaded.node(3)->openings[0].place_id, -1);
@@ -299,6 +334,65 @@ TEST(MapIo, AVersionOneFileIsReadWithItsNodesPlaceOnTheFirstOpening) {
   EXPECT_FALSE(negative.ok);
   EXPECT_NE(negative.error.find("place id -3"), std::string::npos) << negative.error;
   EXPECT_TRUE(kept.empty());
+}
+
+TEST(MapIo, AVersionTwoFileIsStillRead) {
+  // Written by the version-2 code (at 359597d) from fullMap(): f64 numbers, u32 codes.
+  const std::string path = std::string(TEST_DATA_DIR) + "/full_map_v2.topo";
+  const std::string bytes = readFile(path);
+  ASSERT_EQ(bytes.rfind("hybrid_slam_topological_map\nversion 2\n", 0), 0u) << path;
+  TopologicalMap loaded;
+  const IoResult result = loadMap(path, &loaded);
+  ASSERT_TRUE(result) << result.error;
+  expectSameMaps(fullMap(), loaded, Precision::kExact);
+  // Saved again, it is version 3, smaller, and within float32 of it.
+  const std::string again = encodeMap(loaded);
+  EXPECT_EQ(again.rfind(kHeader, 0), 0u);
+  EXPECT_LT(again.size(), bytes.size() * 6 / 10);
+  TopologicalMap reloaded;
+  ASSERT_TRUE(decodeMap(again, "v3", &reloaded));
+  expectSameMaps(loaded, reloaded, Precision::kFloat32);
+
+  // Version 2's wide fields are checked as before (node #0's pose x, theta and type, in f64 / u32).
+  const size_t node0 = bytes.find('\n', bytes.find('\n') + 1) + 1 + 4;
+  TopologicalMap kept;
+  std::string nan = bytes;
+  putF64(&nan, node0 + 8, std::numeric_limits<double>::quiet_NaN());
+  const IoResult non_finite = decodeMap(withValidChecksum(nan), "v2", &kept);
+  EXPECT_NE(non_finite.error.find("non-finite number in a node pose at byte " + std::to_string(node0 + 8)),
+            std::string::npos) << non_finite.error;
+  std::string angle = bytes;
+  putF64(&angle, node0 + 24, 3.5);
+  const IoResult outside = decodeMap(withValidChecksum(angle), "v2", &kept);
+  EXPECT_NE(outside.error.find("at byte " + std::to_string(node0 + 24) + " is not in (-pi, pi]"), std::string::npos)
+      << outside.error;
+  std::string type = bytes;
+  putU32(&type, node0 + 4, 0x100u);  // a u32 code: 256, not 0
+  const IoResult unknown = decodeMap(withValidChecksum(type), "v2", &kept);
+  EXPECT_NE(unknown.error.find("unknown node type 256"), std::string::npos) << unknown.error;
+  EXPECT_TRUE(kept.empty());
+}
+
+TEST(MapIo, RecordSizes) {
+  // As map_io.h states: a node 26 bytes + 29 an opening + 5 a fingerprint entry, an edge 24 bytes
+  // + 21 a landmark; around them the header, the counts, the next ids and the CRC.
+  const TopologicalMap map = fullMap();
+  size_t records = 0, openings = 0, entries = 0, landmarks = 0;
+  for (const auto& [id, node] : map.nodes()) {
+    records += 26 + 29 * node.openings.size() + 5 * node.fingerprint.entries.size();
+    openings += node.openings.size();
+    entries += node.fingerprint.entries.size();
+  }
+  for (const auto& [id, edge] : map.edges()) {
+    records += 24 + 21 * edge.landmarks.size();
+    landmarks += edge.landmarks.size();
+  }
+  EXPECT_EQ(encodeMap(map).size(), kHeader.size() + 4 + 4 + records + 8 + 4);
+  EXPECT_GT(openings * entries * landmarks, 0u);
+  const std::string v2 = readFile(std::string(TEST_DATA_DIR) + "/full_map_v2.topo");
+  std::printf("  fullMap(): %zu nodes, %zu openings, %zu fingerprint entries, %zu edges, %zu landmarks: "
+              "%zu bytes (version 2: %zu)\n",
+              map.nodeCount(), openings, entries, map.edgeCount(), landmarks, encodeMap(map).size(), v2.size());
 }
 
 class RefusedFile : public ::testing::Test {
@@ -331,10 +425,15 @@ class RefusedFile : public ::testing::Test {
     EXPECT_TRUE(encodeMap(kept_) == kept_bytes_) << "the map in memory changed";
     EXPECT_EQ(kept_.revision(), kept_revision_);
   }
-  /// `good_` with the f64 at `at` replaced, checksum recomputed.
-  std::string patchF64(size_t at, double v) const {
+  /// `good_` with the f32 at `at` replaced, checksum recomputed.
+  std::string patchF32(size_t at, float v) const {
     std::string bytes = good_;
-    putF64(&bytes, at, v);
+    putF32(&bytes, at, v);
+    return withValidChecksum(bytes);
+  }
+  std::string patchU8(size_t at, uint8_t v) const {
+    std::string bytes = good_;
+    bytes[at] = char(v);
     return withValidChecksum(bytes);
   }
   std::string patchU32(size_t at, uint32_t v) const {
@@ -366,14 +465,14 @@ TEST_F(RefusedFile, WrongMagic) {
 }
 
 TEST_F(RefusedFile, NewerOrUnknownVersion) {
-  const size_t at = good_.find("version 2\n");
+  const size_t at = good_.find("version 3\n");
   ASSERT_NE(at, std::string::npos);
   std::string newer = good_;
-  newer[at + 8] = '3';
-  expectRefused(newer, "format version 3 is newer than this build reads (2); update the software");
+  newer[at + 8] = '4';
+  expectRefused(newer, "format version 4 is newer than this build reads (3); update the software");
   std::string older = good_;
   older[at + 8] = '0';
-  expectRefused(older, "format version 0 is older than this build reads (1..2) and has no migration");
+  expectRefused(older, "format version 0 is older than this build reads (1..3) and has no migration");
   std::string garbage = good_;
   garbage[at + 8] = 'x';
   expectRefused(garbage, "malformed version line");
@@ -414,8 +513,8 @@ TEST_F(RefusedFile, Truncated) {
 
 TEST_F(RefusedFile, ImpossibleCountsAreRefusedBeforeAllocating) {
   expectRefused(patchU32(bodyOffset(good_), 0xffffffffu), "truncated?");
-  expectRefused(patchU32(node(0) + 36, 0x7fffffffu), "openings");  // opening count
-  expectRefused(patchU32(edge(0) + 28, 0xffffffffu), "landmarks");   // landmark count
+  expectRefused(patchU32(node(0) + kNodeOpeningCount, 0x7fffffffu), "openings");
+  expectRefused(patchU32(edge(0) + kEdgeLandmarkCount, 0xffffffffu), "landmarks");
 }
 
 TEST_F(RefusedFile, TrailingBytes) {
@@ -426,39 +525,43 @@ TEST_F(RefusedFile, TrailingBytes) {
 }
 
 TEST_F(RefusedFile, NonFiniteNumbers) {
-  expectRefused(patchF64(node(0) + 8, std::numeric_limits<double>::quiet_NaN()), "non-finite");   // pose x
-  expectRefused(patchF64(node(1) + 44 + 8, std::numeric_limits<double>::infinity()), "non-finite");  // offset
-  expectRefused(patchF64(node(0) + 44 + 32, std::numeric_limits<double>::quiet_NaN()), "non-finite");  // door x
-  expectRefused(patchF64(edge(0) + 32 + 12, -std::numeric_limits<double>::infinity()), "non-finite");  // lateral
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  expectRefused(patchF32(node(0) + kNodeX, nan), "non-finite number in a node pose at byte " +
+                                                     std::to_string(node(0) + kNodeX));
+  expectRefused(patchF32(node(1) + kNodeBytes + kOpeningOffset, inf), "non-finite");
+  expectRefused(patchF32(node(0) + kNodeBytes + kOpeningDoorX, nan), "non-finite");
+  expectRefused(patchF32(edge(0) + kEdgeBytes + kLandmarkLateral, -inf), "non-finite");
 }
 
 TEST_F(RefusedFile, AnglesOutsideMinusPiPi) {
-  expectRefused(patchF64(node(0) + 24, 3.5), "not in (-pi, pi]");        // pose theta
-  expectRefused(patchF64(node(0) + 24, -kPi), "not in (-pi, pi]");       // -pi is excluded
-  expectRefused(patchF64(node(0) + 44 + 48, 7.0), "not in (-pi, pi]");   // door_in_place theta
-  expectRefused(patchF64(node(0) + 44, -4.0), "not in (-pi, pi]");       // opening bearing
-  expectRefused(patchF64(node(0) + 44 + 2 * 56 + 4, 4.0), "not in (-pi, pi]");  // fingerprint bearing
-  expectRefused(patchF64(edge(0) + 12, 3.2), "not in (-pi, pi]");        // edge heading
-  expectRefused(patchF64(edge(0) + 32 + 20, -3.2), "not in (-pi, pi]");  // landmark orientation
+  expectRefused(patchF32(node(0) + kNodeTheta, 3.5f), "at byte " + std::to_string(node(0) + kNodeTheta) +
+                                                         " is not in (-pi, pi]");
+  expectRefused(patchF32(node(0) + kNodeTheta, float(kPi)), "not in (-pi, pi]");  // float(pi) > pi
+  expectRefused(patchF32(node(0) + kNodeTheta, -float(kPi)), "not in (-pi, pi]");
+  expectRefused(patchF32(node(0) + kNodeBytes + kOpeningDoorTheta, 7.0f), "not in (-pi, pi]");
+  expectRefused(patchF32(node(0) + kNodeBytes, -4.0f), "not in (-pi, pi]");  // opening bearing
+  expectRefused(patchF32(node(0) + kNodeBytes + 2 * kOpeningBytes + 1, 4.0f), "not in (-pi, pi]");  // fingerprint
+  expectRefused(patchF32(edge(0) + kEdgeHeading, 3.2f), "not in (-pi, pi]");
+  expectRefused(patchF32(edge(0) + kEdgeBytes + kLandmarkOrientation, -3.2f), "not in (-pi, pi]");
 }
 
 TEST_F(RefusedFile, NegativeLengthsAndWidths) {
-  expectRefused(patchF64(edge(1) + 20, -0.5), "negative length");
-  expectRefused(patchF64(node(0) + 44 + 16, -0.1), "negative width");
+  expectRefused(patchF32(edge(1) + kEdgeLength, -0.5f), "negative length");
+  expectRefused(patchF32(node(0) + kNodeBytes + kOpeningWidth, -0.1f), "negative width");
 }
 
 TEST_F(RefusedFile, ProbabilityOutsideZeroOne) {
-  expectRefused(patchF64(edge(0) + 32 + 28, 1.5), "p_lmap");
-  expectRefused(patchF64(edge(0) + 32 + 40 + 28, -0.01), "p_lmap");
+  expectRefused(patchF32(edge(0) + kEdgeBytes + kLandmarkPlmap, 1.5f), "p_lmap");
+  expectRefused(patchF32(edge(0) + kEdgeBytes + kLandmarkBytes + kLandmarkPlmap, -0.01f), "p_lmap");
 }
 
 TEST_F(RefusedFile, UnknownTypesKindsAndFlags) {
-  expectRefused(patchU32(node(1) + 4, 5), "unknown node type 5");
-  expectRefused(patchU32(edge(0) + 32, 2), "unknown landmark type 2");
-  expectRefused(patchU32(node(0) + 44 + 2 * 56, 3), "unknown kind 3");
-  expectRefused(patchU32(node(0) + 32, 2), "unknown flags");
-  expectRefused(patchU32(node(0) + 44 + 24, 7), "unknown flags");
-  expectRefused(patchU32(node(0) + 44 + 28, uint32_t(-2)), "place id -2");
+  expectRefused(patchU8(node(1) + kNodeType, 5), "unknown node type 5");
+  expectRefused(patchU8(edge(0) + kEdgeBytes, 2), "unknown landmark type 2");
+  expectRefused(patchU8(node(0) + kNodeBytes + 2 * kOpeningBytes, 3), "unknown kind 3");
+  expectRefused(patchU8(node(0) + kNodeFlags, 2), "unknown flags");
+  expectRefused(patchU8(node(0) + kNodeBytes + kOpeningFlags, 7), "unknown flags");
+  expectRefused(patchU32(node(0) + kNodeBytes + kOpeningPlace, uint32_t(-2)), "place id -2");
 }
 
 TEST_F(RefusedFile, DuplicateIds) {
@@ -469,10 +572,10 @@ TEST_F(RefusedFile, DuplicateIds) {
 }
 
 TEST_F(RefusedFile, EdgeToAMissingNodeOrASelfLoop) {
-  expectRefused(patchU32(edge(0) + 8, 999), "missing node 999");
+  expectRefused(patchU32(edge(0) + kEdgeTarget, 999), "missing node 999");
   expectRefused(patchU32(edge(1) + 4, 4), "missing node 4");  // the removed node's id
   const uint32_t source = map_.edges().begin()->second.source;
-  expectRefused(patchU32(edge(0) + 8, source), "self-loop");
+  expectRefused(patchU32(edge(0) + kEdgeTarget, source), "self-loop");
 }
 
 TEST_F(RefusedFile, NextIdsBelowUsedIds) {
@@ -497,7 +600,7 @@ TEST_F(RefusedFile, FailedLoadKeepsTheMapAndAGoodLoadReplacesIt) {
   expectKept();
   writeFile(path, good_);
   ASSERT_TRUE(loadMap(path, &kept_));
-  expectSameMaps(map_, kept_);
+  expectSameMaps(map_, kept_, Precision::kFloat32);
   std::remove(path.c_str());
 }
 
@@ -543,6 +646,12 @@ TEST(MapIo, AnInvalidMapIsNotSaved) {
   map.node(0)->openings[0].width = 1.0;
   map.edge(0)->landmarks[0].p_lmap = 2.0;
   EXPECT_FALSE(saveMap(map, path).ok);
+  EXPECT_FALSE(exists(path));
+  // A number beyond float32's range (3.4e38) would be written as infinity: refused too.
+  map.edge(0)->landmarks[0].p_lmap = 0.5;
+  map.edge(0)->length = 1e39;
+  const IoResult too_long = saveMap(map, path);
+  EXPECT_NE(too_long.error.find("non-finite"), std::string::npos) << too_long.error;
   EXPECT_FALSE(exists(path));
 }
 

@@ -21,10 +21,21 @@ bool writeFileAtomically(const std::string& path, const std::string& bytes, std:
 /// Reads the whole file; on failure returns false with `error` ("cannot open: <reason>").
 bool readWholeFile(const std::string& path, std::string* bytes, std::string* error);
 
+/// An angle of (-pi, pi] rounded to float32 and still inside (-pi, pi]: rounding can carry a value
+/// near either end past it (float(pi) > pi), so such a value goes one float towards zero (at most
+/// 2.4e-7 rad away from `a` in all).
+inline float angleToFloat(double a) {
+  constexpr double kPiHere = 3.14159265358979323846;
+  float f = static_cast<float>(a);
+  if (double(f) > kPiHere || double(f) <= -kPiHere) f = std::nextafter(f, 0.0f);
+  return f;
+}
+
 /// Appends little-endian binary numbers to a string (the body of the map files).
 class BinaryWriter {
  public:
   explicit BinaryWriter(std::string* out) : out_(out) {}
+  void u8(uint8_t v) { out_->push_back(char(v)); }
   void u32(uint32_t v) {
     for (int b = 0; b < 4; ++b) out_->push_back(char((v >> (8 * b)) & 0xffu));
   }
@@ -37,6 +48,12 @@ class BinaryWriter {
     uint64_t bits;
     std::memcpy(&bits, &v, sizeof bits);
     for (int b = 0; b < 8; ++b) out_->push_back(char((bits >> (8 * b)) & 0xffu));
+  }
+  /// IEEE-754 binary32 (rounded to nearest from double).
+  void f32(float v) {
+    uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    u32(bits);
   }
 
  private:
@@ -54,6 +71,10 @@ class BinaryReader {
   size_t remaining() const { return end_ - pos_; }
   void fail(const std::string& what) {
     if (error_.empty()) error_ = what;
+  }
+  uint8_t u8(const char* what) {
+    if (!need(1, what)) return 0;
+    return uint8_t(bytes_[pos_++]);
   }
   uint32_t u32(const char* what) {
     if (!need(4, what)) return 0;
@@ -77,6 +98,15 @@ class BinaryReader {
     std::memcpy(&v, &bits, sizeof v);
     if (!std::isfinite(v)) fail(std::string("non-finite number in ") + what + " at byte " + std::to_string(pos_ - 8));
     return v;
+  }
+  float f32(const char* what) {
+    const uint32_t bits = u32(what);
+    float v;
+    std::memcpy(&v, &bits, sizeof v);
+    if (ok() && !std::isfinite(v)) {
+      fail(std::string("non-finite number in ") + what + " at byte " + std::to_string(pos_ - 4));
+    }
+    return ok() ? v : 0.0f;
   }
   bool need(size_t n, const char* what) {
     if (!ok()) return false;
