@@ -122,13 +122,19 @@ TEST(Relocation, AtADoorOfTheRightRoomSucceeds) {
   EXPECT_EQ(report.matched, officeRoom().size());
 }
 
+// The office mapped from its door and closed, with door 1 stored where the robot began; its id.
+uint32_t closedOfficeWithDoor(PlaceMaps* places, std::mt19937* rng) {
+  const uint32_t office = places->createPlace({});
+  mapOfficeRoom(places->active(), rng);
+  EXPECT_TRUE(places->addDoor(office, 1, {0.0, 0.0, 0.0}, Eigen::Matrix3d::Identity() * 1e-6));
+  places->close();
+  return office;
+}
+
 TEST(Relocation, InTheWrongRoomFailsAndFusesNothing) {
   std::mt19937 rng(3);
   PlaceMaps places(testParams());
-  const uint32_t office = places.createPlace({});
-  mapOfficeRoom(places.active(), &rng);
-  ASSERT_TRUE(places.addDoor(office, 1, {0.0, 0.0, 0.0}, Eigen::Matrix3d::Identity() * 1e-6));
-  places.close();
+  const uint32_t office = closedOfficeWithDoor(&places, &rng);
 
   // The robot believes it enters the office, but it is in the other room.
   ASSERT_TRUE(places.relocateAtDoor(office, 1, {0.0, 0.0, 0.0}, Eigen::Vector3d(0.04, 0.04, 0.01).asDiagonal()));
@@ -262,10 +268,7 @@ TEST(Relocation, AfterLoadingACompactMapSucceeds) {
 TEST(Relocation, AfterLoadingACompactMapTheWrongRoomStillFails) {
   std::mt19937 rng(3);
   PlaceMaps places(testParams());
-  const uint32_t office = places.createPlace({});
-  mapOfficeRoom(places.active(), &rng);
-  ASSERT_TRUE(places.addDoor(office, 1, {0.0, 0.0, 0.0}, Eigen::Matrix3d::Identity() * 1e-6));
-  places.close();
+  const uint32_t office = closedOfficeWithDoor(&places, &rng);
   PlaceMaps loaded = reloaded(places);
   ASSERT_TRUE(loaded.relocateAtDoor(office, 1, {0.0, 0.0, 0.0}, Eigen::Vector3d(0.04, 0.04, 0.01).asDiagonal()));
   StochasticMap& map = *loaded.active();
