@@ -1,7 +1,10 @@
 #!/usr/bin/env python3
 """Counts the test cases in catkin's JUnit results and prints 'N passed, N failed, N skipped'.
 
-Usage: test_summary.py RESULTS_DIR [EXPECTED_FILES]
+Usage: test_summary.py RESULTS_DIR [TARGETS_FILE]
+TARGETS_FILE lists catkin's run_tests targets (`make help` of the build folder, one a line): each leaf
+target (run_tests_<package>_<gtest|rostest|fuzz>_<name>) must have left its result file
+(<package>/<type>-<name>.xml); a missing one is counted as a failure (the test did not run).
 A failed case is listed with the end of its failure message (the reason, for CI logs that show
 only the tail). Each test case is counted once: a rostest's summary ('rostest-*.xml') holds one case per test
 node, whose own cases are in 'rosunit-<name>.xml'; those are counted (and the summary's failure
@@ -32,10 +35,36 @@ def cases(path):
                 yield name, 'passed'
 
 
+def expected_files(results, targets_file):
+    """The result files the leaf run_tests targets of the packages in RESULTS_DIR's build write."""
+    packages = sorted(os.listdir(os.path.join(results, '..', '..', 'src')) if os.path.isdir(
+        os.path.join(results, '..', '..', 'src')) else os.listdir(results), key=len, reverse=True)
+    out = []
+    with open(targets_file) as f:
+        for line in f:
+            target = line.strip()
+            for pkg in packages:
+                prefix = 'run_tests_%s_' % pkg
+                if not target.startswith(prefix):
+                    continue
+                kind, _, name = target[len(prefix):].partition('_')
+                if kind in ('gtest', 'rostest', 'fuzz') and name:
+                    if kind == 'rostest' and name.endswith('.test'):
+                        name = name[:-len('.test')]
+                    out.append(os.path.join(results, pkg, '%s-%s.xml' % (kind, name)))
+                break
+    return out
+
+
 def main():
     results = sys.argv[1]
     counts = {'passed': 0, 'failed': 0, 'skipped': 0}
     failures = []
+    if len(sys.argv) > 2:
+        for path in expected_files(results, sys.argv[2]):
+            if not os.path.exists(path):
+                counts['failed'] += 1
+                failures.append('%s: no result file (the test did not run)' % os.path.relpath(path, results))
 
     def count(path, statuses):
         for name, status in statuses:
