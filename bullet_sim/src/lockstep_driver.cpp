@@ -26,7 +26,7 @@ LockstepDriver::LockstepDriver(ros::NodeHandle nh, const Options& options)
     : nh_(nh), options_(options), barrier_(resolved(nh, options.participants)) {
   step_pub_ = nh_.advertise<hybrid_slam_msgs::LockstepStep>("lockstep/step", 100);
   for (const std::string& node : resolved(nh, options.participants))
-    ack_subs_.push_back(nh_.subscribe(lockstep::ackTopic(node), 100, &LockstepDriver::onAck, this, ros::TransportHints().tcpNoDelay()));
+    ack_subs_.push_back(nh_.subscribe(lockstep::ackTopic(node), 100, &LockstepDriver::onAck, this, lockstep::kTransportHints));
 }
 
 void LockstepDriver::onAck(const hybrid_slam_msgs::LockstepAck::ConstPtr& msg) {

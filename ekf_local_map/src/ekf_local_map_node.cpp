@@ -52,7 +52,7 @@ StochasticMapParams readMapParams(const ros::NodeHandle& pnh) {
 class LocalMapNode {
  public:
   LocalMapNode(ros::NodeHandle nh, ros::NodeHandle pnh)
-      : nh_(nh), maps_(readMapParams(pnh)), tf_listener_(tf_buffer_) {
+      : nh_(nh), maps_(readMapParams(pnh)), tf_listener_(tf_buffer_, true, lockstep::kTransportHints) {
     pnh.param<std::string>("map_frame", map_frame_, "map");
     pnh.param<std::string>("odom_frame", odom_frame_, "odom");
     pnh.param<std::string>("base_frame", base_frame_, "base_link");

@@ -49,7 +49,7 @@ class ExplorationNode {
   ExplorationNode()
       : nh_(),
         pnh_("~"),
-        tf_listener_(tf_buffer_),
+        tf_listener_(tf_buffer_, true, lockstep::kTransportHints),
         control_spinner_(1, &control_queue_),
         lockstep_(nh_, {"laser_features", "pomdp_topo", "ekf_local_map"}) {
     visitParams(&params_, ParamReader{pnh_});

@@ -84,7 +84,7 @@ bool nonNegative(double v) { return std::isfinite(v) && v >= 0.0; }
 class FrontierBaselineNode {
  public:
   FrontierBaselineNode()
-      : nh_(), pnh_("~"), tf_listener_(tf_buffer_), control_spinner_(1, &control_queue_), lockstep_(nh_) {
+      : nh_(), pnh_("~"), tf_listener_(tf_buffer_, true, lockstep::kTransportHints), control_spinner_(1, &control_queue_), lockstep_(nh_) {
     visitBaselineParams(&p_, ParamReader{pnh_});
     applyFootprint(laser_features::readRobotFootprint(nh_), &p_);
     std::string why;

@@ -44,7 +44,7 @@ class FeaturesNode {
   FeaturesNode(ros::NodeHandle nh, ros::NodeHandle pnh)
       : extractor_(readParams(nh, pnh)),
         consistency_(extractor_.params().odometry_consistency),
-        tf_listener_(tf_buffer_),
+        tf_listener_(tf_buffer_, true, lockstep::kTransportHints),
         lockstep_(nh) {
     pnh.param<std::string>("base_frame", base_frame_, "base_link");
     pnh.param<std::string>("odom_frame", odom_frame_, "odom");

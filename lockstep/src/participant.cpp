@@ -25,9 +25,9 @@ Participant::Participant(ros::NodeHandle nh, const std::vector<std::string>& ups
   // Each participant acknowledges on its own topic: only the simulator and its downstream
   // participants listen, so a step wakes no node that does not need it.
   ack_pub_ = nh_.advertise<hybrid_slam_msgs::LockstepAck>(ackTopic(ros::this_node::getName()), 100);
-  step_sub_ = nh_.subscribe("lockstep/step", 100, &Participant::onStepMessage, this, ros::TransportHints().tcpNoDelay());
+  step_sub_ = nh_.subscribe("lockstep/step", 100, &Participant::onStepMessage, this, kTransportHints);
   for (const std::string& node : resolved(nh, upstream))
-    ack_subs_.push_back(nh_.subscribe(ackTopic(node), 100, &Participant::onAckMessage, this, ros::TransportHints().tcpNoDelay()));
+    ack_subs_.push_back(nh_.subscribe(ackTopic(node), 100, &Participant::onAckMessage, this, kTransportHints));
   watchdog_ = nh_.createWallTimer(ros::WallDuration(1.0), &Participant::onWatchdog, this);
   ROS_INFO("%s: lockstep with the simulator", ros::this_node::getName().c_str());
 }

@@ -70,7 +70,7 @@ class TopoNodeRos {
         builder_(&map_, &localizer_, params_.builder),
         realigner_(params_.pomdp.heading_bins, readRealignUpdates(pnh)),
         axis_estimator_(params_.axis),
-        tf_listener_(tf_buffer_),
+        tf_listener_(tf_buffer_, true, lockstep::kTransportHints),
         lockstep_(nh, {"laser_features"}) {
     pnh.param<std::string>("map_frame", map_frame_, "map");
     pnh.param<std::string>("odom_frame", odom_frame_, "odom");

@@ -27,6 +27,10 @@
 
 namespace lockstep {
 
+/// For every subscription whose data a lockstep step waits for, tf included: without TCP_NODELAY,
+/// Nagle's algorithm holds a small message back until the peer acknowledges the last one.
+inline const ros::TransportHints kTransportHints = ros::TransportHints().tcpNoDelay();
+
 /// The first multiple of `period` (s) after `t`: the sim time a periodic step hook asks for next, on
 /// the same grid as a ros::Timer of that period.
 inline ros::Time nextMultiple(const ros::Time& t, double period) {
