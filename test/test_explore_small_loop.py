@@ -11,6 +11,7 @@ import time
 import unittest
 
 from exploration_result import read_result
+from lockstep import Participant
 import rosnode
 import rospy
 import rostest
@@ -24,15 +25,27 @@ class ExploreSmallLoop(unittest.TestCase):
         deadline = time.time() + 360.0
         result = None
         kill_at = rospy.get_param('~kill_at', 0.0)
-        killed = False
+        state = {'killed': False, 'failed': []}
+
+        def kill(now):
+            if kill_at > 0 and not state['killed'] and now.to_sec() >= kill_at:
+                _, state['failed'] = rosnode.kill_nodes(['/exploration'])
+                state['killed'] = True
+                rospy.loginfo('killed the coordinator at %.2f s', now.to_sec())
+
+        # In lockstep this script takes part (explore_restart.test names it): the kill comes at the
+        # simulator's first step from kill_at on, the same step every run.
+        participant = Participant() if kill_at > 0 else None
+        lockstep = participant is not None and participant.enabled
+        if lockstep:
+            participant.on_step(kill)
         while time.time() < deadline and not rospy.is_shutdown() and result is None:
-            if kill_at > 0 and not killed and rospy.Time.now().to_sec() >= kill_at:
-                _, failed = rosnode.kill_nodes(['/exploration'])
-                self.assertEqual(failed, [], 'could not kill the coordinator')
-                killed = True
-                rospy.loginfo('killed the coordinator at %.1f s', rospy.Time.now().to_sec())
+            if not lockstep:
+                kill(rospy.Time.now())
             result = read_result(path)
             time.sleep(1.0)
+        self.assertEqual(state['failed'], [], 'could not kill the coordinator')
+        killed = state['killed']
         self.assertIsNotNone(result, 'no evaluation written: the exploration did not end')
         if kill_at > 0:
             self.assertTrue(killed, 'the coordinator was never killed')

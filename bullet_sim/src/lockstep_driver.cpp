@@ -65,6 +65,7 @@ bool LockstepDriver::finished(lockstep::Stamp stamp, std::string* why) const {
 }
 
 bool LockstepDriver::start(const std::function<void(const ros::Time&)>& publish_clock) {
+  publish_clock_ = publish_clock;
   // Rounds of a start step until, twice in a row, every participant was known before the round and
   // acknowledged it: their subscriptions are then connected and latched messages delivered.
   const ros::WallTime begin = ros::WallTime::now();
@@ -109,7 +110,9 @@ bool LockstepDriver::step(const ros::Time& stamp) {
     ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.001));
     const ros::WallTime now = ros::WallTime::now();
     if ((now - last_publish).toSec() > 0.5) {
-      publishStep(stamp, false);  // again, for a participant that started late (respawned)
+      // Again, for a participant that started late (respawned): it waits for a valid sim time first.
+      publish_clock_(stamp);
+      publishStep(stamp, false);
       last_publish = now;
     }
     if ((now - begin).toSec() < options_.timeout) continue;

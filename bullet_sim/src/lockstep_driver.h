@@ -68,6 +68,7 @@ class LockstepDriver {
   lockstep::Stamp last_step_ = 0;
   double waited_ = 0.0;
   uint64_t steps_ = 0;
+  std::function<void(const ros::Time&)> publish_clock_;
   ros::Publisher step_pub_;
   std::vector<ros::Subscriber> ack_subs_;
 };
