@@ -20,6 +20,7 @@ DEB_PACKAGES=(
   libbullet-dev liburdfdom-dev libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev
   libgtest-dev libbenchmark-dev clang-14 libclang-rt-14-dev
   rviz xvfb x11-apps imagemagick python3-yaml python3-numpy python3-matplotlib python3-scipy python3-opencv
+  python3-setuptools python3-catkin-pkg
 )
 
 missing=()
