@@ -14,18 +14,12 @@ std::string joined(const std::vector<std::string>& names) {
   return s.str();
 }
 
-std::vector<std::string> resolved(const ros::NodeHandle& nh, const std::vector<std::string>& names) {
-  std::vector<std::string> out;
-  for (const std::string& n : names) out.push_back(nh.resolveName(n, false));
-  return out;
-}
-
 }  // namespace
 
 LockstepDriver::LockstepDriver(ros::NodeHandle nh, const Options& options)
-    : nh_(nh), options_(options), barrier_(resolved(nh, options.participants)) {
+    : nh_(nh), options_(options), barrier_(lockstep::resolveNodeNames(nh, options.participants)) {
   step_pub_ = nh_.advertise<hybrid_slam_msgs::LockstepStep>("lockstep/step", 100);
-  for (const std::string& node : resolved(nh, options.participants))
+  for (const std::string& node : lockstep::resolveNodeNames(nh, options.participants))
     ack_subs_.push_back(nh_.subscribe(lockstep::ackTopic(node), 100, &LockstepDriver::onAck, this, lockstep::kTransportHints));
 }
 
@@ -38,17 +32,11 @@ void LockstepDriver::onAck(const hybrid_slam_msgs::LockstepAck::ConstPtr& msg) {
   barrier_.ack(a);
 }
 
-lockstep::Counts LockstepDriver::ownCounts() const {
-  lockstep::Counts out;
-  for (const auto& [topic, count] : own_) out[topic] += count->load();
-  return out;
-}
-
 void LockstepDriver::publishStep(const ros::Time& stamp, bool start) {
   hybrid_slam_msgs::LockstepStep s;
   s.stamp = stamp;
   s.start = start;
-  for (const auto& [topic, n] : barrier_.published(ownCounts())) {
+  for (const auto& [topic, n] : barrier_.published(own_.counts())) {
     s.topics.push_back(topic);
     s.counts.push_back(n);
   }

@@ -30,10 +30,7 @@ class LockstepDriver {
   /// A publisher whose messages the steps announce.
   template <class M>
   lockstep::Publisher advertise(ros::NodeHandle& nh, const std::string& topic, uint32_t queue, bool latch = false) {
-    ros::Publisher pub = nh.advertise<M>(topic, queue, latch);
-    auto count = std::make_shared<std::atomic<uint64_t>>(0);
-    own_.emplace_back(pub.getTopic(), count);
-    return lockstep::Publisher(pub, count);
+    return own_.advertise<M>(nh, topic, queue, latch);
   }
   /// A subscription of the simulator's whose messages the participants announce (cmd_vel): call
   /// received() from its callback.
@@ -54,14 +51,13 @@ class LockstepDriver {
 
  private:
   void onAck(const hybrid_slam_msgs::LockstepAck::ConstPtr& msg);
-  lockstep::Counts ownCounts() const;
   void publishStep(const ros::Time& stamp, bool start);
   bool finished(lockstep::Stamp stamp, std::string* why) const;
 
   ros::NodeHandle nh_;
   Options options_;
   lockstep::StepBarrier barrier_;
-  std::vector<std::pair<std::string, std::shared_ptr<std::atomic<uint64_t>>>> own_;
+  lockstep::CountedPublishers own_;
   std::set<std::string> watched_;
   std::vector<ros::Subscriber> subs_;
   lockstep::Counts received_;

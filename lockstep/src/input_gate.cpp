@@ -26,16 +26,25 @@ bool InputGate::ready(std::string* why) const {
     return false;
   }
   const auto& [stamp, announced] = steps_.front();
-  if (!covers(received_, announced, watched_, why)) return false;
+  if (!covers(received_, expected(announced), watched_, why)) return false;
   for (const std::string& node : upstream_) {
     const auto a = acks_.find(node);
     if (a == acks_.end() || a->second.stamp < stamp) {
       if (why != nullptr) *why = "the acknowledgement of " + node;
       return false;
     }
-    if (!covers(received_, a->second.published, watched_, why)) return false;
+    if (!covers(received_, expected(a->second.published), watched_, why)) return false;
   }
   return true;
+}
+
+Counts InputGate::expected(const Counts& announced) const {
+  Counts out;
+  for (const auto& [topic, n] : announced) {
+    const auto s = subscriptions_.find(topic);
+    if (s != subscriptions_.end()) out[topic] = n * s->second;
+  }
+  return out;
 }
 
 std::optional<Stamp> InputGate::takeReadyStep(std::vector<Work>* work) {
@@ -64,7 +73,7 @@ void InputGate::forgive() {
     announced = maxCounts(announced, a.published);
   }
   for (const auto& [topic, n] : announced) {
-    if (watched_.count(topic) != 0) received_[topic] = std::max(received_[topic], n);
+    if (watched_.count(topic) != 0) received_[topic] = std::max(received_[topic], n * subscriptions_.at(topic));
   }
 }
 

@@ -9,16 +9,22 @@ Counts toCounts(const std::vector<std::string>& topics, const std::vector<uint64
   return out;
 }
 
-std::vector<std::string> resolved(const ros::NodeHandle& nh, const std::vector<std::string>& names) {
+}  // namespace
+
+std::vector<std::string> resolveNodeNames(const ros::NodeHandle& nh, const std::vector<std::string>& names) {
   std::vector<std::string> out;
   for (const std::string& n : names) out.push_back(nh.resolveName(n, false));
   return out;
 }
 
-}  // namespace
+Counts CountedPublishers::counts() const {
+  Counts out;
+  for (const auto& [topic, count] : counts_) out[topic] += count->load();
+  return out;
+}
 
 Participant::Participant(ros::NodeHandle nh, const std::vector<std::string>& upstream)
-    : nh_(nh), gate_(resolved(nh, upstream)) {
+    : nh_(nh), gate_(resolveNodeNames(nh, upstream)) {
   nh_.param("lockstep/enabled", enabled_, false);
   if (!enabled_) return;
   nh_.param("lockstep/timeout", timeout_, timeout_);
@@ -26,7 +32,7 @@ Participant::Participant(ros::NodeHandle nh, const std::vector<std::string>& ups
   // participants listen, so a step wakes no node that does not need it.
   ack_pub_ = nh_.advertise<hybrid_slam_msgs::LockstepAck>(ackTopic(ros::this_node::getName()), 100);
   step_sub_ = nh_.subscribe("lockstep/step", 100, &Participant::onStepMessage, this, kTransportHints);
-  for (const std::string& node : resolved(nh, upstream))
+  for (const std::string& node : resolveNodeNames(nh, upstream))
     ack_subs_.push_back(nh_.subscribe(ackTopic(node), 100, &Participant::onAckMessage, this, kTransportHints));
   watchdog_ = nh_.createWallTimer(ros::WallDuration(1.0), &Participant::onWatchdog, this);
   ROS_INFO("%s: lockstep with the simulator", ros::this_node::getName().c_str());
@@ -95,9 +101,9 @@ void Participant::acknowledge(const ros::Time& stamp) {
   a.node = ros::this_node::getName();
   a.stamp = stamp;
   a.wake = wake_ > stamp ? wake_ : ros::Time();
-  for (const auto& [topic, count] : published_) {
+  for (const auto& [topic, count] : published_.counts()) {
     a.topics.push_back(topic);
-    a.counts.push_back(count->load());
+    a.counts.push_back(count);
   }
   ack_pub_.publish(a);
 }

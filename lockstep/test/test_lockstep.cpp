@@ -151,6 +151,21 @@ TEST(InputGate, ForgivingTakesTheMissingMessagesAsReceived) {
   EXPECT_EQ(steps.size(), 2u);
 }
 
+TEST(InputGate, TwoSubscriptionsOfOneTopicWaitUntilBothHaveTheMessage) {
+  // A node that maps and steers from the same scans: each scan arrives at both subscriptions.
+  InputGate g;
+  g.watch("/scan");
+  g.watch("/scan");
+  g.step(100, {{"/scan", 1}});
+  std::vector<Stamp> steps;
+  g.received("/scan");  // the first subscription's copy
+  runReady(&g, &steps);
+  EXPECT_TRUE(steps.empty());
+  g.received("/scan");  // the second's
+  runReady(&g, &steps);
+  EXPECT_EQ(steps, std::vector<Stamp>{100});
+}
+
 TEST(InputGate, AnOldOrRepeatedStepIsIgnored) {
   InputGate g;
   g.step(100, {});

@@ -26,8 +26,12 @@ class InputGate {
 
   explicit InputGate(std::vector<std::string> upstream = {});
 
-  /// A topic this node subscribes to with counting.
-  void watch(const std::string& topic) { watched_.insert(topic); }
+  /// A subscription of this node's, with counting. Two subscriptions of one topic each receive
+  /// every message: the topic then counts twice per message.
+  void watch(const std::string& topic) {
+    watched_.insert(topic);
+    ++subscriptions_[topic];
+  }
   const std::set<std::string>& watched() const { return watched_; }
   /// A counted message arrived on `topic`.
   void received(const std::string& topic) { ++received_[topic]; }
@@ -55,9 +59,12 @@ class InputGate {
     Counts published;
   };
   bool ready(std::string* why) const;
+  /// What the node must have received for `announced` messages: each, on each subscription.
+  Counts expected(const Counts& announced) const;
 
   std::vector<std::string> upstream_;
   std::set<std::string> watched_;
+  std::map<std::string, uint64_t> subscriptions_;  // per watched topic
   Counts received_;
   std::deque<std::pair<Stamp, Counts>> steps_;
   Stamp last_step_ = -1;

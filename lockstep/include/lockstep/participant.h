@@ -58,6 +58,26 @@ class Publisher {
   std::shared_ptr<std::atomic<uint64_t>> count_;
 };
 
+/// The publishers of one node whose messages lockstep announces, and their counts so far.
+class CountedPublishers {
+ public:
+  template <class M>
+  Publisher advertise(ros::NodeHandle& nh, const std::string& topic, uint32_t queue, bool latch = false) {
+    ros::Publisher pub = nh.advertise<M>(topic, queue, latch);
+    auto count = std::make_shared<std::atomic<uint64_t>>(0);
+    counts_.emplace_back(pub.getTopic(), count);
+    return Publisher(pub, count);
+  }
+  /// Messages published so far on each topic.
+  Counts counts() const;
+
+ private:
+  std::vector<std::pair<std::string, std::shared_ptr<std::atomic<uint64_t>>>> counts_;
+};
+
+/// Node names resolved as topics are (namespaces, remappings), as acknowledgements carry them.
+std::vector<std::string> resolveNodeNames(const ros::NodeHandle& nh, const std::vector<std::string>& names);
+
 enum class Delivery {
   Immediate,  // the callback runs when the message arrives (state: a belief, a map, a status)
   Gated,      // sensor data with a header: the callback runs at the step of its stamp
@@ -78,10 +98,7 @@ class Participant {
 
   template <class M>
   Publisher advertise(ros::NodeHandle& nh, const std::string& topic, uint32_t queue, bool latch = false) {
-    ros::Publisher pub = nh.advertise<M>(topic, queue, latch);
-    auto count = std::make_shared<std::atomic<uint64_t>>(0);
-    published_.emplace_back(pub.getTopic(), count);
-    return Publisher(pub, count);
+    return published_.advertise<M>(nh, topic, queue, latch);
   }
 
   template <class M>
@@ -139,7 +156,7 @@ class Participant {
   bool enabled_ = false;
   double timeout_ = 10.0;
   InputGate gate_;
-  std::vector<std::pair<std::string, std::shared_ptr<std::atomic<uint64_t>>>> published_;
+  CountedPublishers published_;
   std::vector<ros::Subscriber> subscriptions_;
   std::function<ros::Time(const ros::Time&)> hook_;
   ros::Time wake_;

@@ -24,7 +24,7 @@ class Participant(object):
         self.enabled = bool(rospy.get_param('lockstep/enabled', False))
         self.lock = threading.RLock()  # held by every callback of a counted subscription and the hook
         self._received = collections.Counter()
-        self._watched = set()
+        self._watched = collections.Counter()  # subscriptions per topic: each receives every message
         self._steps = collections.deque()
         self._last_step = -1
         self._upstream = [rospy.resolve_name(n) for n in upstream]
@@ -44,7 +44,7 @@ class Participant(object):
     def subscribe(self, topic, msg_type, callback, queue_size=100):
         """A counted subscription; the callback runs on arrival, under the participant's lock."""
         resolved = rospy.resolve_name(topic)
-        self._watched.add(resolved)
+        self._watched[resolved] += 1
 
         def counted(msg):
             with self.lock:
@@ -72,7 +72,7 @@ class Participant(object):
                 self._joined = True
                 for topic, n in announced.items():  # what came before counts as received
                     if topic in self._watched:
-                        self._received[topic] = max(self._received[topic], n)
+                        self._received[topic] = max(self._received[topic], n * self._watched[topic])
             self._last_step = stamp
             self._steps.append((stamp, announced, msg.stamp, msg.start))
             self._advance()
@@ -85,7 +85,7 @@ class Participant(object):
             self._advance()
 
     def _covers(self, announced):
-        return all(self._received[t] >= n for t, n in announced.items() if t in self._watched)
+        return all(self._received[t] >= n * self._watched[t] for t, n in announced.items() if t in self._watched)
 
     def _ready(self, stamp, announced):
         if not self._covers(announced):
