@@ -14,17 +14,13 @@ using laser_features::inverse;
 using laser_features::kPi;
 using laser_features::normalizeAngle;
 using laser_features::Pose2D;
+using laser_features::transformPoint;
+using laser_features::unitVector;
 
 namespace {
 
 // m: the robot is at a node when the belief puts it this close (pomdp_topo's node_radius).
 constexpr double kAtNodeDistance = 1.0;
-
-bool finite(const Pose2D& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta); }
-
-Eigen::Vector2d apply(const Pose2D& frame, const Eigen::Vector2d& p) { return laser_features::transformPoint(frame, p); }
-
-Eigen::Vector2d unit(double a) { return Eigen::Vector2d(std::cos(a), std::sin(a)); }
 
 }  // namespace
 
@@ -99,7 +95,7 @@ std::optional<int> Coordinator::startHallwayAxis(const Perception& p, const Topo
   double best_width = std::numeric_limits<double>::infinity();
   for (int axis = 0; axis < 2; ++axis) {
     const double dir = normalizeAngle(odomHeadingOfBin(bin_ + axis * quarter, topo) - p.odom.theta);  // robot frame
-    const Eigen::Vector2d u = unit(dir), n = unit(dir + 0.5 * kPi);
+    const Eigen::Vector2d u = unitVector(dir), n = unitVector(dir + 0.5 * kPi);
     double left = std::numeric_limits<double>::infinity(), right = left;
     for (const laser_features::LineSegment& l : p.lines) {
       const Eigen::Vector2d d = l.end - l.start;
@@ -149,7 +145,7 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
   Decision d;
   d.requests = std::move(pending_requests_);
   pending_requests_.clear();
-  if (!finite(p.odom) || !std::isfinite(p.stamp)) {
+  if (!finitePose(p.odom) || !std::isfinite(p.stamp)) {
     d.stop = true;
     d.mode = mode_;
     return d;
@@ -326,7 +322,7 @@ void Coordinator::enterRoom(const Perception& p, const TopoView& topo, Decision*
   place_origin_odom_ = p.odom;
   hallway_in_place_ = Eigen::Vector2d::Zero();
   const Pose2D robot_inv = inverse(p.odom);
-  const Eigen::Vector2d c = apply(robot_inv, door_.centre_odom);
+  const Eigen::Vector2d c = transformPoint(robot_inv, door_.centre_odom);
   door_in_place_ = Pose2D{c.x(), c.y(), normalizeAngle(door_.into_odom - p.odom.theta)};
   exit_theta_place_ = normalizeAngle(odomHeadingOfBin(hallway_bin_, topo) - p.odom.theta);
   Request add;
@@ -383,8 +379,8 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
 
   // The goal: lookahead metres ahead on the mid-line (past an obstacle, on the lane beside it).
   const double ahead = lane ? std::max(params_.lookahead, v.free_ahead + params_.end_distance) : params_.lookahead;
-  const Eigen::Vector2d g_robot = ahead * unit(dir_robot) + lane.value_or(v.centre_offset) * unit(dir_robot + 0.5 * kPi);
-  const Eigen::Vector2d g = apply(p.odom, g_robot);
+  const Eigen::Vector2d g_robot = ahead * unitVector(dir_robot) + lane.value_or(v.centre_offset) * unitVector(dir_robot + 0.5 * kPi);
+  const Eigen::Vector2d g = transformPoint(p.odom, g_robot);
   if (!have_goal_ || (g - last_goal_).norm() > params_.goal_refresh_distance) {
     last_goal_ = g;
     have_goal_ = true;
@@ -540,7 +536,7 @@ bool Coordinator::enterPassedDoor(const Perception& p, const TopoView& topo, dou
     } else if (mayEnter(topo, door)) {
       door_ = door;
       // Where the door was taken to be (the log tells a door tracked wrongly from a real one).
-      const Eigen::Vector2d rel = apply(inverse(p.odom), door.centre_odom);  // robot frame
+      const Eigen::Vector2d rel = transformPoint(inverse(p.odom), door.centre_odom);  // robot frame
       char where[128];
       char wall[40] = "no wall known";
       if (door.wall_lateral >= 0.0) std::snprintf(wall, sizeof(wall), "its wall %.2f m aside", door.wall_lateral);
@@ -746,7 +742,7 @@ void Coordinator::goalInPlace(const Perception& p, const Eigen::Vector2d& g, std
                               Decision* d) const {
   // odom <- place: the robot's pose in both frames at the same stamp.
   const Pose2D odom_from_place = compose(p.odom, inverse(p.room_pose));
-  const Eigen::Vector2d go = apply(odom_from_place, g);
+  const Eigen::Vector2d go = transformPoint(odom_from_place, g);
   d->has_goal = true;
   d->x = go.x();
   d->y = go.y();
@@ -756,7 +752,7 @@ void Coordinator::goalInPlace(const Perception& p, const Eigen::Vector2d& g, std
 void Coordinator::room(const Perception& p, Decision* d) {
   mode_ = CoordinatorMode::Metric;
   Perception q = p;
-  if (!p.room_pose_valid || !finite(p.room_pose)) {
+  if (!p.room_pose_valid || !finitePose(p.room_pose)) {
     // No EKF pose for this scan (it comes with the place's first features; or the EKF lags):
     // the odometry since the EKF's last pose stands in (its drift over a few scans is small).
     q.room_pose = compose(inverse(place_origin_odom_), p.odom);
@@ -780,7 +776,7 @@ bool Coordinator::refineDoor(const Perception& p) {
   for (const laser_features::Opening& o : p.openings) {
     if (!(o.width >= params_.rules.door_min_width && params_.rules.mayBeDoor(o.width))) continue;
     if (std::abs(normalizeAngle(o.theta + p.room_pose.theta - door_in_place_.theta)) > params_.doors.side_angle) continue;
-    const Eigen::Vector2d c = apply(p.room_pose, o.center);
+    const Eigen::Vector2d c = transformPoint(p.room_pose, o.center);
     const double off = (c - tracked).norm();
     if (off < nearest) {
       nearest = off;
@@ -808,7 +804,7 @@ void Coordinator::roomStep(const Perception& p, Decision* d) {
   if (!p.ranges.empty()) room_.addScan(sensor, p.ranges, p.angle_min, p.angle_increment);
   const Eigen::Vector2d robot(p.room_pose.x, p.room_pose.y);
   const Eigen::Vector2d door(door_in_place_.x, door_in_place_.y);
-  const Eigen::Vector2d into = unit(door_in_place_.theta);
+  const Eigen::Vector2d into = unitVector(door_in_place_.theta);
   // Near its door the robot passes it (the door's steps lie 0.6-0.7 m either side of it): the
   // controller keeps a clearance that fits the door.
   if ((robot - door).norm() < kDoorPassage) d->passage_width = door_.width;
@@ -848,7 +844,7 @@ void Coordinator::coverRoom(const Perception& p, const Eigen::Vector2d& robot, c
   // the room's (they remain openings of the place).
   for (const auto& o : p.openings) {
     if (!params_.rules.isDoor(o.width, o.room_behind)) continue;
-    const Eigen::Vector2d l = apply(p.room_pose, o.left), r = apply(p.room_pose, o.right);
+    const Eigen::Vector2d l = transformPoint(p.room_pose, o.left), r = transformPoint(p.room_pose, o.right);
     if ((0.5 * (l + r) - door).norm() < 0.8) continue;
     room_.blockOpening(l, r);
   }
@@ -968,7 +964,7 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
   };
   if (mission_active_) return refuse("a mission is running (to place " + std::to_string(mission_place_) + ")");
   if (!idle()) return refuse("the exploration is running: missions start once it is done");
-  if (!finite(goal)) return refuse("the goal is not finite");
+  if (!finitePose(goal)) return refuse("the goal is not finite");
   const std::optional<PlaceDoor> door = graph_.placeDoor(place_id);
   if (!door) {
     std::ostringstream known;
@@ -1100,7 +1096,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
     return;
   }
   const bool timeout = now_ - state_since_ > params_.relocation_timeout;
-  const bool pose = p.room_pose_valid && finite(p.room_pose);
+  const bool pose = p.room_pose_valid && finitePose(p.room_pose);
   if (relocation_ok_ && pose) {
     // Where the robot left the hallway, in the place (it may have moved to the door since).
     const Pose2D stop = compose(p.room_pose, compose(inverse(p.odom), hallway_pose_odom_));
@@ -1125,7 +1121,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
     state_text_ = "relocation from the hallway: " + relocation_verdict_ + "; trying again in front of the door";
   }
   if (relocate_step_ == 1) {
-    const Eigen::Vector2d a = door_.centre_odom - 0.6 * unit(door_.into_odom);
+    const Eigen::Vector2d a = door_.centre_odom - 0.6 * unitVector(door_.into_odom);
     const bool there = (a - Eigen::Vector2d(p.odom.x, p.odom.y)).norm() < 0.1 &&
                        std::abs(normalizeAngle(door_.into_odom - p.odom.theta)) < 0.1;
     if (there || (reached_ && now_ - relocate_step_since_ > 1.0) || now_ - relocate_step_since_ > params_.relocation_timeout) {
@@ -1196,7 +1192,7 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
   // Through the door on its axis first: the room's grid has a virtual wall across the door, so
   // no grid path leads in from the hallway, and a straight line from there meets the door's jamb.
   const Eigen::Vector2d door(door_in_place_.x, door_in_place_.y);
-  const Eigen::Vector2d into = unit(door_in_place_.theta);
+  const Eigen::Vector2d into = unitVector(door_in_place_.theta);
   // Once inside, never again (a goal just inside the door lies within entry_depth).
   if ((robot - door).dot(into) >= params_.room.entry_depth) mission_entered_ = true;
   const bool entering = !mission_entered_ && (goal - door).dot(into) > 0.0;

@@ -24,6 +24,7 @@
 // ROS-free: Eigen, laser_features and the standard library only.
 #pragma once
 
+#include "exploration/coordinator_io.h"
 #include "exploration/hallway_doors.h"
 #include "exploration/hallway_view.h"
 #include "exploration/room_explorer.h"
@@ -31,12 +32,9 @@
 #include "laser_features/building_axes.h"
 #include "laser_features/building_rules.h"
 #include "laser_features/geometry.h"
-#include "laser_features/line_extractor.h"
-#include "laser_features/opening_extractor.h"
 
 #include <Eigen/Core>
 
-#include <array>
 #include <map>
 #include <optional>
 #include <string>
@@ -79,61 +77,6 @@ struct CoordinatorParams {
   double mission_accept_angle = 0.05;    // rad, ... with its heading within this. EKF corrections of the
                                          // goal below these are not re-sent while the robot drives to it
   double mission_stall_time = 20.0;  // s, no 5 cm of progress to a mission's goal in a room for this: unreachable
-};
-
-enum class CoordinatorMode : uint8_t { Topological = 0, Metric = 1, Switching = 2, Done = 3 };
-const char* toString(CoordinatorMode mode);
-
-/// One tick's perception: the scan and its features, at one stamp.
-struct Perception {
-  double stamp = 0.0;                      // s
-  laser_features::Pose2D odom;             // robot in the odometry frame at the stamp
-  laser_features::Pose2D sensor_in_robot;  // the laser in the robot frame
-  std::vector<float> ranges;               // the raw scan (REP 117), for the room grid
-  double angle_min = 0.0, angle_increment = 0.0;
-  std::vector<Eigen::Vector2d> points;     // scan points, robot frame
-  std::vector<laser_features::LineSegment> lines;  // robot frame
-  std::vector<laser_features::Opening> openings;   // robot frame
-  bool room_pose_valid = false;            // the EKF's robot pose in the active place at the stamp
-  laser_features::Pose2D room_pose;
-};
-
-/// What pomdp_topo says (its latest messages).
-struct TopoView {
-  bool valid = false;         // something was received
-  std::string mode;           // "frontier", "localized" or "loop_check"
-  bool confident = false;
-  bool heading_valid = false;
-  double heading_offset = 0.0;  // rad, map heading - odometry heading (the heading estimator's correction)
-  GraphPosition position;       // the belief's most likely state
-};
-
-/// A request to another node.
-struct Request {
-  enum Kind { CreatePlace, AddDoor, RecordOpening, ClosePlace, SaveMaps, Finish, Relocate, ResetBelief };
-  Kind kind = SaveMaps;
-  int node = -1;             // RecordOpening: -1 = pomdp_topo's current node
-  double bearing = 0.0;      // RecordOpening: rad, map frame
-  double width = 0.0;        // RecordOpening: m
-  double offset = 0.0;       // RecordOpening: m
-  bool explored = false;     // RecordOpening
-  int place_id = -1;         // RecordOpening (link), AddDoor, Relocate
-  int door_id = -1;          // AddDoor, Relocate
-  laser_features::Pose2D pose;  // AddDoor: door in the robot frame; RecordOpening: door in the place;
-                                // Relocate: the robot in the door's frame
-  bool success = true;       // Finish: complete exploration
-  std::string text;          // Finish: summary
-};
-
-struct Decision {
-  bool has_goal = false;     // drive to (x, y[, theta]) in the odometry frame
-  double x = 0.0, y = 0.0;
-  std::optional<double> theta;
-  std::optional<std::pair<double, double>> tolerance;  // m, rad: the goal's, if not the controller's own
-  std::optional<double> passage_width;  // m, the robot is passing a door this wide (MotionController::setPassageWidth)
-  bool stop = false;         // stand still (no goal)
-  CoordinatorMode mode = CoordinatorMode::Topological;
-  std::vector<Request> requests;
 };
 
 /// A mission (Tomatis et al. 2001, section 4): from wherever the robot is to a goal pose in a place.
