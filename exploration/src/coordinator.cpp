@@ -9,7 +9,6 @@
 
 namespace exploration {
 
-using laser_features::compose;
 using laser_features::inverse;
 using laser_features::kPi;
 using laser_features::normalizeAngle;
@@ -47,9 +46,8 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
         p.doors.wall_tolerance > 0.0 && p.doors.wall_memory >= 0.0))
     return fail("door_max_lateral, door_side_angle, door_same_distance and door_wall_tolerance must be > 0, "
                 "door_pass_distance and door_wall_memory >= 0");
-  if (!(p.room_replan_period >= 0.0)) return fail("room_replan_period must be >= 0");
-  if (!(p.settle_time >= 0.0 && p.room_time_limit > 0.0 && p.exit_time_limit > 0.0 && p.max_time >= 0.0))
-    return fail("settle_time and max_time must be >= 0, room_time_limit and exit_time_limit > 0");
+  if (!RoomVisit::validate(p.room_visit, error)) return false;
+  if (!(p.settle_time >= 0.0 && p.max_time >= 0.0)) return fail("settle_time and max_time must be >= 0");
   if (p.max_route_attempts < 1) return fail("max_route_attempts must be >= 1");
   if (!(p.goal_pass_distance > 0.0)) return fail("goal_pass_distance must be > 0");
   if (!(p.jump_tolerance >= 0.0 && p.jump_hold_distance >= 0.0)) return fail("jump_tolerance and jump_hold_distance must be >= 0");
@@ -66,7 +64,9 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
 }
 
 Coordinator::Coordinator(const CoordinatorParams& params)
-    : params_(params), room_(params.room), doors_(params.doors, params.rules) {
+    : params_(params),
+      visit_(params.room_visit, params.room, params.rules, params.doors),
+      doors_(params.doors, params.rules) {
   std::string why;
   if (!validate(params, &why)) throw std::invalid_argument("exploration coordinator: " + why);
 }
@@ -196,9 +196,8 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
     case State::GoToGoal:
     case State::ExitPath:
     case State::ExitDoor:
-      reached_ = motion_reached;
-      blocked_ = motion_blocked;
-      room(p, &d);
+      motion_ = MotionFeedback{motion_reached, motion_blocked};
+      visitRoom(p, &d);
       if (state_ == State::Follow) {
         // Back on the hallway's mid-line: the room is done.
         d.requests.insert(d.requests.begin(), Request{Request::ClosePlace});
@@ -317,25 +316,13 @@ void Coordinator::enterRoom(const Perception& p, const TopoView& topo, Decision*
     setState(State::Follow, "could not create a place: door skipped");
     return;
   }
-  // The place's origin is the robot's pose now (it stood still): the door in the robot frame is
-  // the door in the place.
-  place_origin_odom_ = p.odom;
-  hallway_in_place_ = Eigen::Vector2d::Zero();
-  const Pose2D robot_inv = inverse(p.odom);
-  const Eigen::Vector2d c = transformPoint(robot_inv, door_.centre_odom);
-  door_in_place_ = Pose2D{c.x(), c.y(), normalizeAngle(door_.into_odom - p.odom.theta)};
-  exit_theta_place_ = normalizeAngle(odomHeadingOfBin(hallway_bin_, topo) - p.odom.theta);
+  visit_.beginNewRoom(p.odom, door_, odomHeadingOfBin(hallway_bin_, topo));
   Request add;
   add.kind = Request::AddDoor;
   add.door_id = std::max(0, door_node_);
   add.place_id = place_id_;
-  add.pose = door_in_place_;
+  add.pose = visit_.doorInPlace();
   d->requests.push_back(add);
-  room_.start(door_in_place_, door_.width);
-  room_goal_.reset();
-  door_tracked_in_place_ = c;
-  door_seen_sum_ = Eigen::Vector2d::Zero();
-  door_seen_count_ = 0;
   ++stats_.places;
   ++stats_.doors_entered;
   setState(State::ApproachDoor, "entering the room of place " + std::to_string(place_id_));
@@ -738,192 +725,68 @@ void Coordinator::openingRecorded(bool ok, int node) {
   if (ok && state_ == State::EnterRoom && door_node_ < 0) door_node_ = node;
 }
 
-void Coordinator::goalInPlace(const Perception& p, const Eigen::Vector2d& g, std::optional<double> theta,
-                              Decision* d) const {
-  // odom <- place: the robot's pose in both frames at the same stamp.
-  const Pose2D odom_from_place = compose(p.odom, inverse(p.room_pose));
-  const Eigen::Vector2d go = transformPoint(odom_from_place, g);
-  d->has_goal = true;
-  d->x = go.x();
-  d->y = go.y();
-  if (theta) d->theta = normalizeAngle(*theta + odom_from_place.theta);
-}
-
-void Coordinator::room(const Perception& p, Decision* d) {
+void Coordinator::visitRoom(const Perception& p, Decision* d) {
   mode_ = CoordinatorMode::Metric;
-  Perception q = p;
-  if (!p.room_pose_valid || !finitePose(p.room_pose)) {
-    // No EKF pose for this scan (it comes with the place's first features; or the EKF lags):
-    // the odometry since the EKF's last pose stands in (its drift over a few scans is small).
-    q.room_pose = compose(inverse(place_origin_odom_), p.odom);
-    q.room_pose_valid = true;
-  } else {
-    // The place in the odometry frame as the EKF places it now, not as at the place's creation or
-    // relocation: missions_small_loop (CI, scans late) stalled 0.15 m from its goal, which moved
-    // by that every other scan between the EKF's pose and the odometry since the relocation.
-    place_origin_odom_ = compose(p.odom, inverse(p.room_pose));
+  const Perception q = visit_.inPlace(p);
+  visit_.observe(q, state_ == State::ApproachDoor, d);
+  switch (state_) {
+    case State::ApproachDoor:
+      return approachDoor(q, d);
+    case State::GoToGoal:
+      return missionGoal(q, d);
+    case State::Room:
+      return coverRoom(q, d);
+    default:
+      return leaveRoom(q, d);
   }
-  roomStep(q, d);
 }
 
-bool Coordinator::refineDoor(const Perception& p) {
-  // The door seen now: an opening of a door's width facing the same way, within door_same_distance
-  // of the door as tracked; the mean of its sightings on the approach replaces the door (its
-  // direction, the hallway's normal, is kept) once it differs by more than 5 cm.
-  const Eigen::Vector2d tracked = door_tracked_in_place_;
-  double nearest = params_.doors.same_distance;
-  std::optional<Eigen::Vector2d> seen;
-  for (const laser_features::Opening& o : p.openings) {
-    if (!(o.width >= params_.rules.door_min_width && params_.rules.mayBeDoor(o.width))) continue;
-    if (std::abs(normalizeAngle(o.theta + p.room_pose.theta - door_in_place_.theta)) > params_.doors.side_angle) continue;
-    const Eigen::Vector2d c = transformPoint(p.room_pose, o.center);
-    const double off = (c - tracked).norm();
-    if (off < nearest) {
-      nearest = off;
-      seen = c;
-    }
-  }
-  if (!seen) return false;
-  door_seen_sum_ += *seen;
-  ++door_seen_count_;
-  const Eigen::Vector2d mean = door_seen_sum_ / double(door_seen_count_);
-  if ((mean - Eigen::Vector2d(door_in_place_.x, door_in_place_.y)).norm() <= 0.05) return false;
-  door_in_place_.x = mean.x();
-  door_in_place_.y = mean.y();
-  return true;
-}
-
-void Coordinator::roomStep(const Perception& p, Decision* d) {
-  const Pose2D sensor = compose(p.room_pose, p.sensor_in_robot);
-  // A new room's door as seen on the way to it: the track from the hallway may lie half a metre
-  // along the wall from it, and the robot then meets the jamb (large_floor: tracked while the robot
-  // came out of the room across the hallway and turned, 0.5 m east of the door; the robot stood
-  // before the east jamb, "explored" the hallway, and the room was missed).
-  if (state_ == State::ApproachDoor && !mission_active_ && refineDoor(p))
-    room_.start(door_in_place_, door_.width);  // nothing of the room is seen yet
-  if (!p.ranges.empty()) room_.addScan(sensor, p.ranges, p.angle_min, p.angle_increment);
-  const Eigen::Vector2d robot(p.room_pose.x, p.room_pose.y);
-  const Eigen::Vector2d door(door_in_place_.x, door_in_place_.y);
-  const Eigen::Vector2d into = unitVector(door_in_place_.theta);
-  // Near its door the robot passes it (the door's steps lie 0.6-0.7 m either side of it): the
-  // controller keeps a clearance that fits the door.
-  if ((robot - door).norm() < kDoorPassage) d->passage_width = door_.width;
-  if (state_ == State::ApproachDoor) return approachDoor(p, robot, door, into, d);
-  last_room_position_ = robot;
-  if (state_ == State::GoToGoal) {
-    missionGoal(p, d);
+void Coordinator::approachDoor(const Perception& q, Decision* d) {
+  if (!visit_.approachDoor(q, now_ - state_since_, d)) return;
+  if (mission_active_) {
+    beginGoToGoal("driving to the mission's goal in place " + std::to_string(place_id_), false);
     return;
   }
-  if (state_ == State::Room) return coverRoom(p, robot, door, d);
-  leaveRoom(p, robot, door, into, d);
+  const double shift = visit_.doorRefinement();
+  char text[96];
+  std::snprintf(text, sizeof(text), "exploring the room (its door refined by %.2f m)", shift);
+  setState(State::Room, shift > 0.0 ? text : "exploring the room");
 }
 
-void Coordinator::approachDoor(const Perception& p, const Eigen::Vector2d& robot, const Eigen::Vector2d& door,
-                               const Eigen::Vector2d& into, Decision* d) {
-  // In front of the door on its axis, facing in, before going through.
-  const Eigen::Vector2d a = door - 0.6 * into;
-  goalInPlace(p, a, door_in_place_.theta, d);
-  if ((robot - a).norm() < 0.15 || now_ - state_since_ > 30.0) {
-    if (mission_active_) {
-      beginGoToGoal("driving to the mission's goal in place " + std::to_string(place_id_), false);
-    } else {
-      // The place's door in the EKF stays the door as tracked from the hallway: a mission's
-      // relocation measures the robot from the door tracked the same way, so their biases cancel
-      // (with the door as seen stored instead, one small_loop relocation failed three times,
-      // jointly incompatible). The door as seen is what the graph links: the way in.
-      const double shift = (Eigen::Vector2d(door_in_place_.x, door_in_place_.y) - door_tracked_in_place_).norm();
-      char text[96];
-      std::snprintf(text, sizeof(text), "exploring the room (its door refined by %.2f m)", shift);
-      setState(State::Room, shift > 0.0 ? text : "exploring the room");
-    }
-  }
+void Coordinator::coverRoom(const Perception& q, Decision* d) {
+  const RoomVisit::Coverage coverage = visit_.coverRoom(q, now_, now_ - state_since_, d);
+  if (coverage == RoomVisit::Coverage::Covering) return;
+  if (coverage == RoomVisit::Coverage::TimedOut) ++stats_.rooms_left_early;
+  stats_.room_free_area += visit_.explorer().freeArea();
+  stats_.peak_room_bytes = std::max(stats_.peak_room_bytes, visit_.explorer().bytes());
+  visit_.beginExit();
+  setState(State::ExitPath, "leaving the room by its door");
 }
 
-void Coordinator::coverRoom(const Perception& p, const Eigen::Vector2d& robot, const Eigen::Vector2d& door, Decision* d) {
-  // Other doors seen from inside the room are closed with a virtual wall: the room's map stays
-  // the room's (they remain openings of the place).
-  for (const auto& o : p.openings) {
-    if (!params_.rules.isDoor(o.width, o.room_behind)) continue;
-    const Eigen::Vector2d l = transformPoint(p.room_pose, o.left), r = transformPoint(p.room_pose, o.right);
-    if ((0.5 * (l + r) - door).norm() < 0.8) continue;
-    room_.blockOpening(l, r);
-  }
-  if (now_ - last_room_plan_ >= params_.room_replan_period || !room_goal_) {
-    last_room_plan_ = now_;
-    room_goal_ = room_.nextGoal(robot, now_);
-  }
-  const auto& g = room_goal_;
-  const bool timeout = now_ - state_since_ > params_.room_time_limit;
-  if (room_.status() == RoomStatus::Done || room_.status() == RoomStatus::Invalid || timeout) {
-    if (timeout) ++stats_.rooms_left_early;
-    stats_.room_free_area += room_.freeArea();
-    stats_.peak_room_bytes = std::max(stats_.peak_room_bytes, room_.bytes());
-    exit_path_.clear();
-    exit_index_ = 0;
-    exit_attempts_ = 0;
-    if (auto path = room_.pathToExit(robot)) exit_path_ = path->waypoints;
-    setState(State::ExitPath, "leaving the room by its door");
-    return;
-  }
-  if (g) goalInPlace(p, *g, std::nullopt, d);
-  else d->stop = true;
-}
-
-void Coordinator::leaveRoom(const Perception& p, const Eigen::Vector2d& robot, const Eigen::Vector2d& door,
-                            const Eigen::Vector2d& into, Decision* d) {
+void Coordinator::leaveRoom(const Perception& q, Decision* d) {
   if (state_ == State::ExitPath) {
-    while (exit_index_ < exit_path_.size() && (exit_path_[exit_index_] - robot).norm() < 0.3) ++exit_index_;
-    if (exit_index_ >= exit_path_.size() || now_ - state_since_ > params_.exit_time_limit) {
-      setState(State::ExitDoor, "through the door back to the hallway");
-      exit_step_ = 0;
-      exit_step_since_ = now_;
-    } else {
-      goalInPlace(p, exit_path_[exit_index_], std::nullopt, d);
-      return;
-    }
+    if (!visit_.followExitPath(q, now_ - state_since_, d)) return;
+    setState(State::ExitDoor, "through the door back to the hallway");
+    visit_.beginDoorExit(now_);
   }
-  // ExitDoor: through the door on its axis (a point inside, a point outside) back to where the robot
-  // left the hallway (the place's origin) with the hallway's heading. Each step ends when reached,
-  // when the controller is blocked, or after a third of exit_time_limit.
-  const Eigen::Vector2d steps[2] = {door + 0.6 * into, door - 0.7 * into};
-  const bool step_timeout = now_ - exit_step_since_ > params_.exit_time_limit / 3.0;
-  if (exit_step_ < 2) {
-    const Eigen::Vector2d& w = steps[exit_step_];
-    const bool past = exit_step_ == 0 && (robot - door).dot(into) < 0.6;  // already nearer the door
-    if ((robot - w).norm() < 0.25 || past || blocked_ || step_timeout) {
-      ++exit_step_;
-      exit_step_since_ = now_;
-    } else {
-      goalInPlace(p, w, std::nullopt, d);
-      return;
-    }
-    if (exit_step_ < 2) {
-      goalInPlace(p, steps[exit_step_], std::nullopt, d);
-      return;
-    }
+  const RoomVisit::Exit exit = visit_.exitThroughDoor(q, now_, now_ - state_since_, motion_, d);
+  if (exit == RoomVisit::Exit::Passing) return;
+  if (exit == RoomVisit::Exit::TryAgain) {
+    setState(State::ExitPath, "still inside: leaving the room by its door again (attempt " +
+                                  std::to_string(visit_.exitAttempts() + 1) + ")");
+    return;
   }
-  goalInPlace(p, hallway_in_place_, exit_theta_place_, d);
-  const double err = std::abs(normalizeAngle(exit_theta_place_ - p.room_pose.theta));
-  const bool back = ((robot - hallway_in_place_).norm() < 0.2 && err < 0.15) || (reached_ && err < 0.2);
-  if (!(back || step_timeout || now_ - state_since_ > params_.exit_time_limit)) return;
-  // Out only once past the door line: a robot that did not get through (blocked at a narrow door,
-  // the door placed off) and went on as on a hallway would take the room for hallways. It tries
-  // again from where it is, then the exploration stops rather than map the room as a hallway.
-  if ((robot - door).dot(into) > 0.0) {
-    if (++exit_attempts_ < kExitAttempts) {
-      exit_path_.clear();
-      exit_index_ = 0;
-      if (auto path = room_.pathToExit(robot)) exit_path_ = path->waypoints;
-      setState(State::ExitPath, "still inside: leaving the room by its door again (attempt " +
-                                    std::to_string(exit_attempts_ + 1) + ")");
-      return;
-    }
-    if (!mission_active_) {
-      finish(false, "could not leave place " + std::to_string(place_id_) + " through its door (" +
-                        std::to_string(kExitAttempts) + " attempts)", d);
-      return;
-    }
+  // Still inside after every attempt: the exploration stops rather than map the room as a hallway;
+  // a mission goes on from where the robot is.
+  if (exit == RoomVisit::Exit::Stuck && !mission_active_) {
+    finish(false, "could not leave place " + std::to_string(place_id_) + " through its door (" +
+                      std::to_string(RoomVisit::kExitAttempts) + " attempts)", d);
+    return;
   }
+  backOnHallway(exit == RoomVisit::Exit::Back, d);
+}
+
+void Coordinator::backOnHallway(bool exact, Decision* d) {
   bin_ = hallway_bin_;
   have_goal_ = false;
   mode_ = CoordinatorMode::Topological;
@@ -931,7 +794,7 @@ void Coordinator::leaveRoom(const Perception& p, const Eigen::Vector2d& robot, c
   left_door_travel_ = travel_;
   last_turn_travel_ = travel_;
   // The travel in the room is not travel past the route's goal node: a door facing the one just
-  // explored across the hallway (institute's director, opposite printer) was given up at once.
+  // explored across the hallway would be given up at once.
   goal_pass_node_ = -1;
   if (mission_active_) {
     // A mission leaving a room: back on the hallway, on to the goal's door (nothing to record).
@@ -947,9 +810,9 @@ void Coordinator::leaveRoom(const Perception& p, const Eigen::Vector2d& robot, c
   rec.width = door_.width;
   rec.explored = true;
   rec.place_id = place_id_;
-  rec.pose = door_in_place_;
+  rec.pose = visit_.doorInPlace();
   d->requests.push_back(rec);
-  setState(State::Follow, back ? "following the hallway" : "following the hallway (the way back was not reached exactly)");
+  setState(State::Follow, exact ? "following the hallway" : "following the hallway (the way back was not reached exactly)");
 }
 
 RouteStep Coordinator::plan(const GraphPosition& pos) const {
@@ -1000,14 +863,11 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
     if (r.found && door_node_ >= 0 && uint32_t(door_node_) != mission_door_.node) {
       const int rb = binOf(r.heading);
       if (rb == (hallway_bin_ + n / 2) % n) {
-        exit_theta_place_ = normalizeAngle(exit_theta_place_ + kPi);
+        visit_.turnExitHeadingRound();
         hallway_bin_ = rb;
       }
     }
-    exit_path_.clear();
-    exit_index_ = 0;
-    exit_attempts_ = 0;
-    if (auto path = room_.pathToExit(last_room_position_)) exit_path_ = path->waypoints;
+    visit_.beginExit();
     setState(State::ExitPath, to + ": leaving place " + std::to_string(place_id_) + " by its door");
     mode_ = CoordinatorMode::Metric;
   } else {
@@ -1098,14 +958,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
   const bool timeout = now_ - state_since_ > params_.relocation_timeout;
   const bool pose = p.room_pose_valid && finitePose(p.room_pose);
   if (relocation_ok_ && pose) {
-    // Where the robot left the hallway, in the place (it may have moved to the door since).
-    const Pose2D stop = compose(p.room_pose, compose(inverse(p.odom), hallway_pose_odom_));
-    hallway_in_place_ = Eigen::Vector2d(stop.x, stop.y);
-    exit_theta_place_ = normalizeAngle(p.room_pose.theta + odomHeadingOfBin(hallway_bin_, topo) - p.odom.theta);
-    place_origin_odom_ = compose(p.odom, inverse(p.room_pose));  // stands in for missing EKF poses (see room())
-    const double* door_pose = mission_door_.opening.door_in_place;
-    door_in_place_ = Pose2D{door_pose[0], door_pose[1], door_pose[2]};
-    room_.start(door_in_place_, mission_door_.opening.width > 0.0 ? mission_door_.opening.width : door_.width);
+    visit_.beginKnownRoom(p, hallway_pose_odom_, odomHeadingOfBin(hallway_bin_, topo), mission_door_.opening, door_.width);
     setState(State::ApproachDoor, "relocated in place " + std::to_string(place_id_) + ": entering");
     return;
   }
@@ -1124,7 +977,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
     const Eigen::Vector2d a = door_.centre_odom - 0.6 * unitVector(door_.into_odom);
     const bool there = (a - Eigen::Vector2d(p.odom.x, p.odom.y)).norm() < 0.1 &&
                        std::abs(normalizeAngle(door_.into_odom - p.odom.theta)) < 0.1;
-    if (there || (reached_ && now_ - relocate_step_since_ > 1.0) || now_ - relocate_step_since_ > params_.relocation_timeout) {
+    if (there || (motion_.reached && now_ - relocate_step_since_ > 1.0) || now_ - relocate_step_since_ > params_.relocation_timeout) {
       relocate_step_ = 2;
       relocate_step_since_ = now_;
     } else {
@@ -1191,18 +1044,19 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
   const bool close = dist < params_.mission_accept_distance && herr < params_.mission_accept_angle;
   // Through the door on its axis first: the room's grid has a virtual wall across the door, so
   // no grid path leads in from the hallway, and a straight line from there meets the door's jamb.
-  const Eigen::Vector2d door(door_in_place_.x, door_in_place_.y);
-  const Eigen::Vector2d into = unitVector(door_in_place_.theta);
+  const Pose2D& door_pose = visit_.doorInPlace();
+  const Eigen::Vector2d door(door_pose.x, door_pose.y);
+  const Eigen::Vector2d into = unitVector(door_pose.theta);
   // Once inside, never again (a goal just inside the door lies within entry_depth).
   if ((robot - door).dot(into) >= params_.room.entry_depth) mission_entered_ = true;
   const bool entering = !mission_entered_ && (goal - door).dot(into) > 0.0;
   // Once inside, far from the goal: along a grid path in the room as seen (furniture between the
   // door and the goal); near it, or with no path, straight to it.
-  if (!entering && (now_ - last_room_plan_ >= params_.room_replan_period || mission_path_.empty())) {
-    last_room_plan_ = now_;
+  if (!entering && (now_ - mission_last_plan_ >= params_.room_visit.replan_period || mission_path_.empty())) {
+    mission_last_plan_ = now_;
     mission_path_.clear();
     mission_path_index_ = 0;
-    const auto path = room_.pathTo(robot, goal);
+    const auto path = visit_.pathTo(robot, goal);
     if (path) mission_path_ = path->waypoints;
     // Progress is along the way to the goal (the grid path's length), not straight at it: going
     // round furniture first leads away. A path found a metre longer than the last path (what was
@@ -1224,10 +1078,10 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
   const bool stalled = now_ - mission_best_time_ > params_.mission_stall_time;
   bool blocked_at_goal = false;  // the controller gave up on the final goal (sent before this tick)
   if (entering) {
-    goalInPlace(p, door + (params_.room.entry_depth + params_.room.entry_goal_extra) * into, door_in_place_.theta, d);
+    visit_.goalInPlace(p, door + (params_.room.entry_depth + params_.room.entry_goal_extra) * into, door_pose.theta, d);
     mission_goal_odom_valid_ = false;
   } else if (dist > 0.6 && mission_path_index_ + 1 < mission_path_.size()) {
-    goalInPlace(p, mission_path_[mission_path_index_], std::nullopt, d);
+    visit_.goalInPlace(p, mission_path_[mission_path_index_], std::nullopt, d);
     mission_goal_odom_valid_ = false;
   } else {
     // The final goal. In the odometry frame it moves with every EKF correction; it is re-sent only
@@ -1236,7 +1090,7 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
     // final turn does not send a differential drive round to face a point 2 cm behind it.
     const bool sent = mission_goal_odom_valid_;
     Decision g;
-    goalInPlace(p, goal, mission_goal_.theta, &g);
+    visit_.goalInPlace(p, goal, mission_goal_.theta, &g);
     if (!sent || std::hypot(g.x - mission_goal_odom_.x, g.y - mission_goal_odom_.y) > params_.mission_accept_distance ||
         std::abs(normalizeAngle(*g.theta - mission_goal_odom_.theta)) > params_.mission_accept_angle) {
       mission_goal_odom_ = Pose2D{g.x, g.y, *g.theta};
@@ -1254,15 +1108,15 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
     // times, and then accepted within the accepted distance: the estimate moves by a few
     // millimetres with every scan.
     const bool precise = dist <= params_.mission_goal_tolerance && herr <= params_.mission_heading_tolerance;
-    if (sent && reached_ && (precise || (close && mission_refines_ >= params_.mission_refine_attempts))) {
+    if (sent && motion_.reached && (precise || (close && mission_refines_ >= params_.mission_refine_attempts))) {
       endMission(true, "goal reached in place " + std::to_string(place_id_) + at, d);
       return;
     }
-    if (sent && reached_) {
+    if (sent && motion_.reached) {
       ++mission_refines_;
       mission_goal_odom_valid_ = false;
     }
-    blocked_at_goal = sent && blocked_;
+    blocked_at_goal = sent && motion_.blocked;
     if (blocked_at_goal && !close) {
       endMission(false, "the goal is not reachable: stopped at the closest reachable pose" + std::string(at), d);
       return;
@@ -1279,8 +1133,8 @@ void Coordinator::missionGoal(const Perception& p, Decision* d) {
                           std::to_string(mission_path_.size()) + " waypoints, at " + std::to_string(mission_path_index_) + ")", d);
     return;
   }
-  if (now_ - state_since_ > params_.room_time_limit) {
-    endMission(false, "the goal was not reached in " + std::to_string(int(params_.room_time_limit)) + " s" + at, d);
+  if (now_ - state_since_ > params_.room_visit.time_limit) {
+    endMission(false, "the goal was not reached in " + std::to_string(int(params_.room_visit.time_limit)) + " s" + at, d);
   }
 }
 

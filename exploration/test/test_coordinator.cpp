@@ -156,7 +156,7 @@ void stepTowardsGoal(const Decision& d, Pose2D* robot) {
 
 exploration::CoordinatorParams roomVisitParams() {
   exploration::CoordinatorParams params;
-  params.room_time_limit = 15.0;  // the hallway's room is empty: a short visit
+  params.room_visit.time_limit = 15.0;  // the hallway's room is empty: a short visit
   return params;
 }
 
@@ -971,7 +971,7 @@ TEST(Coordinator, AnExplorationThatLeftARoomAtItsTimeLimitEndsIncompleteSayingWh
   for (const bool left_early : {true, false}) {
     SCOPED_TRACE(left_early);
     exploration::CoordinatorParams params = roomVisitParams();
-    if (left_early) params.room_time_limit = 1.0;  // s: left before the room is covered
+    if (left_early) params.room_visit.time_limit = 1.0;  // s: left before the room is covered
     Coordinator c(params);
     Hallway h;
     const RoomVisits r = driveVisitingRooms(&c, &h, 6000);

@@ -21,6 +21,9 @@
 // The coordinator does not talk to the other nodes itself: it returns requests (create a place,
 // record an opening, ...) that its node carries out as service calls and answers.
 //
+// The Coordinator runs the state machine, follows the hallways, chooses the route and runs the
+// missions; a room's visit (RoomVisit, room_visit.h) is a class of its own that it delegates to.
+//
 // ROS-free: Eigen, laser_features and the standard library only.
 #pragma once
 
@@ -28,6 +31,7 @@
 #include "exploration/hallway_doors.h"
 #include "exploration/hallway_view.h"
 #include "exploration/room_explorer.h"
+#include "exploration/room_visit.h"
 #include "exploration/topo_route.h"
 #include "laser_features/building_axes.h"
 #include "laser_features/building_rules.h"
@@ -50,9 +54,7 @@ struct CoordinatorParams {
   laser_features::BuildingRules rules;  // door widths (config/building.yaml): openings outside them are no doors
   HallwayDoorParams doors;           // the hallway's doors (door_* in config/exploration.yaml)
   double settle_time = 0.5;          // s, standing still before a switch (the nodes see the robot stopped)
-  double room_time_limit = 600.0;    // s, a room's exploration ends after this (then the robot leaves)
-  double room_replan_period = 0.5;   // s, the room's frontier goal is chosen again at most this often
-  double exit_time_limit = 120.0;    // s, leaving a room takes at most this, else the door is retried once
+  RoomVisitParams room_visit;        // a room's visit (room_visit/* in config/exploration.yaml)
   double branch_record_distance = 1.0;  // m travelled after a turn before the ways not taken are recorded
   double u_turn_cost = 2.0;          // m, route cost of turning back on an edge
   int max_route_attempts = 3;        // -, turns round towards one node's opening before it is given up
@@ -147,14 +149,12 @@ class Coordinator {
   const std::string& state() const { return state_text_; }
   const CoordinatorStats& stats() const { return stats_; }
   int currentPlace() const { return place_id_; }
-  const RoomExplorer& room() const { return room_; }
+  const RoomExplorer& room() const { return visit_.explorer(); }
   bool done() const { return state_ == State::Done; }
 
  private:
   enum class State { Init, Follow, Turn, StopForDoor, EnterRoom, ApproachDoor, Room, ExitPath, ExitDoor, Done,
                      Idle, Relocate, GoToGoal };
-  /// A door seen beside the hallway, tracked over scans in the odometry frame (hallway-local: the
-  /// tracks are dropped once far behind).
 
   void setState(State s, const std::string& text);
   /// The door passed is the one the robot last came out of (see left_door_).
@@ -166,17 +166,7 @@ class Coordinator {
   std::optional<int> startHallwayAxis(const Perception& p, const TopoView& topo) const;
   int binOf(double map_heading) const;
   double odomHeadingOfBin(int bin, const TopoView& topo) const;
-  /// Asks ekf_local_map to relocate the robot (odometry pose) in the mission's place at its door
-  /// (as seen, odometry frame); the verdict is pending from then on.
-  void askRelocation(const laser_features::Pose2D& door_odom, const laser_features::Pose2D& robot_odom, Decision* d);
   void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
-  // The steps of roomStep() (place frame: the robot's position, the door's centre and the direction
-  // into the room): to the door on its axis, the room's coverage, the way out.
-  void approachDoor(const Perception& p, const Eigen::Vector2d& robot, const Eigen::Vector2d& door,
-                    const Eigen::Vector2d& into, Decision* d);
-  void coverRoom(const Perception& p, const Eigen::Vector2d& robot, const Eigen::Vector2d& door, Decision* d);
-  void leaveRoom(const Perception& p, const Eigen::Vector2d& robot, const Eigen::Vector2d& door,
-                 const Eigen::Vector2d& into, Decision* d);
   // The states' steps of update(): the start (which way to set off), a turn on the spot, the stop
   // at a door (enter it, or on if pomdp_topo took it for a known one), a place created for the room.
   void start(const Perception& p, const TopoView& topo, Decision* d);
@@ -204,15 +194,20 @@ class Coordinator {
   /// The goal of a turn on the spot: where the robot is now, with the turn's heading.
   void turnGoal(const Perception& p, Decision* d) const;
   void startTurn(int bin, const Perception& p, const TopoView& topo, std::vector<int> not_taken);
-  void room(const Perception& p, Decision* d);
-  /// On the way to a new room's door: the door as seen now (the mean of its sightings on the
-  /// approach) replaces door_in_place_ when it differs by more than 5 cm; true if it did.
-  bool refineDoor(const Perception& p);
-  void roomStep(const Perception& p, Decision* d);  // with the robot's pose in the place
-  void goalInPlace(const Perception& p, const Eigen::Vector2d& g, std::optional<double> theta, Decision* d) const;
   void finish(bool success, const std::string& why, Decision* d);
   /// The route the robot follows: to the mission's door, or to the nearest unexplored opening.
   RouteStep plan(const GraphPosition& pos) const;
+  // A room's visit (visit_ in the room's place; the METRIC states): the visit's steps by state, and
+  // what they end in.
+  void visitRoom(const Perception& p, Decision* d);
+  void approachDoor(const Perception& q, Decision* d);
+  void coverRoom(const Perception& q, Decision* d);
+  void leaveRoom(const Perception& q, Decision* d);
+  /// Out of the room, back on the hallway (`exact`: where the robot left it, with its heading).
+  void backOnHallway(bool exact, Decision* d);
+  /// Asks ekf_local_map to relocate the robot (odometry pose) in the mission's place at its door
+  /// (as seen, odometry frame); the verdict is pending from then on.
+  void askRelocation(const laser_features::Pose2D& door_odom, const laser_features::Pose2D& robot_odom, Decision* d);
   void endMission(bool success, const std::string& why, Decision* d);
   void relocate(const Perception& p, const TopoView& topo, Decision* d);
   void missionGoal(const Perception& p, Decision* d);
@@ -222,7 +217,7 @@ class Coordinator {
   CoordinatorParams params_;
   laser_features::HeadingBins bins_;  // pomdp_topo's, from building_axes
   TopoGraph graph_;
-  RoomExplorer room_;
+  RoomVisit visit_;
   State state_ = State::Init;
   CoordinatorMode mode_ = CoordinatorMode::Topological;
   std::string state_text_ = "waiting for the first scan and the topological map";
@@ -232,16 +227,14 @@ class Coordinator {
   double start_time_ = -1.0;
   bool have_last_odom_ = false;
   laser_features::Pose2D last_odom_;
+  double travel_ = 0.0;          // m, odometric
+  MotionFeedback motion_;          // the motion controller's last status in a room's states
 
   // Hallway following.
   int bin_ = 0;                  // travel heading bin (map frame)
   bool have_goal_ = false;
   Eigen::Vector2d last_goal_ = Eigen::Vector2d::Zero();
   HallwayDoors doors_;  // the doors along the hallway being followed
-  // Each side's wall line where last seen (a point on it, odometry frame; 0 left, 1 right) and the
-  // travel then. A wall broken into pieces shorter than wall_min_length by the doors in it is not
-  // seen as a wall, but a gap behind it is still no door (large_floor: a 0.97 m "door" 1.63 m to
-  // the left of a hallway whose wall is 1.1 m away, with no wall seen on that side).
   int route_behind_ticks_ = 0;     // consecutive ticks the route pointed back (U-turn hysteresis)
   int trusted_node_ = -1;          // the belief's node when last trusted
   double trusted_travel_ = 0.0;    // m, travel_ when it became the trusted node
@@ -258,42 +251,20 @@ class Coordinator {
   double turn_odom_heading_ = 0.0;
   std::vector<int> pending_branches_;  // bins to record as unexplored after the turn
   double pending_branch_travel_ = -1.0;
-  double travel_ = 0.0;
-  // Room.
+  // The door being entered, and the place of its room.
   DoorTrack door_;
-  // The door the robot last came out of, and the travel then: never entered again from just outside
-  // it (large_floor: room_2_12 entered again 1.6 s after leaving it, its door seen anew from beside
-  // it while pomdp_topo was still on the frontier).
+  // The door the robot last came out of, and the travel then: never entered again from just outside it.
   std::optional<DoorTrack> left_door_;
   double left_door_travel_ = 0.0;
   // The node pomdp_topo's frontier was last at, and the travel when it became so.
   int frontier_node_ = -1;
   double frontier_node_travel_ = 0.0;
   double door_bearing_map_ = 0.0;  // rad, map frame, through the door into the room
-  double exit_theta_place_ = 0.0;  // rad, the hallway heading in the place frame
   int door_node_ = -1;
   int place_id_ = -1;
   laser_features::Pose2D hallway_pose_odom_;  // where the robot left the hallway
-  laser_features::Pose2D door_in_place_;
-  Eigen::Vector2d door_tracked_in_place_ = Eigen::Vector2d::Zero();  // the new room's door as tracked from the hallway
-  Eigen::Vector2d door_seen_sum_ = Eigen::Vector2d::Zero();  // its sightings on the approach (place frame)
-  int door_seen_count_ = 0;
   int hallway_bin_ = 0;
   bool place_ok_ = false;
-  std::vector<Eigen::Vector2d> exit_path_;  // place frame
-  size_t exit_index_ = 0;
-  int exit_step_ = 0;               // ExitDoor: 0 inside the door, 1 outside, 2 back on the hallway
-  int exit_attempts_ = 0;           // ways out of the room tried that ended still inside it
-  static constexpr int kExitAttempts = 3;
-  static constexpr double kDoorPassage = 1.0;  // m, from the door's centre: where the robot passes it
-  double exit_step_since_ = 0.0;
-  laser_features::Pose2D place_origin_odom_;  // the place's origin in the odometry frame (as the EKF last placed it)
-  bool reached_ = false, blocked_ = false;    // the motion controller's last status
-  double last_room_plan_ = -1e9;
-  std::optional<Eigen::Vector2d> room_goal_;
-  bool exit_retried_ = false;
-  Eigen::Vector2d hallway_in_place_ = Eigen::Vector2d::Zero();  // where the robot left the hallway, place frame
-  Eigen::Vector2d last_room_position_ = Eigen::Vector2d::Zero();  // the robot in the place, last tick
   bool in_room_ = false;            // Idle: the robot stands in place place_id_ (after a mission)
   // Mission.
   bool mission_active_ = false;
@@ -319,6 +290,7 @@ class Coordinator {
   bool mission_entered_ = false;    // GoToGoal: the robot has been entry_depth inside the door
   std::vector<Eigen::Vector2d> mission_path_;  // GoToGoal: grid path to the goal (place frame)
   size_t mission_path_index_ = 0;
+  double mission_last_plan_ = -1e9;  // s, GoToGoal: when the grid path was last planned
   double mission_best_ = 0.0;       // m, GoToGoal: the shortest way left to the goal so far ...
   double mission_best_time_ = 0.0;  // s, ... when it got 5 cm shorter last
   double mission_path_length_ = 0.0;  // m, GoToGoal: the last grid path's length (straight: the distance)

@@ -1,5 +1,6 @@
-// What the exploration coordinator takes in each tick (Perception, TopoView) and gives out
-// (Decision with its Requests).
+// What the exploration coordinator takes in each tick (Perception, TopoView, MotionFeedback) and gives
+// out (Decision with its Requests): shared by the Coordinator and the classes it delegates to
+// (RoomVisit).
 //
 // ROS-free: Eigen, laser_features and the standard library only.
 #pragma once
@@ -45,6 +46,12 @@ struct TopoView {
   bool heading_valid = false;
   double heading_offset = 0.0;  // rad, map heading - odometry heading (the heading estimator's correction)
   GraphPosition position;       // the belief's most likely state
+};
+
+/// The motion controller's status for the last goal sent.
+struct MotionFeedback {
+  bool reached = false;
+  bool blocked = false;
 };
 
 /// A request to another node.

@@ -49,9 +49,6 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("door_pass_distance", &c.doors.pass_distance);
   visit("door_same_distance", &c.doors.same_distance);
   visit("settle_time", &c.settle_time);
-  visit("room_time_limit", &c.room_time_limit);
-  visit("room_replan_period", &c.room_replan_period);
-  visit("exit_time_limit", &c.exit_time_limit);
   visit("branch_record_distance", &c.branch_record_distance);
   visit("u_turn_cost", &c.u_turn_cost);
   visit("max_route_attempts", &c.max_route_attempts);
@@ -79,6 +76,10 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("hallway/wall_max_lateral", &h.wall_max_lateral);
   visit("hallway/min_wall_clearance", &h.min_wall_clearance);
   visit("hallway/wall_same_lateral", &h.wall_same_lateral);
+  RoomVisitParams& v = c.room_visit;
+  visit("room_visit/time_limit", &v.time_limit);
+  visit("room_visit/replan_period", &v.replan_period);
+  visit("room_visit/exit_time_limit", &v.exit_time_limit);
   RoomExplorerParams& r = c.room;
   visit("room/max_extent", &r.max_extent);
   visit("room/entry_depth", &r.entry_depth);

@@ -1,0 +1,140 @@
+// The METRIC visit of one room (Tomatis, Nourbakhsh & Siegwart 2001, section 3.2), in the frame of
+// the room's place (the robot's pose there from ekf_local_map's EKF): to the door on its axis, the
+// room's coverage (RoomExplorer: frontiers of a grid of the room, behind a virtual wall across the
+// door), and the way out: a grid path to the door, through it on its axis, and back to where the
+// robot left the hallway with the hallway's heading.
+//
+// The coordinator's state machine says which step runs and since when; RoomVisit sets each step's
+// goal and says when the step is over.
+//
+// ROS-free: Eigen, laser_features and the standard library only.
+#pragma once
+
+#include "exploration/coordinator_io.h"
+#include "exploration/hallway_doors.h"
+#include "exploration/frontier_explorer.h"
+#include "exploration/room_explorer.h"
+#include "exploration/topo_route.h"
+#include "laser_features/building_rules.h"
+#include "laser_features/geometry.h"
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace exploration {
+
+/// Parameters of RoomVisit (config/exploration.yaml's room_visit/ keys; each with its unit and default).
+struct RoomVisitParams {
+  double time_limit = 600.0;       // s, a room's exploration ends after this (then the robot leaves); a
+                                   // mission's drive to its goal in the room fails after it
+  double replan_period = 0.5;      // s, the room's frontier goal (a mission's grid path) is chosen again
+                                   // at most this often
+  double exit_time_limit = 120.0;  // s, leaving a room takes at most this (a third of it per step through the door)
+};
+
+class RoomVisit {
+ public:
+  static constexpr int kExitAttempts = 3;      // ways out tried before the robot counts as stuck inside
+  static constexpr double kDoorPassage = 1.0;  // m, from the door's centre: where the robot passes it
+
+  /// `rules` and `doors`: a door seen on the approach to a new room is one of the building's doors
+  /// (BuildingRules), facing the way the tracked one does within doors.side_angle, within
+  /// doors.same_distance of it.
+  RoomVisit(const RoomVisitParams& params, const RoomExplorerParams& room, const laser_features::BuildingRules& rules,
+            const HallwayDoorParams& doors);
+  static bool validate(const RoomVisitParams& params, std::string* error = nullptr);
+  const RoomVisitParams& params() const { return params_; }
+  const RoomExplorer& explorer() const { return explorer_; }
+
+  /// A new room: its place was created with the robot, standing still at `robot_odom`, at its
+  /// origin. `door`: the door as tracked from the hallway; `hallway_heading_odom` (rad): the
+  /// heading to leave the room by.
+  void beginNewRoom(const laser_features::Pose2D& robot_odom, const DoorTrack& door, double hallway_heading_odom);
+  /// A known room: the robot was relocated in its place (`p.room_pose`) at `door` (the graph's
+  /// opening, with the door's pose in the place) after leaving the hallway at `hallway_stop_odom`.
+  /// `door_width` (m): the door as tracked from the hallway.
+  void beginKnownRoom(const Perception& p, const laser_features::Pose2D& hallway_stop_odom, double hallway_heading_odom,
+                      const GraphOpening& door, double door_width);
+
+  /// `p` with the robot's pose in the place: the EKF's, or without one the odometry's since the
+  /// EKF's last.
+  Perception inPlace(const Perception& p);
+  /// One scan (`q`, from inPlace()) into the room's grid; near the door, the controller keeps a
+  /// clearance that fits it. `approaching`: the robot is on its way to the door (a new room's door
+  /// is refined from what is seen then).
+  void observe(const Perception& q, bool approaching, Decision* d);
+
+  /// To the door on its axis, facing in. True once there, or after 30 s of `elapsed`.
+  bool approachDoor(const Perception& q, double elapsed, Decision* d);
+  /// m, how far the new room's door as seen on the approach lies from the door as tracked.
+  double doorRefinement() const;
+
+  enum class Coverage { Covering, Done, TimedOut };
+  /// The room's coverage: the frontier goal, or a stop. Done when the room explorer is (or cannot
+  /// go on); TimedOut after time_limit of `elapsed`; then no goal is set.
+  Coverage coverRoom(const Perception& q, double now, double elapsed, Decision* d);
+
+  /// The way out begins: a grid path from where the robot was last seen in the room to its door.
+  void beginExit();
+  /// Along the path out. True when it ends, or after exit_time_limit of `elapsed`.
+  bool followExitPath(const Perception& q, double elapsed, Decision* d);
+  /// Through the door begins, at `now` (s).
+  void beginDoorExit(double now);
+  enum class Exit {
+    Passing,    // on the way (a goal is set)
+    TryAgain,   // ended still inside the room: a new way out begins (exitAttempts() so far)
+    Stuck,      // ... for the kExitAttempts-th time
+    Back,       // out, back where the robot left the hallway
+    NearlyBack  // out, the way back not reached exactly (its time ran out)
+  };
+  /// Through the door on its axis (a point inside, a point outside) back to where the robot left
+  /// the hallway, with the hallway's heading. `elapsed`: since beginDoorExit() or TryAgain.
+  Exit exitThroughDoor(const Perception& q, double now, double elapsed, const MotionFeedback& motion, Decision* d);
+  int exitAttempts() const { return exit_attempts_; }
+  /// The robot leaves the room by the other way of the hallway (a mission's route leads there).
+  void turnExitHeadingRound();
+
+  /// The door in the place: its centre and the direction into the room.
+  const laser_features::Pose2D& doorInPlace() const { return door_in_place_; }
+  /// A goal `g` (and heading `theta`) in the place as an odometry goal for the robot of `q`.
+  void goalInPlace(const Perception& q, const Eigen::Vector2d& g, std::optional<double> theta, Decision* d) const;
+  /// A grid path in the room as seen so far (RoomExplorer::pathTo).
+  std::optional<Path> pathTo(const Eigen::Vector2d& robot, const Eigen::Vector2d& goal) {
+    return explorer_.pathTo(robot, goal);
+  }
+
+ private:
+  /// On the way to a new room's door: the door as seen now (the mean of its sightings on the
+  /// approach) replaces door_in_place_ when it differs by more than 5 cm; true if it did.
+  bool refineDoor(const Perception& q);
+  /// A grid path from the robot's last position to the door (the exit attempts are kept).
+  void planExit();
+
+  RoomVisitParams params_;
+  laser_features::BuildingRules rules_;
+  HallwayDoorParams doors_;
+  RoomExplorer explorer_;
+  bool new_room_ = false;           // begun by beginNewRoom (its door is refined on the approach)
+  double door_width_ = 0.0;         // m, the door as tracked from the hallway
+  laser_features::Pose2D place_origin_odom_;  // the place's origin in the odometry frame (as the EKF last placed it)
+  laser_features::Pose2D door_in_place_;
+  Eigen::Vector2d door_tracked_in_place_ = Eigen::Vector2d::Zero();  // a new room's door as tracked from the hallway
+  Eigen::Vector2d door_seen_sum_ = Eigen::Vector2d::Zero();  // its sightings on the approach (place frame)
+  int door_seen_count_ = 0;
+  Eigen::Vector2d hallway_in_place_ = Eigen::Vector2d::Zero();  // where the robot left the hallway, place frame
+  double exit_theta_place_ = 0.0;   // rad, the hallway heading in the place frame
+  Eigen::Vector2d last_position_ = Eigen::Vector2d::Zero();  // the robot in the place when last seen inside
+  double last_plan_ = -1e9;         // s, when the frontier goal was last chosen
+  std::optional<Eigen::Vector2d> goal_;  // the frontier goal
+  std::vector<Eigen::Vector2d> exit_path_;  // place frame
+  size_t exit_index_ = 0;
+  int exit_step_ = 0;               // through the door: 0 inside the door, 1 outside, 2 back on the hallway
+  double exit_step_since_ = 0.0;    // s
+  int exit_attempts_ = 0;           // ways out of the room tried that ended still inside it
+};
+
+}  // namespace exploration

@@ -1,0 +1,235 @@
+#include "exploration/room_visit.h"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace exploration {
+
+using laser_features::compose;
+using laser_features::inverse;
+using laser_features::normalizeAngle;
+using laser_features::Pose2D;
+using laser_features::transformPoint;
+using laser_features::unitVector;
+
+RoomVisit::RoomVisit(const RoomVisitParams& params, const RoomExplorerParams& room,
+                     const laser_features::BuildingRules& rules, const HallwayDoorParams& doors)
+    : params_(params), rules_(rules), doors_(doors), explorer_(room) {
+  std::string why;
+  if (!validate(params, &why)) throw std::invalid_argument("room visit: " + why);
+}
+
+bool RoomVisit::validate(const RoomVisitParams& p, std::string* error) {
+  auto fail = [&](const char* why) {
+    if (error) *error = why;
+    return false;
+  };
+  if (!(p.replan_period >= 0.0)) return fail("room_visit/replan_period must be >= 0");
+  if (!(p.time_limit > 0.0 && p.exit_time_limit > 0.0))
+    return fail("room_visit/time_limit and room_visit/exit_time_limit must be > 0");
+  return true;
+}
+
+void RoomVisit::beginNewRoom(const Pose2D& robot_odom, const DoorTrack& door, double hallway_heading_odom) {
+  // The place's origin is the robot's pose (it stood still): the door in the robot frame is the
+  // door in the place.
+  new_room_ = true;
+  door_width_ = door.width;
+  place_origin_odom_ = robot_odom;
+  hallway_in_place_ = Eigen::Vector2d::Zero();
+  const Eigen::Vector2d c = transformPoint(inverse(robot_odom), door.centre_odom);
+  door_in_place_ = Pose2D{c.x(), c.y(), normalizeAngle(door.into_odom - robot_odom.theta)};
+  exit_theta_place_ = normalizeAngle(hallway_heading_odom - robot_odom.theta);
+  explorer_.start(door_in_place_, door.width);
+  goal_.reset();
+  door_tracked_in_place_ = c;
+  door_seen_sum_ = Eigen::Vector2d::Zero();
+  door_seen_count_ = 0;
+}
+
+void RoomVisit::beginKnownRoom(const Perception& p, const Pose2D& hallway_stop_odom, double hallway_heading_odom,
+                               const GraphOpening& door, double door_width) {
+  new_room_ = false;
+  door_width_ = door_width;
+  // Where the robot left the hallway, in the place (it may have moved to the door since).
+  const Pose2D stop = compose(p.room_pose, compose(inverse(p.odom), hallway_stop_odom));
+  hallway_in_place_ = Eigen::Vector2d(stop.x, stop.y);
+  exit_theta_place_ = normalizeAngle(p.room_pose.theta + hallway_heading_odom - p.odom.theta);
+  place_origin_odom_ = compose(p.odom, inverse(p.room_pose));  // stands in for missing EKF poses (see inPlace())
+  door_in_place_ = Pose2D{door.door_in_place[0], door.door_in_place[1], door.door_in_place[2]};
+  explorer_.start(door_in_place_, door.width > 0.0 ? door.width : door_width);
+}
+
+Perception RoomVisit::inPlace(const Perception& p) {
+  Perception q = p;
+  if (!p.room_pose_valid || !finitePose(p.room_pose)) {
+    // No EKF pose for this scan (it comes with the place's first features; or the EKF lags):
+    // the odometry since the EKF's last pose stands in (its drift over a few scans is small).
+    q.room_pose = compose(inverse(place_origin_odom_), p.odom);
+    q.room_pose_valid = true;
+  } else {
+    // The place in the odometry frame as the EKF places it now, not as at the place's creation or
+    // relocation: a goal in the place moves with the EKF's corrections.
+    place_origin_odom_ = compose(p.odom, inverse(p.room_pose));
+  }
+  return q;
+}
+
+void RoomVisit::observe(const Perception& q, bool approaching, Decision* d) {
+  const Pose2D sensor = compose(q.room_pose, q.sensor_in_robot);
+  // A new room's door as seen on the way to it: the track from the hallway may lie half a metre
+  // along the wall from it, and the robot would meet the jamb.
+  if (approaching && new_room_ && refineDoor(q)) explorer_.start(door_in_place_, door_width_);  // nothing of the room is seen yet
+  if (!q.ranges.empty()) explorer_.addScan(sensor, q.ranges, q.angle_min, q.angle_increment);
+  const Eigen::Vector2d robot(q.room_pose.x, q.room_pose.y);
+  // Near its door the robot passes it (the door's steps lie 0.6-0.7 m either side of it): the
+  // controller keeps a clearance that fits the door.
+  if ((robot - Eigen::Vector2d(door_in_place_.x, door_in_place_.y)).norm() < kDoorPassage) d->passage_width = door_width_;
+  if (!approaching) last_position_ = robot;
+}
+
+bool RoomVisit::refineDoor(const Perception& q) {
+  // The door seen now: an opening of a door's width facing the same way, within same_distance of
+  // the door as tracked; the mean of its sightings on the approach replaces the door (its
+  // direction, the hallway's normal, is kept) once it differs by more than 5 cm.
+  const Eigen::Vector2d tracked = door_tracked_in_place_;
+  double nearest = doors_.same_distance;
+  std::optional<Eigen::Vector2d> seen;
+  for (const laser_features::Opening& o : q.openings) {
+    if (!(o.width >= rules_.door_min_width && rules_.mayBeDoor(o.width))) continue;
+    if (std::abs(normalizeAngle(o.theta + q.room_pose.theta - door_in_place_.theta)) > doors_.side_angle) continue;
+    const Eigen::Vector2d c = transformPoint(q.room_pose, o.center);
+    const double off = (c - tracked).norm();
+    if (off < nearest) {
+      nearest = off;
+      seen = c;
+    }
+  }
+  if (!seen) return false;
+  door_seen_sum_ += *seen;
+  ++door_seen_count_;
+  const Eigen::Vector2d mean = door_seen_sum_ / double(door_seen_count_);
+  if ((mean - Eigen::Vector2d(door_in_place_.x, door_in_place_.y)).norm() <= 0.05) return false;
+  door_in_place_.x = mean.x();
+  door_in_place_.y = mean.y();
+  return true;
+}
+
+bool RoomVisit::approachDoor(const Perception& q, double elapsed, Decision* d) {
+  // In front of the door on its axis, facing in, before going through.
+  const Eigen::Vector2d robot(q.room_pose.x, q.room_pose.y);
+  const Eigen::Vector2d a = Eigen::Vector2d(door_in_place_.x, door_in_place_.y) - 0.6 * unitVector(door_in_place_.theta);
+  goalInPlace(q, a, door_in_place_.theta, d);
+  return (robot - a).norm() < 0.15 || elapsed > 30.0;
+}
+
+double RoomVisit::doorRefinement() const {
+  // The place's door in the EKF stays the door as tracked from the hallway: a mission's relocation
+  // measures the robot from the door tracked the same way, so their biases cancel. The door as seen
+  // is what the graph links: the way in.
+  return (Eigen::Vector2d(door_in_place_.x, door_in_place_.y) - door_tracked_in_place_).norm();
+}
+
+RoomVisit::Coverage RoomVisit::coverRoom(const Perception& q, double now, double elapsed, Decision* d) {
+  const Eigen::Vector2d robot(q.room_pose.x, q.room_pose.y);
+  const Eigen::Vector2d door(door_in_place_.x, door_in_place_.y);
+  // Other doors seen from inside the room are closed with a virtual wall: the room's map stays
+  // the room's (they remain openings of the place).
+  for (const auto& o : q.openings) {
+    if (!rules_.isDoor(o.width, o.room_behind)) continue;
+    const Eigen::Vector2d l = transformPoint(q.room_pose, o.left), r = transformPoint(q.room_pose, o.right);
+    if ((0.5 * (l + r) - door).norm() < 0.8) continue;
+    explorer_.blockOpening(l, r);
+  }
+  if (now - last_plan_ >= params_.replan_period || !goal_) {
+    last_plan_ = now;
+    goal_ = explorer_.nextGoal(robot, now);
+  }
+  const bool timeout = elapsed > params_.time_limit;
+  if (timeout) return Coverage::TimedOut;
+  if (explorer_.status() == RoomStatus::Done || explorer_.status() == RoomStatus::Invalid) return Coverage::Done;
+  if (goal_) goalInPlace(q, *goal_, std::nullopt, d);
+  else d->stop = true;
+  return Coverage::Covering;
+}
+
+void RoomVisit::beginExit() {
+  exit_attempts_ = 0;
+  planExit();
+}
+
+void RoomVisit::planExit() {
+  exit_path_.clear();
+  exit_index_ = 0;
+  if (auto path = explorer_.pathToExit(last_position_)) exit_path_ = path->waypoints;
+}
+
+bool RoomVisit::followExitPath(const Perception& q, double elapsed, Decision* d) {
+  const Eigen::Vector2d robot(q.room_pose.x, q.room_pose.y);
+  while (exit_index_ < exit_path_.size() && (exit_path_[exit_index_] - robot).norm() < 0.3) ++exit_index_;
+  if (exit_index_ >= exit_path_.size() || elapsed > params_.exit_time_limit) return true;
+  goalInPlace(q, exit_path_[exit_index_], std::nullopt, d);
+  return false;
+}
+
+void RoomVisit::beginDoorExit(double now) {
+  exit_step_ = 0;
+  exit_step_since_ = now;
+}
+
+RoomVisit::Exit RoomVisit::exitThroughDoor(const Perception& q, double now, double elapsed, const MotionFeedback& motion,
+                                           Decision* d) {
+  // Each step through the door ends when reached, when the controller is blocked, or after a third
+  // of exit_time_limit.
+  const Eigen::Vector2d robot(q.room_pose.x, q.room_pose.y);
+  const Eigen::Vector2d door(door_in_place_.x, door_in_place_.y);
+  const Eigen::Vector2d into = unitVector(door_in_place_.theta);
+  const Eigen::Vector2d steps[2] = {door + 0.6 * into, door - 0.7 * into};
+  const bool step_timeout = now - exit_step_since_ > params_.exit_time_limit / 3.0;
+  if (exit_step_ < 2) {
+    const Eigen::Vector2d& w = steps[exit_step_];
+    const bool past = exit_step_ == 0 && (robot - door).dot(into) < 0.6;  // already nearer the door
+    if ((robot - w).norm() < 0.25 || past || motion.blocked || step_timeout) {
+      ++exit_step_;
+      exit_step_since_ = now;
+    } else {
+      goalInPlace(q, w, std::nullopt, d);
+      return Exit::Passing;
+    }
+    if (exit_step_ < 2) {
+      goalInPlace(q, steps[exit_step_], std::nullopt, d);
+      return Exit::Passing;
+    }
+  }
+  goalInPlace(q, hallway_in_place_, exit_theta_place_, d);
+  const double err = std::abs(normalizeAngle(exit_theta_place_ - q.room_pose.theta));
+  const bool back = ((robot - hallway_in_place_).norm() < 0.2 && err < 0.15) || (motion.reached && err < 0.2);
+  if (!(back || step_timeout || elapsed > params_.exit_time_limit)) return Exit::Passing;
+  // Out only once past the door line: a robot that did not get through (blocked at a narrow door,
+  // the door placed off) and went on as on a hallway would take the room for hallways. It tries
+  // again from where it is, kExitAttempts times in all.
+  if ((robot - door).dot(into) > 0.0) {
+    if (++exit_attempts_ < kExitAttempts) {
+      planExit();
+      return Exit::TryAgain;
+    }
+    return Exit::Stuck;
+  }
+  return back ? Exit::Back : Exit::NearlyBack;
+}
+
+void RoomVisit::turnExitHeadingRound() { exit_theta_place_ = normalizeAngle(exit_theta_place_ + laser_features::kPi); }
+
+void RoomVisit::goalInPlace(const Perception& q, const Eigen::Vector2d& g, std::optional<double> theta,
+                            Decision* d) const {
+  // odom <- place: the robot's pose in both frames at the same stamp.
+  const Pose2D odom_from_place = compose(q.odom, inverse(q.room_pose));
+  const Eigen::Vector2d go = transformPoint(odom_from_place, g);
+  d->has_goal = true;
+  d->x = go.x();
+  d->y = go.y();
+  if (theta) d->theta = normalizeAngle(*theta + odom_from_place.theta);
+}
+
+}  // namespace exploration
