@@ -53,19 +53,14 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
   if (!(p.jump_tolerance >= 0.0 && p.jump_hold_distance >= 0.0)) return fail("jump_tolerance and jump_hold_distance must be >= 0");
   if (!(p.branch_record_distance >= 0.0 && p.u_turn_cost >= 0.0 && p.goal_refresh_distance > 0.0))
     return fail("branch_record_distance and u_turn_cost must be >= 0, goal_refresh_distance > 0");
-  if (!(p.relocation_timeout > 0.0 && p.mission_time_limit > 0.0 && p.mission_stall_time > 0.0 &&
-        p.mission_goal_tolerance > 0.0 && p.mission_heading_tolerance > 0.0 &&
-        p.mission_accept_distance >= p.mission_goal_tolerance && p.mission_accept_angle >= p.mission_heading_tolerance &&
-        p.mission_refine_attempts >= 0))
-    return fail("relocation_timeout, mission_time_limit, mission_stall_time and the mission tolerances must be > 0, "
-                "the accepted distance and angle at least the tolerances, mission_refine_attempts >= 0");
-  if (p.max_relocation_failures < 0) return fail("max_relocation_failures must be >= 0");
+  if (!MissionRunner::validate(p.mission, error)) return false;
   return RoomExplorer::validate(p.room, error);
 }
 
 Coordinator::Coordinator(const CoordinatorParams& params)
     : params_(params),
       visit_(params.room_visit, params.room, params.rules, params.doors),
+      mission_(params.mission),
       doors_(params.doors, params.rules) {
   std::string why;
   if (!validate(params, &why)) throw std::invalid_argument("exploration coordinator: " + why);
@@ -166,11 +161,11 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
     frontier_node_travel_ = travel_;
   }
 
-  if (!idle() && !mission_active_ && params_.max_time > 0.0 && now_ - start_time_ > params_.max_time) {
+  if (!idle() && !mission_.active() && params_.max_time > 0.0 && now_ - start_time_ > params_.max_time) {
     finish(false, "time limit reached before the exploration was complete", &d);
   }
-  if (mission_active_ && now_ - mission_start_time_ > params_.mission_time_limit) {
-    endMission(false, "the mission's time limit (" + std::to_string(int(params_.mission_time_limit)) + " s) was reached", &d);
+  if (mission_.active() && mission_.timedOut(now_)) {
+    endMission(false, "the mission's time limit (" + std::to_string(int(params_.mission.time_limit)) + " s) was reached", &d);
   }
   switch (state_) {
     case State::Init:
@@ -255,8 +250,8 @@ void Coordinator::turn(const Perception& p, bool motion_reached, bool motion_blo
 void Coordinator::stopForDoor(const Perception& p, const TopoView& topo, Decision* d) {
   d->stop = true;
   mode_ = CoordinatorMode::Switching;
-  if (mission_active_) {
-    if (now_ - state_since_ >= params_.settle_time) relocate(p, topo, d);
+  if (mission_.active()) {
+    if (now_ - state_since_ >= params_.settle_time) beginRelocation(p, d);
     return;
   }
   if (now_ - state_since_ >= params_.settle_time && enter_node_ < 0 && topo.mode != "frontier" &&
@@ -395,7 +390,7 @@ void Coordinator::recordWaysNotTaken(bool sure, Decision* d) {
 
 bool Coordinator::followRoute(const Perception& p, const TopoView& topo, RouteStep* out, Decision* d) {
   RouteStep& route = *out;
-  if (!mission_active_ && graph_.nodes().size() > 1 && graph_.unexploredCount() == 0 && pending_branches_.empty()) {
+  if (!mission_.active() && graph_.nodes().size() > 1 && graph_.unexploredCount() == 0 && pending_branches_.empty()) {
     // Complete only if nothing was given up: an opening given up unreached counts as explored,
     // and rooms behind it may be missing; a room left at its time limit is not all mapped.
     if (stats_.openings_given_up > 0 || stats_.rooms_left_early > 0) {
@@ -408,14 +403,12 @@ bool Coordinator::followRoute(const Perception& p, const TopoView& topo, RouteSt
     return true;
   }
   route = plan(topo.position);
-  if (mission_active_) {
+  if (mission_.active()) {
     if (!route.found) {
-      endMission(false, "no route on the topological map to the door of place " + std::to_string(mission_place_), d);
+      endMission(false, "no route on the topological map to the door of place " + std::to_string(mission_.place()), d);
       return true;
     }
-    const Eigen::Vector2d goal(mission_goal_.x, mission_goal_.y);
-    const Eigen::Vector2d door(mission_door_.opening.door_in_place[0], mission_door_.opening.door_in_place[1]);
-    mission_distance_left_ = route.distance + (goal - door).norm();
+    mission_.updateDistanceLeft(route);
   }
   const int near = graph_.nearestNode(topo.position);
   if (giveUpGoalPassed(topo, route, near, d)) return true;
@@ -434,7 +427,7 @@ bool Coordinator::giveUpGoalPassed(const TopoView& topo, const RouteStep& route,
   // of its 6.5 m edge, before the robot had reached it or turned round at the end to pass it).
   const bool at_goal = near >= 0 && uint32_t(near) == route.goal_node;
   const bool close = at_goal && graph_.nearestNodeDistance(topo.position) <= kAtNodeDistance;
-  if (!mission_active_ && route.found && door_goal && at_goal && (goal_pass_node_ == near || close)) {
+  if (!mission_.active() && route.found && door_goal && at_goal && (goal_pass_node_ == near || close)) {
     if (goal_pass_node_ != near) {
       goal_pass_node_ = near;
       goal_pass_travel_ = travel_;
@@ -468,14 +461,14 @@ bool Coordinator::turnRoundForRoute(const Perception& p, const TopoView& topo, c
       // An opening the robot keeps turning round for (it passes its node without taking it:
       // the door is not seen, or the belief flickers) is given up after max_route_attempts.
       const bool missed = ++route_attempts_[route.goal_node] > params_.max_route_attempts;
-      if (missed && mission_active_) {
-        const std::string why = "the door of place " + std::to_string(mission_place_) + " was not found at node " +
+      if (missed && mission_.active()) {
+        const std::string why = "the door of place " + std::to_string(mission_.place()) + " was not found at node " +
                                 std::to_string(route.goal_node) + " after " + std::to_string(params_.max_route_attempts) +
                                 " turns towards it";
         // A confident belief that keeps missing the door is likely wrong (a look-alike stretch):
         // global localization again (a uniform belief) rather than giving up or going on lost.
-        if (++mission_door_misses_ > params_.max_relocation_failures) {
-          endMission(false, why + ", " + std::to_string(mission_door_misses_) + " times", d);
+        if (mission_.missDoor()) {
+          endMission(false, why + ", " + std::to_string(mission_.doorMisses()) + " times", d);
           return true;
         }
         route_attempts_.clear();
@@ -543,7 +536,7 @@ bool Coordinator::turnIntoRouteBranch(const Perception& p, const TopoView& topo,
   // A side branch the route takes at the node the robot is at now (the side must be open: the
   // branch's mouth is beside the robot).
   // A mission's goal is a door: entered once passed (above), never turned into like a branch.
-  const bool door_next = mission_active_ && route.next_node == route.goal_node;
+  const bool door_next = mission_.active() && route.next_node == route.goal_node;
   if (route.found && sure && !door_next) {
     const int route_bin = binOf(route.next_heading);
     const int n = bins_.bins;
@@ -610,7 +603,7 @@ void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const H
     }
   }
   std::vector<int> not_taken;
-  if (sure && topo.mode == "frontier" && !mission_active_) {
+  if (sure && topo.mode == "frontier" && !mission_.active()) {
     for (int b : open) {
       if (b != choice) not_taken.push_back(b);
     }
@@ -671,14 +664,14 @@ bool Coordinator::beliefPlausible(const TopoView& topo) {
 bool Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) {
   enter_node_ = -1;
   enter_bearing_ = normalizeAngle(door.into_odom + topo.heading_offset);
-  if (mission_active_) {
+  if (mission_.active()) {
     // Only the mission's door, at its node as a confident belief says, on its side.
     if (topo.mode != "localized" || !topo.confident || travel_ < distrust_until_) return false;
     const int n = graph_.nearestNode(topo.position);
-    if (n < 0 || uint32_t(n) != mission_door_.node) return false;
-    if (std::abs(normalizeAngle(mission_door_.opening.bearing - enter_bearing_)) > 0.5) return false;
+    if (n < 0 || uint32_t(n) != mission_.door().node) return false;
+    if (std::abs(normalizeAngle(mission_.door().opening.bearing - enter_bearing_)) > 0.5) return false;
     enter_node_ = n;
-    enter_bearing_ = mission_door_.opening.bearing;
+    enter_bearing_ = mission_.door().opening.bearing;
     return true;
   }
   if (topo.mode == "frontier") return true;  // a door on a new stretch is new: its node is pomdp_topo's current one
@@ -733,7 +726,9 @@ void Coordinator::visitRoom(const Perception& p, Decision* d) {
     case State::ApproachDoor:
       return approachDoor(q, d);
     case State::GoToGoal:
-      return missionGoal(q, d);
+      if (const std::optional<MissionEnd> end = mission_.driveToGoal(q, visit_, now_, now_ - state_since_, motion_, d))
+        endMission(end->success, end->why, d);
+      return;
     case State::Room:
       return coverRoom(q, d);
     default:
@@ -743,7 +738,7 @@ void Coordinator::visitRoom(const Perception& p, Decision* d) {
 
 void Coordinator::approachDoor(const Perception& q, Decision* d) {
   if (!visit_.approachDoor(q, now_ - state_since_, d)) return;
-  if (mission_active_) {
+  if (mission_.active()) {
     beginGoToGoal("driving to the mission's goal in place " + std::to_string(place_id_), false);
     return;
   }
@@ -778,7 +773,7 @@ void Coordinator::leaveRoom(const Perception& q, Decision* d) {
   }
   // Still inside after every attempt: the exploration stops rather than map the room as a hallway;
   // a mission goes on from where the robot is.
-  if (exit == RoomVisit::Exit::Stuck && !mission_active_) {
+  if (exit == RoomVisit::Exit::Stuck && !mission_.active()) {
     finish(false, "could not leave place " + std::to_string(place_id_) + " through its door (" +
                       std::to_string(RoomVisit::kExitAttempts) + " attempts)", d);
     return;
@@ -796,11 +791,11 @@ void Coordinator::backOnHallway(bool exact, Decision* d) {
   // The travel in the room is not travel past the route's goal node: a door facing the one just
   // explored across the hallway would be given up at once.
   goal_pass_node_ = -1;
-  if (mission_active_) {
+  if (mission_.active()) {
     // A mission leaving a room: back on the hallway, on to the goal's door (nothing to record).
     place_id_ = -1;
     in_room_ = false;
-    setState(State::Follow, "mission to place " + std::to_string(mission_place_) + ": following the hallway");
+    setState(State::Follow, "mission to place " + std::to_string(mission_.place()) + ": following the hallway");
     return;
   }
   Request rec;
@@ -816,7 +811,7 @@ void Coordinator::backOnHallway(bool exact, Decision* d) {
 }
 
 RouteStep Coordinator::plan(const GraphPosition& pos) const {
-  if (mission_active_) return graph_.routeTo(pos, mission_door_.node, mission_door_.opening, params_.u_turn_cost);
+  if (mission_.active()) return graph_.routeTo(pos, mission_.door().node, mission_.door().opening, params_.u_turn_cost);
   return graph_.route(pos, params_.u_turn_cost);
 }
 
@@ -825,50 +820,16 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
     if (why) *why = text;
     return false;
   };
-  if (mission_active_) return refuse("a mission is running (to place " + std::to_string(mission_place_) + ")");
+  if (mission_.active()) return refuse("a mission is running (to place " + std::to_string(mission_.place()) + ")");
   if (!idle()) return refuse("the exploration is running: missions start once it is done");
-  if (!finitePose(goal)) return refuse("the goal is not finite");
-  const std::optional<PlaceDoor> door = graph_.placeDoor(place_id);
-  if (!door) {
-    std::ostringstream known;
-    const std::set<int> ids = graph_.placeIds();
-    for (int id : ids) known << (known.tellp() > 0 ? ", " : "") << id;
-    return refuse("place " + std::to_string(place_id) + " is unknown: no door of the topological map links it (known places: " +
-                  (ids.empty() ? std::string("none") : known.str()) + ")");
-  }
-  mission_active_ = true;
-  mission_place_ = place_id;
-  mission_goal_ = goal;
-  mission_door_ = *door;
-  mission_start_travel_ = travel_;
-  mission_start_time_ = now_;
-  mission_outcome_ = MissionOutcome();
-  mission_distance_left_ = 0.0;
-  relocation_failures_ = 0;
-  mission_door_misses_ = 0;
+  if (!mission_.start(place_id, goal, graph_, travel_, now_, why)) return false;
   route_attempts_.clear();
   const std::string to = "mission to place " + std::to_string(place_id);
   if (in_room_ && place_id_ == place_id) {
     beginGoToGoal(to + ": driving to the goal in the room", true);
     mode_ = CoordinatorMode::Metric;
   } else if (in_room_) {
-    // Out of this room by its door first. The hallway heading to leave by: towards the goal's door.
-    GraphPosition at_door;
-    at_door.valid = true;
-    at_door.at_node = true;
-    at_door.id = uint32_t(std::max(0, door_node_));
-    at_door.heading = binHeading(hallway_bin_);
-    const RouteStep r = graph_.routeTo(at_door, mission_door_.node, mission_door_.opening, params_.u_turn_cost);
-    const int n = bins_.bins;
-    if (r.found && door_node_ >= 0 && uint32_t(door_node_) != mission_door_.node) {
-      const int rb = binOf(r.heading);
-      if (rb == (hallway_bin_ + n / 2) % n) {
-        visit_.turnExitHeadingRound();
-        hallway_bin_ = rb;
-      }
-    }
-    visit_.beginExit();
-    setState(State::ExitPath, to + ": leaving place " + std::to_string(place_id_) + " by its door");
+    leaveRoomForMission(to + ": leaving place " + std::to_string(place_id_) + " by its door");
     mode_ = CoordinatorMode::Metric;
   } else {
     have_goal_ = false;
@@ -879,20 +840,34 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
   return true;
 }
 
+void Coordinator::leaveRoomForMission(const std::string& text) {
+  // Out of this room by its door first. The hallway heading to leave by: towards the goal's door.
+  GraphPosition at_door;
+  at_door.valid = true;
+  at_door.at_node = true;
+  at_door.id = uint32_t(std::max(0, door_node_));
+  at_door.heading = binHeading(hallway_bin_);
+  const PlaceDoor& goal_door = mission_.door();
+  const RouteStep r = graph_.routeTo(at_door, goal_door.node, goal_door.opening, params_.u_turn_cost);
+  const int n = bins_.bins;
+  if (r.found && door_node_ >= 0 && uint32_t(door_node_) != goal_door.node) {
+    const int rb = binOf(r.heading);
+    if (rb == (hallway_bin_ + n / 2) % n) {
+      visit_.turnExitHeadingRound();
+      hallway_bin_ = rb;
+    }
+  }
+  visit_.beginExit();
+  setState(State::ExitPath, text);
+}
+
 void Coordinator::beginGoToGoal(const std::string& text, bool inside) {
   setState(State::GoToGoal, text);
-  mission_entered_ = inside;
-  mission_goal_odom_valid_ = false;
-  mission_refines_ = 0;
-  mission_path_.clear();
-  mission_best_ = std::numeric_limits<double>::infinity();
-  mission_best_time_ = now_;
-  mission_path_length_ = std::numeric_limits<double>::infinity();
-  mission_had_path_ = false;
+  mission_.beginGoToGoal(inside, now_);
 }
 
 void Coordinator::cancelMission(const std::string& why) {
-  if (!mission_active_) return;
+  if (!mission_.active()) return;
   Decision d;
   endMission(false, why, &d);
   // Its requests (closing a place relocated in) go out with the next update.
@@ -900,13 +875,7 @@ void Coordinator::cancelMission(const std::string& why) {
 }
 
 void Coordinator::endMission(bool success, const std::string& why, Decision* d) {
-  mission_outcome_.finished = true;
-  mission_outcome_.success = success;
-  mission_outcome_.message = why;
-  mission_outcome_.path_length = travel_ - mission_start_travel_;
-  mission_outcome_.relocation_failures = relocation_failures_;
-  mission_outcome_.door_misses = mission_door_misses_;
-  mission_active_ = false;
+  mission_.end(success, why, travel_);
   // In a room when the place is active and the robot is past the hallway stop (metric states).
   in_room_ = place_id_ >= 0 && (state_ == State::GoToGoal || state_ == State::ApproachDoor ||
                                 state_ == State::ExitPath || state_ == State::ExitDoor);
@@ -922,105 +891,48 @@ void Coordinator::endMission(bool success, const std::string& why, Decision* d) 
 
 void Coordinator::relocationResult(int place_id, bool success, const std::string& verdict) {
   if (state_ != State::Relocate || place_id != place_id_) return;
-  relocation_pending_ = false;
-  relocation_ok_ = success;
-  relocation_verdict_ = verdict;
+  mission_.relocationResult(success, verdict);
 }
 
-void Coordinator::askRelocation(const Pose2D& door_odom, const Pose2D& robot_odom, Decision* d) {
-  Request r;
-  r.kind = Request::Relocate;
-  r.place_id = mission_place_;
-  r.door_id = int(mission_door_.node);
-  r.pose = compose(inverse(door_odom), robot_odom);  // the robot in the door's frame
-  d->requests.push_back(r);
-  relocation_pending_ = true;
-  relocation_ok_ = false;
-  relocation_verdict_.clear();
+void Coordinator::beginRelocation(const Perception& p, Decision* d) {
+  // Stopped past the mission's door (Tomatis et al. 2001, section 3.2): the place's map is
+  // matched from here, the robot's pose given by the door as the laser sees it.
+  d->stop = true;
+  mode_ = CoordinatorMode::Metric;
+  hallway_pose_odom_ = p.odom;
+  hallway_bin_ = bin_;
+  place_id_ = mission_.place();
+  door_node_ = int(mission_.door().node);
+  mission_.beginRelocation(door_, p.odom, d);
+  setState(State::Relocate, "relocating in place " + std::to_string(mission_.place()) + " at its door");
 }
 
 void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* d) {
   d->stop = true;
   mode_ = CoordinatorMode::Metric;
-  if (state_ == State::StopForDoor) {
-    // Stopped past the mission's door (Tomatis et al. 2001, section 3.2): the place's map is
-    // matched from here, the robot's pose given by the door as the laser sees it.
-    hallway_pose_odom_ = p.odom;
-    hallway_bin_ = bin_;
-    place_id_ = mission_place_;
-    door_node_ = int(mission_door_.node);
-    askRelocation(Pose2D{door_.centre_odom.x(), door_.centre_odom.y(), door_.into_odom}, p.odom, d);
-    relocate_step_ = 0;
-    relocation_retried_ = false;
-    setState(State::Relocate, "relocating in place " + std::to_string(mission_place_) + " at its door");
-    return;
-  }
-  const bool timeout = now_ - state_since_ > params_.relocation_timeout;
-  const bool pose = p.room_pose_valid && finitePose(p.room_pose);
-  if (relocation_ok_ && pose) {
-    visit_.beginKnownRoom(p, hallway_pose_odom_, odomHeadingOfBin(hallway_bin_, topo), mission_door_.opening, door_.width);
-    setState(State::ApproachDoor, "relocated in place " + std::to_string(place_id_) + ": entering");
-    return;
-  }
-  if (relocation_ok_ && !timeout) return;  // the verdict came, the EKF's pose not yet
-  // From the hallway the room may show too little (lines all parallel, or too few): ekf_local_map
-  // keeps the relocation pending and tries again on every scan, so the robot moves in front of the
-  // door, facing in, where it sees the room. A jointly incompatible match (the wrong room, or the
-  // door seen off) is asked again from there once (below); a failure from there too is a failure.
-  const bool wrong_room = relocation_verdict_ == "matches jointly incompatible";
-  if (!relocation_pending_ && relocate_step_ == 0 && !timeout) {
-    relocate_step_ = 1;
-    relocate_step_since_ = now_;
-    state_text_ = "relocation from the hallway: " + relocation_verdict_ + "; trying again in front of the door";
-  }
-  if (relocate_step_ == 1) {
-    const Eigen::Vector2d a = door_.centre_odom - 0.6 * unitVector(door_.into_odom);
-    const bool there = (a - Eigen::Vector2d(p.odom.x, p.odom.y)).norm() < 0.1 &&
-                       std::abs(normalizeAngle(door_.into_odom - p.odom.theta)) < 0.1;
-    if (there || (motion_.reached && now_ - relocate_step_since_ > 1.0) || now_ - relocate_step_since_ > params_.relocation_timeout) {
-      relocate_step_ = 2;
-      relocate_step_since_ = now_;
-    } else {
-      d->stop = false;
-      d->has_goal = true;
-      d->x = a.x();
-      d->y = a.y();
-      d->theta = door_.into_odom;
+  const RelocationStep step = mission_.relocate(p, door_, now_, now_ - state_since_, motion_, d);
+  switch (step.kind) {
+    case RelocationStep::Pending:
+      if (!step.text.empty()) state_text_ = step.text;
       return;
-    }
+    case RelocationStep::Relocated:
+      visit_.beginKnownRoom(p, hallway_pose_odom_, odomHeadingOfBin(hallway_bin_, topo), mission_.door().opening,
+                            door_.width);
+      setState(State::ApproachDoor, "relocated in place " + std::to_string(place_id_) + ": entering");
+      return;
+    case RelocationStep::AskedAgain:
+      setState(State::Relocate, step.text);
+      return;
+    case RelocationStep::Failed:
+    case RelocationStep::GaveUp:
+      break;
   }
-  // Jointly incompatible from the hallway is not yet the wrong room: the door, half a metre behind
-  // the robot where it stopped, may be seen off by a few decimetres (institute: the store's and the
-  // kitchen's doors, right rooms both). A new relocation from in front of the door, with the door as
-  // seen from there, decides (once).
-  if (relocate_step_ == 2 && wrong_room && !relocation_retried_) {
-    relocation_retried_ = true;
-    Pose2D door{door_.centre_odom.x(), door_.centre_odom.y(), door_.into_odom};
-    double nearest = 0.5;  // m, the opening seen now that is the door
-    for (const laser_features::Opening& o : p.openings) {
-      const Pose2D seen = compose(p.odom, Pose2D{o.center.x(), o.center.y(), o.theta});
-      const double off = (Eigen::Vector2d(seen.x, seen.y) - door_.centre_odom).norm();
-      if (off < nearest && std::abs(normalizeAngle(seen.theta - door_.into_odom)) < 0.5) {
-        nearest = off;
-        door = Pose2D{seen.x, seen.y, seen.theta};
-      }
-    }
-    askRelocation(door, p.odom, d);
-    setState(State::Relocate, "relocating again in place " + std::to_string(mission_place_) + ", in front of its door");
-    return;
-  }
-  if (relocate_step_ == 2 && now_ - relocate_step_since_ < 3.0 && !wrong_room) return;  // a few scans from there
-  if (relocation_pending_ && !timeout) return;
-  // Not the goal's room (or no verdict): the belief was wrong. Back to the hallway with a uniform
-  // belief (global localization) rather than going on lost.
-  ++relocation_failures_;
-  const std::string verdict = relocation_pending_ ? "no verdict in " + std::to_string(int(params_.relocation_timeout)) + " s"
-                                                  : relocation_verdict_;
+  // Not the goal's room: the mission fails, or back to the hallway with a uniform belief (global
+  // localization) rather than going on lost.
   d->requests.push_back(Request{Request::ClosePlace});
   place_id_ = -1;
-  if (relocation_failures_ > params_.max_relocation_failures) {
-    endMission(false, "relocation at the door of place " + std::to_string(mission_place_) + " failed " +
-                          std::to_string(relocation_failures_) + " times (last: " + verdict + ")", d);
+  if (step.kind == RelocationStep::GaveUp) {
+    endMission(false, step.text, d);
     return;
   }
   Request reset;
@@ -1028,114 +940,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
   d->requests.push_back(reset);
   mode_ = CoordinatorMode::Topological;
   have_goal_ = false;
-  setState(State::Follow, "not the room of place " + std::to_string(mission_place_) + " (relocation: " + verdict +
-                              "): the belief is reset, following the hallway");
-}
-
-void Coordinator::missionGoal(const Perception& p, Decision* d) {
-  const Eigen::Vector2d robot(p.room_pose.x, p.room_pose.y);
-  const Eigen::Vector2d goal(mission_goal_.x, mission_goal_.y);
-  const double dist = (goal - robot).norm();
-  const double herr = std::abs(normalizeAngle(mission_goal_.theta - p.room_pose.theta));
-  mission_distance_left_ = dist;
-  char at[96];
-  std::snprintf(at, sizeof(at), " (estimate %.3f m, %.3f rad from the goal)", dist, herr);
-  // Where the controller stops (blocked) or stalls this close, the goal counts as reached.
-  const bool close = dist < params_.mission_accept_distance && herr < params_.mission_accept_angle;
-  // Through the door on its axis first: the room's grid has a virtual wall across the door, so
-  // no grid path leads in from the hallway, and a straight line from there meets the door's jamb.
-  const Pose2D& door_pose = visit_.doorInPlace();
-  const Eigen::Vector2d door(door_pose.x, door_pose.y);
-  const Eigen::Vector2d into = unitVector(door_pose.theta);
-  // Once inside, never again (a goal just inside the door lies within entry_depth).
-  if ((robot - door).dot(into) >= params_.room.entry_depth) mission_entered_ = true;
-  const bool entering = !mission_entered_ && (goal - door).dot(into) > 0.0;
-  // Once inside, far from the goal: along a grid path in the room as seen (furniture between the
-  // door and the goal); near it, or with no path, straight to it.
-  if (!entering && (now_ - mission_last_plan_ >= params_.room_visit.replan_period || mission_path_.empty())) {
-    mission_last_plan_ = now_;
-    mission_path_.clear();
-    mission_path_index_ = 0;
-    const auto path = visit_.pathTo(robot, goal);
-    if (path) mission_path_ = path->waypoints;
-    // Progress is along the way to the goal (the grid path's length), not straight at it: going
-    // round furniture first leads away. A path found a metre longer than the last path (what was
-    // unseen is blocked) starts the progress anew; no path (straight at the goal) never does, so a
-    // goal with a path now and then (inside a wall) still stalls.
-    const double length = path ? path->length : dist;
-    if (path && mission_had_path_ && length > mission_path_length_ + 1.0)
-      mission_best_ = std::numeric_limits<double>::infinity();
-    mission_had_path_ = path.has_value();
-    mission_path_length_ = length;
-  }
-  const double left = entering ? dist : mission_path_length_;
-  if (left < mission_best_ - 0.05) {
-    mission_best_ = left;
-    mission_best_time_ = now_;
-  }
-  while (mission_path_index_ < mission_path_.size() && (mission_path_[mission_path_index_] - robot).norm() < 0.3)
-    ++mission_path_index_;
-  const bool stalled = now_ - mission_best_time_ > params_.mission_stall_time;
-  bool blocked_at_goal = false;  // the controller gave up on the final goal (sent before this tick)
-  if (entering) {
-    visit_.goalInPlace(p, door + (params_.room.entry_depth + params_.room.entry_goal_extra) * into, door_pose.theta, d);
-    mission_goal_odom_valid_ = false;
-  } else if (dist > 0.6 && mission_path_index_ + 1 < mission_path_.size()) {
-    visit_.goalInPlace(p, mission_path_[mission_path_index_], std::nullopt, d);
-    mission_goal_odom_valid_ = false;
-  } else {
-    // The final goal. In the odometry frame it moves with every EKF correction; it is re-sent only
-    // when it moved by more than mission_accept_distance (or mission_accept_angle), so that the controller's
-    // reached and blocked are about this goal, and a correction of a centimetre or two after the
-    // final turn does not send a differential drive round to face a point 2 cm behind it.
-    const bool sent = mission_goal_odom_valid_;
-    Decision g;
-    visit_.goalInPlace(p, goal, mission_goal_.theta, &g);
-    if (!sent || std::hypot(g.x - mission_goal_odom_.x, g.y - mission_goal_odom_.y) > params_.mission_accept_distance ||
-        std::abs(normalizeAngle(*g.theta - mission_goal_odom_.theta)) > params_.mission_accept_angle) {
-      mission_goal_odom_ = Pose2D{g.x, g.y, *g.theta};
-      mission_goal_odom_valid_ = true;
-    }
-    d->has_goal = true;
-    d->x = mission_goal_odom_.x;
-    d->y = mission_goal_odom_.y;
-    d->theta = mission_goal_odom_.theta;
-    d->tolerance = std::make_pair(params_.mission_goal_tolerance, params_.mission_heading_tolerance);
-    // Reached when the controller says so (it has stopped there; the EKF's estimate alone can pass
-    // through the goal while the robot still turns, and the robot would stop 0.5 rad further on at
-    // rate 10) and the EKF agrees within the tolerances. Else the goal is sent again from the EKF's
-    // estimate (the controller backs up to a goal a few centimetres behind), mission_refine_attempts
-    // times, and then accepted within the accepted distance: the estimate moves by a few
-    // millimetres with every scan.
-    const bool precise = dist <= params_.mission_goal_tolerance && herr <= params_.mission_heading_tolerance;
-    if (sent && motion_.reached && (precise || (close && mission_refines_ >= params_.mission_refine_attempts))) {
-      endMission(true, "goal reached in place " + std::to_string(place_id_) + at, d);
-      return;
-    }
-    if (sent && motion_.reached) {
-      ++mission_refines_;
-      mission_goal_odom_valid_ = false;
-    }
-    blocked_at_goal = sent && motion_.blocked;
-    if (blocked_at_goal && !close) {
-      endMission(false, "the goal is not reachable: stopped at the closest reachable pose" + std::string(at), d);
-      return;
-    }
-  }
-  // The controller stopped (blocked) or the robot stalls this close: reached.
-  if (close && (stalled || blocked_at_goal)) {
-    endMission(true, "goal reached in place " + std::to_string(place_id_) + " within the accepted distance" + at, d);
-    return;
-  }
-  if (stalled) {
-    endMission(false, "the goal is not reachable: no progress for " + std::to_string(int(params_.mission_stall_time)) +
-                          " s, stopped at the closest reachable pose" + at + " (grid path of " +
-                          std::to_string(mission_path_.size()) + " waypoints, at " + std::to_string(mission_path_index_) + ")", d);
-    return;
-  }
-  if (now_ - state_since_ > params_.room_visit.time_limit) {
-    endMission(false, "the goal was not reached in " + std::to_string(int(params_.room_visit.time_limit)) + " s" + at, d);
-  }
+  setState(State::Follow, step.text);
 }
 
 void Coordinator::finish(bool success, const std::string& why, Decision* d) {

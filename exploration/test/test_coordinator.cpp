@@ -736,8 +736,8 @@ TEST(CoordinatorMission, GoesAlongTheHallwayRelocatesAtTheDoorAndReachesTheGoal)
 }
 
 TEST(CoordinatorMission, AnEkfCorrectionAtTheGoalIsDrivenOutToWithinTheTolerance) {
-  // At the goal, the EKF moves its estimate by 2 cm (less than mission_accept_distance): the goal
-  // is sent again and the mission ends with the estimate within mission_goal_tolerance, not 2 cm off.
+  // At the goal, the EKF moves its estimate by 2 cm (less than mission/accept_distance): the goal
+  // is sent again and the mission ends with the estimate within mission/goal_tolerance, not 2 cm off.
   Coordinator c(missionParams());
   std::string why;
   const Eigen::Vector2d goal(5.0, 3.0);
@@ -748,7 +748,7 @@ TEST(CoordinatorMission, AnEkfCorrectionAtTheGoalIsDrivenOutToWithinTheTolerance
   EXPECT_TRUE(c.missionOutcome().success) << c.missionOutcome().message;
   EXPECT_NEAR(run.ekf_shift.y(), -0.02, 1e-12) << "the correction happened";
   const Eigen::Vector2d estimate = Eigen::Vector2d(run.robot.x, run.robot.y) + run.ekf_shift;
-  EXPECT_LE((estimate - goal).norm(), missionParams().mission_goal_tolerance + 1e-9) << c.missionOutcome().message;
+  EXPECT_LE((estimate - goal).norm(), missionParams().mission.goal_tolerance + 1e-9) << c.missionOutcome().message;
 }
 
 TEST(CoordinatorMission, AScanWithoutTheEkfsPoseIsPlacedByTheOdometrySinceTheLastOne) {
@@ -766,14 +766,14 @@ TEST(CoordinatorMission, AScanWithoutTheEkfsPoseIsPlacedByTheOdometrySinceTheLas
   ASSERT_TRUE(c.missionOutcome().finished);
   EXPECT_TRUE(c.missionOutcome().success) << c.missionOutcome().message;
   const Eigen::Vector2d estimate = Eigen::Vector2d(run.robot.x, run.robot.y) + run.ekf_shift;
-  EXPECT_LE((estimate - goal).norm(), missionParams().mission_accept_distance) << c.missionOutcome().message;
+  EXPECT_LE((estimate - goal).norm(), missionParams().mission.accept_distance) << c.missionOutcome().message;
 }
 
 TEST(CoordinatorMission, AFailedRelocationResetsTheBeliefAndIsGivenUpAfterTheLimit) {
   // Every relocation fails (the wrong room each time): the belief is reset and the robot goes
   // back to the hallway; after max_relocation_failures + 1 failures the mission fails.
   exploration::CoordinatorParams params = missionParams();
-  params.max_relocation_failures = 0;
+  params.mission.max_relocation_failures = 0;
   Coordinator c(params);
   std::string why;
   ASSERT_TRUE(startMissionOnHallway(&c, 4, Pose2D{5.0, 3.0, 0.0}, &why)) << why;
@@ -854,7 +854,7 @@ TEST(CoordinatorMission, AJointlyIncompatibleRelocationFromTheHallwayIsAskedAgai
   // wrong room: one relocation failure (with max_relocation_failures 0 the mission ends there).
   for (const bool second_ok : {true, false}) {
     exploration::CoordinatorParams params = missionParams();
-    params.max_relocation_failures = 0;
+    params.mission.max_relocation_failures = 0;
     Coordinator c(params);
     std::string why;
     ASSERT_TRUE(startMissionOnHallway(&c, 4, Pose2D{5.0, 3.0, 0.5 * kPi}, &why)) << why;

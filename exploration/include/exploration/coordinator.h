@@ -21,8 +21,9 @@
 // The coordinator does not talk to the other nodes itself: it returns requests (create a place,
 // record an opening, ...) that its node carries out as service calls and answers.
 //
-// The Coordinator runs the state machine, follows the hallways, chooses the route and runs the
-// missions; a room's visit (RoomVisit, room_visit.h) is a class of its own that it delegates to.
+// The Coordinator runs the state machine, follows the hallways and chooses the route; a room's
+// visit (RoomVisit, room_visit.h) and a mission's relocation and drive to its goal (MissionRunner,
+// mission_runner.h) are classes of their own that it delegates to.
 //
 // ROS-free: Eigen, laser_features and the standard library only.
 #pragma once
@@ -30,6 +31,7 @@
 #include "exploration/coordinator_io.h"
 #include "exploration/hallway_doors.h"
 #include "exploration/hallway_view.h"
+#include "exploration/mission_runner.h"
 #include "exploration/room_explorer.h"
 #include "exploration/room_visit.h"
 #include "exploration/topo_route.h"
@@ -66,29 +68,7 @@ struct CoordinatorParams {
   double goal_refresh_distance = 0.25;  // m, the hallway goal is re-sent when it moved this much
   double max_time = 0.0;             // s, the exploration gives up after this (sim time); 0: no limit
   bool explore = true;               // -, explore from the start; false: wait for missions (a loaded map)
-  double relocation_timeout = 20.0;  // s, a mission's relocation at a door gives no verdict in this: failed
-  int max_relocation_failures = 2;   // -, relocations that fail (wrong room), and separately misses of the
-                                     // goal's door, before a mission is given up (each resets the belief)
-  double mission_time_limit = 1200.0;  // s, a mission ends unsuccessful after this (sim time)
-  double mission_goal_tolerance = 0.005;  // m, a mission's goal is reached within this (the EKF's estimate)
-  double mission_heading_tolerance = 0.02;  // rad, and its heading within this
-  int mission_refine_attempts = 3;  // -, the controller reached the goal but the EKF's estimate is beyond
-                                    // the tolerances: the goal is sent again this many times, then ...
-  double mission_accept_distance = 0.03;  // m, ... reached within this; the controller stopping (blocked,
-                                         // stalled) this close to a mission's goal also counts as reached ...
-  double mission_accept_angle = 0.05;    // rad, ... with its heading within this. EKF corrections of the
-                                         // goal below these are not re-sent while the robot drives to it
-  double mission_stall_time = 20.0;  // s, no 5 cm of progress to a mission's goal in a room for this: unreachable
-};
-
-/// A mission (Tomatis et al. 2001, section 4): from wherever the robot is to a goal pose in a place.
-struct MissionOutcome {
-  bool finished = false;
-  bool success = false;
-  std::string message;
-  double path_length = 0.0;  // m, odometric
-  int relocation_failures = 0;  // relocations that failed (each reset the belief)
-  int door_misses = 0;          // times the goal's door was not found after max_route_attempts (each reset the belief)
+  MissionParams mission;             // missions (mission/* in config/exploration.yaml)
 };
 
 struct CoordinatorStats {
@@ -137,11 +117,11 @@ class Coordinator {
   bool startMission(int place_id, const laser_features::Pose2D& goal, std::string* why);
   /// Ends the running mission where the robot is (unsuccessful, `why`).
   void cancelMission(const std::string& why);
-  bool missionActive() const { return mission_active_; }
+  bool missionActive() const { return mission_.active(); }
   /// The last mission's outcome (finished once it ended).
-  const MissionOutcome& missionOutcome() const { return mission_outcome_; }
+  const MissionOutcome& missionOutcome() const { return mission_.outcome(); }
   /// m, the mission's expected distance left (along the graph, then straight to the goal).
-  double missionDistanceLeft() const { return mission_distance_left_; }
+  double missionDistanceLeft() const { return mission_.distanceLeft(); }
   /// Idle: no exploration and no mission runs (the robot stands, in a room or in a hallway).
   bool idle() const { return state_ == State::Idle || state_ == State::Done; }
 
@@ -205,19 +185,20 @@ class Coordinator {
   void leaveRoom(const Perception& q, Decision* d);
   /// Out of the room, back on the hallway (`exact`: where the robot left it, with its heading).
   void backOnHallway(bool exact, Decision* d);
-  /// Asks ekf_local_map to relocate the robot (odometry pose) in the mission's place at its door
-  /// (as seen, odometry frame); the verdict is pending from then on.
-  void askRelocation(const laser_features::Pose2D& door_odom, const laser_features::Pose2D& robot_odom, Decision* d);
-  void endMission(bool success, const std::string& why, Decision* d);
+  // A mission's steps (mission_): out of the room the robot stands in, the relocation at the goal's
+  // door, the drive to the goal, the end.
+  void leaveRoomForMission(const std::string& text);
+  void beginRelocation(const Perception& p, Decision* d);
   void relocate(const Perception& p, const TopoView& topo, Decision* d);
-  void missionGoal(const Perception& p, Decision* d);
   /// Into GoToGoal; `inside`: the robot is in the room already (not at its door).
   void beginGoToGoal(const std::string& text, bool inside);
+  void endMission(bool success, const std::string& why, Decision* d);
 
   CoordinatorParams params_;
   laser_features::HeadingBins bins_;  // pomdp_topo's, from building_axes
   TopoGraph graph_;
   RoomVisit visit_;
+  MissionRunner mission_;
   State state_ = State::Init;
   CoordinatorMode mode_ = CoordinatorMode::Topological;
   std::string state_text_ = "waiting for the first scan and the topological map";
@@ -266,35 +247,7 @@ class Coordinator {
   int hallway_bin_ = 0;
   bool place_ok_ = false;
   bool in_room_ = false;            // Idle: the robot stands in place place_id_ (after a mission)
-  // Mission.
-  bool mission_active_ = false;
-  int mission_place_ = -1;
-  laser_features::Pose2D mission_goal_;
-  PlaceDoor mission_door_;
-  double mission_start_travel_ = 0.0;
-  double mission_start_time_ = 0.0;
-  double mission_distance_left_ = 0.0;
-  MissionOutcome mission_outcome_;
   std::vector<Request> pending_requests_;  // to go out with the next update (from cancelMission)
-  bool relocation_pending_ = false;   // Relocate: no verdict yet
-  bool relocation_ok_ = false;
-  std::string relocation_verdict_;
-  int relocation_failures_ = 0;
-  int mission_door_misses_ = 0;
-  int relocate_step_ = 0;             // Relocate: 0 from the hallway, 1 moving in front of the door, 2 from there
-  double relocate_step_since_ = 0.0;
-  bool relocation_retried_ = false;   // Relocate: a second relocation asked for from in front of the door
-  laser_features::Pose2D mission_goal_odom_;  // GoToGoal: the goal as last sent, odometry frame
-  bool mission_goal_odom_valid_ = false;
-  int mission_refines_ = 0;         // GoToGoal: times the goal was sent again after the controller reached it
-  bool mission_entered_ = false;    // GoToGoal: the robot has been entry_depth inside the door
-  std::vector<Eigen::Vector2d> mission_path_;  // GoToGoal: grid path to the goal (place frame)
-  size_t mission_path_index_ = 0;
-  double mission_last_plan_ = -1e9;  // s, GoToGoal: when the grid path was last planned
-  double mission_best_ = 0.0;       // m, GoToGoal: the shortest way left to the goal so far ...
-  double mission_best_time_ = 0.0;  // s, ... when it got 5 cm shorter last
-  double mission_path_length_ = 0.0;  // m, GoToGoal: the last grid path's length (straight: the distance)
-  bool mission_had_path_ = false;     // GoToGoal: the last plan found a grid path
 };
 
 }  // namespace exploration
