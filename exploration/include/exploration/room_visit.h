@@ -11,8 +11,8 @@
 #pragma once
 
 #include "exploration/coordinator_io.h"
-#include "exploration/hallway_doors.h"
 #include "exploration/frontier_explorer.h"
+#include "exploration/hallway_doors.h"
 #include "exploration/room_explorer.h"
 #include "exploration/topo_route.h"
 #include "laser_features/building_rules.h"
