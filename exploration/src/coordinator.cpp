@@ -53,6 +53,7 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
   if (!(p.branch_record_distance >= 0.0 && p.u_turn_cost >= 0.0 && p.goal_refresh_distance > 0.0))
     return fail("branch_record_distance and u_turn_cost must be >= 0, goal_refresh_distance > 0");
   if (!MissionRunner::validate(p.mission, error)) return false;
+  if (!(p.follow_stall_time > 0.0)) return fail("follow_stall_time must be > 0");
   return RoomExplorer::validate(p.room, error);
 }
 
@@ -63,12 +64,17 @@ Coordinator::Coordinator(const CoordinatorParams& params)
       doors_(params.doors, params.rules) {
   std::string why;
   if (!validate(params, &why)) throw std::invalid_argument("exploration coordinator: " + why);
+  // The hallway view's derived sizes: the robot's footprint and the building's narrowest hallway.
+  params_.hallway.clearance = params.room.planner.robot_radius + params.room.planner.safety_margin;
+  params_.hallway.min_mouth = params.rules.hallway_min_width - params.rules.width_tolerance;
 }
 
 void Coordinator::setState(State s, const std::string& text) {
   state_ = s;
   state_since_ = now_;
   state_text_ = text;
+  stall_since_ = -1.0;  // the stall window starts again in the next state
+  lane_valid_ = false;
 }
 
 double Coordinator::binHeading(int bin) const { return bins_.heading(bin); }
@@ -239,6 +245,7 @@ void Coordinator::turn(const Perception& p, bool motion_reached, bool motion_blo
   const double err = std::abs(normalizeAngle(turn_odom_heading_ - p.odom.theta));
   if ((motion_reached && err < 0.15) || err < 0.05 || (motion_blocked && err < 0.3)) {
     bin_ = turn_bin_;
+    stall_since_ = -1.0;
     pending_branch_travel_ = travel_;
     last_turn_travel_ = travel_;
     have_goal_ = false;
@@ -280,6 +287,7 @@ void Coordinator::stopForDoor(const Perception& p, const TopoView& topo, Decisio
     mode_ = CoordinatorMode::Metric;
     hallway_pose_odom_ = p.odom;
     hallway_bin_ = bin_;
+    hallway_offset_ = axis_offset_;
     door_bearing_map_ = enter_bearing_;
     Request rec;
     rec.kind = Request::RecordOpening;
@@ -310,7 +318,7 @@ void Coordinator::enterRoom(const Perception& p, const TopoView& topo, Decision*
     setState(State::Follow, "could not create a place: door skipped");
     return;
   }
-  visit_.beginNewRoom(p.odom, door_, odomHeadingOfBin(hallway_bin_, topo));
+  visit_.beginNewRoom(p.odom, door_, odomHeadingOfBin(hallway_bin_, topo) + hallway_offset_);
   Request add;
   add.kind = Request::AddDoor;
   add.door_id = std::max(0, door_node_);
@@ -324,9 +332,9 @@ void Coordinator::enterRoom(const Perception& p, const TopoView& topo, Decision*
 
 void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d) {
   mode_ = CoordinatorMode::Topological;
-  double dir_robot = normalizeAngle(odomHeadingOfBin(bin_, topo) - p.odom.theta);
-  const HallwayView v = viewHallway(p.points, p.lines, dir_robot, params_.hallway);
-  if (v.wall_direction_valid) dir_robot = v.wall_direction;
+  HallwayView v;
+  const double dir_robot = trackHallwayAxis(p, topo, &v);
+  if (followStalled(p)) blocked = true;
   const bool localized = topo.mode == "localized";
   const bool sure = (topo.mode == "frontier") || (localized && topo.confident && beliefPlausible(topo));
   state_text_ = sure ? (localized ? "following the hallway on the known map" : "following a new hallway")
@@ -338,17 +346,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   if (enterPassedDoor(p, topo, dir_robot, v, d)) return;
   if (turnIntoRouteBranch(p, topo, route, sure, dir_robot, v, d)) return;
 
-  // An obstacle ahead is no hallway end where the hallway's walls go on past it and a lane beside
-  // it is free as far (a pillar, a chair, a person): the robot keeps to that lane.
-  std::optional<double> lane;
-  if (v.free_ahead < params_.end_distance && !blocked) {
-    const double past = v.free_ahead + params_.end_distance;
-    const Lane l = freestLane(p.points, dir_robot, v, params_.room.planner.robot_radius + params_.room.planner.safety_margin);
-    if (v.wallsReach(past) && l.free > past) {
-      lane = l.lateral;
-      state_text_ = "passing an obstacle in the hallway";
-    }
-  }
+  const std::optional<double> lane = laneAround(p, dir_robot, v, blocked);
   if ((v.free_ahead < params_.end_distance && !lane) || blocked) {
     decideAtEnd(p, topo, v, d);
     if (blocked) state_text_ = "motion blocked: " + state_text_;
@@ -369,6 +367,34 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   d->has_goal = true;
   d->x = last_goal_.x();
   d->y = last_goal_.y();
+}
+
+std::optional<double> Coordinator::laneAround(const Perception& p, double dir_robot, const HallwayView& v, bool blocked) {
+  // An obstacle ahead is no hallway end where the hallway's walls go on past it and a lane beside
+  // it is free as far (a pillar, a chair, a person): the robot keeps to that lane. The lane taken
+  // is kept while it stays free past the obstacle: another lane as free (the other side of a pillar
+  // on the mid-line) would swing the robot from side to side in front of it.
+  const Eigen::Vector2d n = unit(dir_robot + 0.5 * kPi);
+  if (lane_valid_ && apply(inverse(p.odom), lane_point_odom_).dot(unit(dir_robot)) < -params_.end_distance)
+    lane_valid_ = false;  // the obstacle is passed
+  if (!(v.free_ahead < params_.end_distance) || blocked) return std::nullopt;
+  const double past = v.free_ahead + params_.end_distance;
+  if (!v.wallsReach(past)) return std::nullopt;
+  const double clearance = params_.hallway.clearance;
+  std::optional<double> lane;
+  if (lane_valid_) {
+    const double kept = apply(inverse(p.odom), lane_point_odom_).dot(n);
+    if (corridorFree(p.points, kept * n, dir_robot, clearance, 15.0) > past) lane = kept;
+  }
+  if (!lane) {
+    const Lane l = freestLane(p.points, dir_robot, v, clearance);
+    if (!(l.free > past)) return std::nullopt;
+    lane = l.lateral;
+    lane_point_odom_ = apply(p.odom, *lane * n);
+    lane_valid_ = true;
+  }
+  state_text_ = "passing an obstacle in the hallway";
+  return lane;
 }
 
 void Coordinator::recordWaysNotTaken(bool sure, Decision* d) {
@@ -478,15 +504,7 @@ bool Coordinator::turnRoundForRoute(const Perception& p, const TopoView& topo, c
         return true;
       }
       if (missed) {
-        Request give_up;
-        give_up.kind = Request::RecordOpening;
-        give_up.node = int(route.goal_node);
-        give_up.bearing = route.goal_bearing;
-        give_up.explored = true;
-        d->requests.push_back(give_up);
-        ++stats_.openings_given_up;
-        route_attempts_.erase(route.goal_node);
-        state_text_ = "gave up an opening of node " + std::to_string(route.goal_node);
+        giveUpRouteGoal(route, d);
         return true;
       }
       ++stats_.u_turns;
@@ -501,6 +519,21 @@ bool Coordinator::turnRoundForRoute(const Perception& p, const TopoView& topo, c
     route_behind_ticks_ = 0;
   }
   return false;
+}
+
+void Coordinator::giveUpRouteGoal(const RouteStep& route, Decision* d) {
+  Request give_up;
+  give_up.kind = Request::RecordOpening;
+  give_up.node = int(route.goal_node);
+  give_up.bearing = route.goal_bearing;
+  give_up.explored = true;
+  d->requests.push_back(give_up);
+  ++stats_.openings_given_up;
+  route_attempts_.erase(route.goal_node);
+  for (auto it = branch_turns_.begin(); it != branch_turns_.end();) {
+    it = it->first.second == route.goal_node ? branch_turns_.erase(it) : std::next(it);
+  }
+  state_text_ = "gave up an opening of node " + std::to_string(route.goal_node);
 }
 
 bool Coordinator::enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v,
@@ -564,6 +597,14 @@ bool Coordinator::turnIntoRouteBranch(const Perception& p, const TopoView& topo,
                     door_abeam->width, route.next_node);
       state_text_ = why;
     } else if (side_open && here) {
+      // A route that turns into the same branch towards the same goal again and again goes round
+      // in a circle (a belief that moves back as the robot turns, look-alike junctions): the goal's
+      // opening is given up after max_route_attempts such turns, as after as many U-turns.
+      if (!mission_active_ &&
+          ++branch_turns_[{route.next_node, route.goal_node}] > params_.max_route_attempts) {
+        giveUpRouteGoal(route, d);
+        return true;
+      }
       startTurn(route_bin, p, topo, {});
       state_text_ = "turning into the branch of node " + std::to_string(near) + " towards node " +
                     std::to_string(route.goal_node);
@@ -587,6 +628,19 @@ void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const H
   const bool localized = topo.mode == "localized";
   const bool sure = topo.mode == "frontier" || (localized && topo.confident);
   if (open.empty()) {
+    const double dir_robot = normalizeAngle(odomHallwayHeading(topo) - p.odom.theta);
+    if (const std::optional<double> way = obliqueWayAtEnd(p, dir_robot, v)) {
+      // A wing: its heading is the hallway's from here on, as bin and offset.
+      const double map_heading = normalizeAngle(*way + p.odom.theta + (topo.heading_valid ? topo.heading_offset : 0.0));
+      const int way_bin = binOf(map_heading);
+      axis_offset_ = normalizeAngle(map_heading - binHeading(way_bin));
+      ++stats_.turns;
+      startTurn(way_bin, p, topo, {});
+      char angle[64];
+      std::snprintf(angle, sizeof(angle), "hallway end: turning %.0f deg into a hallway at an angle", *way * 180.0 / kPi);
+      state_text_ = angle + std::string(why);
+      return;
+    }
     ++stats_.u_turns;
     startTurn(back, p, topo, {});
     state_text_ = "hallway end: turning round" + std::string(why);
@@ -612,6 +666,58 @@ void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const H
   state_text_ = "hallway end: turning " + std::string(choice == left ? "left" : "right") + why;
 }
 
+double Coordinator::topoBearing(double odom_bearing, const TopoView& topo) const {
+  return normalizeAngle(odom_bearing + topo.heading_offset - axis_offset_);
+}
+
+double Coordinator::trackHallwayAxis(const Perception& p, const TopoView& topo, HallwayView* v) {
+  double dir_robot = normalizeAngle(odomHallwayHeading(topo) - p.odom.theta);
+  *v = viewHallway(p.points, p.lines, dir_robot, params_.hallway);
+  const double half_bin = kPi / bins_.bins;
+  if (!v->wall_direction_valid) {
+    // No wall along the way followed: the walls of the hallway around the robot, up to half a bin
+    // and the wall tolerance from it (every way a wing can run: 30-60 deg to the axes).
+    laser_features::HallwayWallsParams walls;
+    walls.min_length = params_.hallway.wall_min_length;
+    walls.parallel_tolerance = params_.hallway.wall_parallel_tolerance;
+    walls.max_width = params_.rules.hallway_max_width + params_.rules.width_tolerance;
+    if (const std::optional<double> around = laser_features::hallwayWallsDirection(p.lines, dir_robot, half_bin + walls.parallel_tolerance, walls))
+      *v = viewHallway(p.points, p.lines, *around, params_.hallway);
+  }
+  if (!v->wall_direction_valid) return dir_robot;
+  dir_robot = v->wall_direction;
+  const double map_heading = normalizeAngle(dir_robot + p.odom.theta + (topo.heading_valid ? topo.heading_offset : 0.0));
+  axis_offset_ = normalizeAngle(map_heading - binHeading(bin_));
+  // Past half a bin (and the wall tolerance, against flicker at exactly half) the nearer bin is the
+  // hallway's.
+  if (std::abs(axis_offset_) > half_bin + 0.5 * params_.hallway.wall_parallel_tolerance) {
+    bin_ = binOf(map_heading);
+    axis_offset_ = normalizeAngle(map_heading - binHeading(bin_));
+  }
+  return dir_robot;
+}
+
+std::optional<double> Coordinator::obliqueWayAtEnd(const Perception& p, double dir_robot, const HallwayView& v) const {
+  // The robot's corridor free for a hallway's width is a way out; its walls within a hallway's
+  // width make it a hallway.
+  return obliqueHallway(p.points, p.lines, v, dir_robot, params_.hallway, params_.rules.hallway_max_width,
+                        params_.rules.hallway_max_width + params_.rules.width_tolerance);
+}
+
+bool Coordinator::followStalled(const Perception& p) {
+  const Eigen::Vector2d here(p.odom.x, p.odom.y);
+  const double diameter = 2.0 * params_.room.planner.robot_radius;
+  if (stall_since_ < 0.0 || (here - stall_anchor_).norm() > diameter) {
+    stall_anchor_ = here;
+    stall_since_ = now_;
+    return false;
+  }
+  if (now_ - stall_since_ < params_.follow_stall_time) return false;
+  stall_anchor_ = here;
+  stall_since_ = now_;
+  return true;
+}
+
 void Coordinator::turnGoal(const Perception& p, Decision* d) const {
   d->has_goal = true;
   d->x = p.odom.x;
@@ -620,8 +726,9 @@ void Coordinator::turnGoal(const Perception& p, Decision* d) const {
 }
 
 void Coordinator::startTurn(int bin, const Perception& p, const TopoView& topo, std::vector<int> not_taken) {
+  // Turns keep the hallway's offset from the axes: a wing's crossings and U-turns are square to it.
   turn_bin_ = bins_.wrap(bin);
-  turn_odom_heading_ = odomHeadingOfBin(turn_bin_, topo);
+  turn_odom_heading_ = normalizeAngle(odomHeadingOfBin(turn_bin_, topo) + axis_offset_);
   pending_branches_ = std::move(not_taken);
   pending_branch_travel_ = -1.0;
   last_goal_ = Eigen::Vector2d(p.odom.x, p.odom.y);
@@ -662,7 +769,7 @@ bool Coordinator::beliefPlausible(const TopoView& topo) {
 
 bool Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) {
   enter_node_ = -1;
-  enter_bearing_ = normalizeAngle(door.into_odom + topo.heading_offset);
+  enter_bearing_ = topoBearing(door.into_odom, topo);
   if (mission_.active()) {
     // Only the mission's door, at its node as a confident belief says, on its side.
     if (topo.mode != "localized" || !topo.confident || travel_ < distrust_until_) return false;
@@ -703,7 +810,7 @@ bool Coordinator::exploredAtFrontierNode(const TopoView& topo, const DoorTrack& 
     return false;
   const GraphNode* n = graph_.node(topo.position.id);
   if (n == nullptr) return false;  // a node made for this door, not in the graph received yet
-  const double bearing = normalizeAngle(door.into_odom + topo.heading_offset);
+  const double bearing = topoBearing(door.into_odom, topo);
   return std::any_of(n->openings.begin(), n->openings.end(),
                      [&](const GraphOpening& o) { return o.explored && sameOpening(o, bearing, door.width); });
 }
@@ -782,6 +889,7 @@ void Coordinator::leaveRoom(const Perception& q, Decision* d) {
 
 void Coordinator::backOnHallway(bool exact, Decision* d) {
   bin_ = hallway_bin_;
+  axis_offset_ = hallway_offset_;
   have_goal_ = false;
   mode_ = CoordinatorMode::Topological;
   left_door_ = door_;
@@ -900,6 +1008,7 @@ void Coordinator::beginRelocation(const Perception& p, Decision* d) {
   mode_ = CoordinatorMode::Metric;
   hallway_pose_odom_ = p.odom;
   hallway_bin_ = bin_;
+  hallway_offset_ = axis_offset_;
   place_id_ = mission_.place();
   door_node_ = int(mission_.door().node);
   mission_.beginRelocation(door_, p.odom, d);
@@ -915,8 +1024,8 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
       if (!step.text.empty()) state_text_ = step.text;
       return;
     case RelocationStep::Relocated:
-      visit_.beginKnownRoom(p, hallway_pose_odom_, odomHeadingOfBin(hallway_bin_, topo), mission_.door().opening,
-                            door_.width);
+      visit_.beginKnownRoom(p, hallway_pose_odom_, odomHeadingOfBin(hallway_bin_, topo) + hallway_offset_,
+                            mission_.door().opening, door_.width);
       setState(State::ApproachDoor, "relocated in place " + std::to_string(place_id_) + ": entering");
       return;
     case RelocationStep::AskedAgain:

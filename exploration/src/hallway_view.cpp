@@ -30,8 +30,12 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   v.free_left = freeDistance(points, direction + 0.5 * kPi, params.side_sector, range_cap);
   v.free_right = freeDistance(points, direction - 0.5 * kPi, params.side_sector, range_cap);
   v.free_back = freeDistance(points, direction + kPi, params.ahead_sector, range_cap);
-  v.open_left = v.free_left >= params.side_open_distance;
-  v.open_right = v.free_right >= params.side_open_distance;
+  const auto open = [&](const Eigen::Vector2d& origin, double free_sector, int side) {
+    return free_sector >= params.side_open_distance ||
+           mouthBeside(points, origin, direction, side, params.clearance, params.min_mouth, params.side_open_distance);
+  };
+  v.open_left = open(Eigen::Vector2d::Zero(), v.free_left, 1);
+  v.open_right = open(Eigen::Vector2d::Zero(), v.free_right, -1);
 
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction));
   const Eigen::Vector2d n(-u.y(), u.x());  // left
@@ -88,29 +92,110 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   }
   const double half_width = v.left_wall && v.right_wall ? 0.5 * v.width() : 1.0;
   const Eigen::Vector2d centre = std::max(0.0, v.free_ahead - half_width) * u + v.centre_offset * n;
-  v.end_open_left = freeDistance(points, direction + 0.5 * kPi, params.side_sector, range_cap, centre) >=
-                    params.side_open_distance;
-  v.end_open_right = freeDistance(points, direction - 0.5 * kPi, params.side_sector, range_cap, centre) >=
-                     params.side_open_distance;
+  v.end_centre = centre;
+  v.end_open_left = open(centre, freeDistance(points, direction + 0.5 * kPi, params.side_sector, range_cap, centre), 1);
+  v.end_open_right = open(centre, freeDistance(points, direction - 0.5 * kPi, params.side_sector, range_cap, centre), -1);
   return v;
+}
+
+HallwayView viewHallwayFrom(const std::vector<Eigen::Vector2d>& points,
+                            const std::vector<laser_features::LineSegment>& lines, const Eigen::Vector2d& origin,
+                            double direction, const HallwayViewParams& params, double range_cap) {
+  std::vector<Eigen::Vector2d> shifted_points;
+  shifted_points.reserve(points.size());
+  for (const Eigen::Vector2d& q : points) shifted_points.push_back(q - origin);
+  std::vector<laser_features::LineSegment> shifted_lines = lines;
+  for (laser_features::LineSegment& l : shifted_lines) {
+    l.start -= origin;
+    l.end -= origin;
+  }
+  return viewHallway(shifted_points, shifted_lines, direction, params, range_cap);
 }
 
 Lane freestLane(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayView& view,
                 double clearance, double range_cap) {
-  const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
+  const Eigen::Vector2d n(-std::sin(direction), std::cos(direction));
   const double lo = view.right_wall ? view.right_lateral + clearance : view.centre_offset;
   const double hi = view.left_wall ? view.left_lateral - clearance : view.centre_offset;
   Lane best{view.centre_offset, -1.0};
   for (double lateral = lo; lateral <= hi + 1e-9; lateral += 0.1) {
-    double free = range_cap;
-    for (const Eigen::Vector2d& q : points) {
-      const double along = q.dot(u);
-      if (along > 0.0 && along < free && std::abs(q.dot(n) - lateral) <= clearance) free = along;
-    }
+    const double free = corridorFree(points, lateral * n, direction, clearance, range_cap);
     const bool nearer = std::abs(lateral - view.centre_offset) < std::abs(best.lateral - view.centre_offset);
     if (free > best.free + 1e-6 || (std::abs(free - best.free) <= 1e-6 && nearer)) best = {lateral, free};
   }
   return best;
+}
+
+double corridorFree(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double bearing,
+                    double half_width, double range_cap) {
+  const Eigen::Vector2d u(std::cos(bearing), std::sin(bearing)), n(-u.y(), u.x());
+  double free = range_cap;
+  for (const Eigen::Vector2d& q : points) {
+    const Eigen::Vector2d p = q - origin;
+    const double along = p.dot(u);
+    if (along > 0.0 && along < free && std::abs(p.dot(n)) <= half_width) free = along;
+  }
+  return free;
+}
+
+std::vector<double> obliqueWays(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin,
+                                double direction, double half_width, double min_free, double max_turn,
+                                double off_axis, double step) {
+  // Counter-clockwise from -max_turn to +max_turn; a run of free directions is one way.
+  std::vector<double> ways;
+  const int n = int(std::floor(max_turn / step + 1e-9));
+  int run_start = 0, run_length = 0;
+  auto close_run = [&]() {
+    if (run_length > 0) ways.push_back(normalizeAngle(direction + (run_start + 0.5 * (run_length - 1)) * step));
+    run_length = 0;
+  };
+  for (int k = -n; k <= n; ++k) {
+    const double rel = k * step;
+    const double from_axis = std::abs(rel - std::round(rel / (0.5 * kPi)) * 0.5 * kPi);
+    const bool free = from_axis >= off_axis &&
+                      corridorFree(points, origin, normalizeAngle(direction + rel), half_width, min_free) >= min_free;
+    if (free) {
+      if (run_length == 0) run_start = k;
+      ++run_length;
+    } else {
+      close_run();
+    }
+  }
+  close_run();
+  std::reverse(ways.begin(), ways.end());  // left first
+  return ways;
+}
+
+std::optional<double> obliqueHallway(const std::vector<Eigen::Vector2d>& points,
+                                     const std::vector<laser_features::LineSegment>& lines, const HallwayView& view,
+                                     double direction, const HallwayViewParams& params, double min_free,
+                                     double max_width) {
+  // Directions every 5 deg: a 1.5 m hallway's mouth subtends more than twice that from min_free.
+  constexpr double kStep = 0.0873;
+  const std::vector<double> ways = obliqueWays(points, view.end_centre, direction, params.clearance, min_free, 0.75 * kPi,
+                                               params.wall_parallel_tolerance, kStep);
+  for (double way : ways) {
+    for (double depth : {0.5 * min_free, 0.75 * min_free}) {
+      const Eigen::Vector2d inside = view.end_centre + depth * Eigen::Vector2d(std::cos(way), std::sin(way));
+      const HallwayView w = viewHallwayFrom(points, lines, inside, way, params);
+      if (w.left_wall && w.right_wall && w.wall_direction_valid && w.width() <= max_width) return w.wall_direction;
+    }
+  }
+  return std::nullopt;
+}
+
+bool mouthBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction, int side,
+                 double clearance, double min_mouth, double depth) {
+  const Eigen::Vector2d u(std::cos(direction), std::sin(direction));
+  const double bearing = direction + (side >= 0 ? 0.5 : -0.5) * kPi;
+  const auto free = [&](double along) { return corridorFree(points, origin + along * u, bearing, clearance, depth) >= depth; };
+  if (!free(0.0)) return false;
+  constexpr double kStep = 0.05;  // m
+  const double need = min_mouth - 2.0 * clearance;  // the free stretch of corridor positions
+  double ahead = 0.0, behind = 0.0;
+  while (ahead + behind < need && free(ahead + kStep)) ahead += kStep;
+  while (ahead + behind < need && free(-behind - kStep)) behind += kStep;
+  return ahead + behind >= need - 1e-9;
 }
 
 }  // namespace exploration

@@ -127,3 +127,83 @@ TEST(HallwayView, APillarAheadIsNoEndButAnEndWallIs) {
     EXPECT_FALSE(e.wallsReach(e.free_ahead + 1.3)) << door;
   }
 }
+
+namespace {
+
+Eigen::Vector2d dirOf(double a) { return {std::cos(a), std::sin(a)}; }
+
+// A 2 m hallway along +x (walls y = +-1) whose end turns into a wing at `angle` (rad, to the right
+// for < 0): the wing's right wall starts where the hallway's right wall ends at x = 0.5.
+void addWingEnd(std::vector<Eigen::Vector2d>* pts, std::vector<laser_features::LineSegment>* lines, double angle) {
+  const Eigen::Vector2d d = dirOf(angle), n(-d.y(), d.x());
+  const Eigen::Vector2d right0(0.5, -1.0), left0 = right0 + 2.0 * n;
+  addWall(pts, lines, {-6.0, -1.0}, right0);
+  addWall(pts, lines, right0, right0 + 9.0 * d);
+  addWall(pts, lines, {-6.0, 1.0}, {left0.x(), 1.0});
+  addWall(pts, lines, {left0.x(), 1.0}, left0);
+  addWall(pts, lines, left0, left0 + 9.0 * d);
+}
+
+}  // namespace
+
+// A wing at 30-60 degrees to the building's axes is the way on from the main hallway's end.
+TEST(HallwayView, AWingLeavingAHallwaysEndAtAnAngleIsTheWayOn) {
+  for (const double angle : {-0.52, -0.79, -1.05, 0.79}) {
+    std::vector<Eigen::Vector2d> pts;
+    std::vector<laser_features::LineSegment> lines;
+    addWingEnd(&pts, &lines, angle);
+    exploration::HallwayView v;
+    v.end_centre = Eigen::Vector2d(0.5 + (angle < 0.0 ? 0.0 : 0.0), 0.0);
+    const auto way = exploration::obliqueHallway(pts, lines, v, 0.0, HallwayViewParams(), 4.0, 4.1);
+    ASSERT_TRUE(way.has_value()) << angle;
+    EXPECT_NEAR(*way, angle, 1e-6);
+  }
+}
+
+// A door in the end wall seen at a slant opens a corridor into the room behind it, but no walls run
+// along that corridor: no way on. Nor is a plain dead end.
+TEST(HallwayView, ADoorInTheEndWallAtASlantIsNoWingNorIsADeadEnd) {
+  for (const double door : {0.0, 1.2, 1.8}) {
+    std::vector<Eigen::Vector2d> pts;
+    std::vector<laser_features::LineSegment> lines;
+    addWall(&pts, &lines, {-6.0, 1.0}, {2.0, 1.0});
+    addWall(&pts, &lines, {-6.0, -1.0}, {2.0, -1.0});
+    if (door > 0.0) {
+      addWall(&pts, &lines, {2.0, -1.0}, {2.0, 1.0 - door});
+      // The room behind: 6 m deep, 7 m wide.
+      addWall(&pts, &lines, {2.1, 1.0}, {2.1, 3.5});
+      addWall(&pts, &lines, {2.1, 3.5}, {8.1, 3.5});
+      addWall(&pts, &lines, {8.1, 3.5}, {8.1, -3.5});
+      addWall(&pts, &lines, {8.1, -3.5}, {2.1, -3.5});
+      addWall(&pts, &lines, {2.1, -3.5}, {2.1, -1.0});
+    } else {
+      addWall(&pts, &lines, {2.0, -1.0}, {2.0, 1.0});
+    }
+    exploration::HallwayView v;
+    v.end_centre = Eigen::Vector2d(1.0, 0.0);
+    EXPECT_FALSE(exploration::obliqueHallway(pts, lines, v, 0.0, HallwayViewParams(), 4.0, 4.1).has_value())
+        << door;
+  }
+}
+
+// A hallway's branch is open beside the robot wherever the robot's corridor fits through its mouth,
+// however narrow the branch is against the hallway (1.5-1.6 m off 2.6 m: its edges stay inside the
+// side sector nearer than side_open_distance); a door is narrower than any hallway's mouth.
+TEST(HallwayView, ANarrowBranchOffAWideHallwayOpensTheSideADoorDoesNot) {
+  for (const double mouth : {1.5, 1.6, 2.0, 1.2, 0.9}) {
+    for (const double abeam : {-0.3, 0.0, 0.3}) {  // the robot's offset along the hallway from the mouth's centre
+      std::vector<Eigen::Vector2d> pts;
+      std::vector<laser_features::LineSegment> lines;
+      const double half = 0.5 * mouth, wall = 1.3;  // a 2.6 m hallway, the robot on its mid-line
+      addWall(&pts, &lines, {-6.0 - abeam, wall}, {-half - abeam, wall});
+      addWall(&pts, &lines, {half - abeam, wall}, {6.0 - abeam, wall});
+      addWall(&pts, &lines, {-half - abeam, wall}, {-half - abeam, wall + 6.0});  // the branch (or room) behind
+      addWall(&pts, &lines, {half - abeam, wall}, {half - abeam, wall + 6.0});
+      addWall(&pts, &lines, {-6.0, -wall}, {6.0, -wall});
+      const auto v = viewHallway(pts, lines, 0.0, HallwayViewParams());
+      const bool hallway = mouth >= 1.4;
+      EXPECT_EQ(v.open_left, hallway) << mouth << " m mouth, " << abeam << " m along";
+      EXPECT_FALSE(v.open_right);
+    }
+  }
+}

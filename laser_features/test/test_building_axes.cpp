@@ -119,6 +119,52 @@ TEST(BuildingAxes, TheAxisOfAMapsEdgesIsTheirCommonDirectionModuloAQuarterTurn) 
   EXPECT_EQ(dominantAxis({}, {}), 0.0);
 }
 
+// The walls of the hallway the robot stands in, on the real extractor's lines: a wing at 30-60 deg
+// to the building's axes (its rooms' walls square to it), seen from a robot that heads along the
+// building's axis; the robot's own narrow hallway, not the wider one seen past its end.
+TEST(HallwayWalls, AWingsWallsAtAnAngleAreTheHallwayAroundTheRobot) {
+  for (const double wing : {0.52, 0.61, 0.79, 1.04}) {
+    World straight;
+    straight.addWall(-8, 1.1, 8, 1.1);   // a 2 m hallway along x, the robot 0.1 m right of its middle
+    straight.addWall(-8, -0.9, 8, -0.9);
+    straight.addWall(-8, 6.0, 8, 6.0);   // a wider space's wall beyond the left wall's end: not this hallway
+    const World w = turned(straight, wing);
+    std::mt19937 rng(3);
+    const ScanSpec spec = ScanSpec::full(720);
+    const std::vector<float> ranges = simulateScan(w, Pose2D{0.0, 0.0, 0.0}, spec, 0.01, &rng);
+    FeatureExtractor extractor;
+    Features f;
+    ASSERT_TRUE(extractor.extract(makeView(spec, ranges), &f));
+    HallwayWallsParams params;
+    const double max_turn = 0.25 * kPi + params.parallel_tolerance;  // half a quarter-turn bin and the tolerance: 60 deg
+    const std::optional<double> found = hallwayWallsDirection(f.lines, 0.0, max_turn, params);
+    ASSERT_TRUE(found.has_value()) << wing;
+    EXPECT_NEAR(*found, wing, 0.02) << wing;
+    // Heading the other way, the same walls give the opposite sense.
+    const std::optional<double> back = hallwayWallsDirection(f.lines, kPi, max_turn, params);
+    ASSERT_TRUE(back.has_value()) << wing;
+    EXPECT_NEAR(std::abs(normalizeAngle(*back - wing)), kPi, 0.02) << wing;
+    // Beyond the turn searched, nothing.
+    EXPECT_FALSE(hallwayWallsDirection(f.lines, wing + 0.5 * kPi, 0.25 * kPi, params).has_value()) << wing;
+  }
+}
+
+TEST(HallwayWalls, OneWallOrAWiderSpaceIsNoHallway) {
+  std::vector<LineSegment> lines(1);
+  lines[0].start = {-3.0, 1.0};
+  lines[0].end = {3.0, 1.0};
+  HallwayWallsParams params;
+  EXPECT_FALSE(hallwayWallsDirection(lines, 0.0, 0.25 * kPi, params).has_value());
+  lines.push_back(lines[0]);
+  lines[1].start = {-3.0, -3.5};
+  lines[1].end = {3.0, -3.5};  // 4.5 m apart: wider than any hallway
+  EXPECT_FALSE(hallwayWallsDirection(lines, 0.0, 0.25 * kPi, params).has_value());
+  lines[1].start.y() = lines[1].end.y() = -1.0;
+  const std::optional<double> found = hallwayWallsDirection(lines, 0.1, 0.25 * kPi, params);
+  ASSERT_TRUE(found.has_value());
+  EXPECT_NEAR(*found, 0.0, 1e-9);
+}
+
 TEST(HeadingBins, BinsRunAlongTheAxisAndRoundTrip) {
   const HeadingBins bins{0.6, 4};
   EXPECT_EQ(bins.bin(0.6), 0);

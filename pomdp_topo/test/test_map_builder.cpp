@@ -728,6 +728,72 @@ TEST(FrontEnd, OneTurnActionPerUTurnAndTravelInResolutionSteps) {
 }
 
 
+// A wing of the building at 30-60 deg to its axes (the axis found at 0): the robot drives along the
+// wing's walls, its doors are side openings passed like any hallway's and its travel is along the
+// wing, not the axis's share of it; a U-turn in the wing is one turn of two bins.
+TEST(FrontEnd, AWingsDoorsAreSideOpeningsAndItsTravelIsAlongItsWalls) {
+  for (const double wing : {0.61, -0.79, 1.0}) {
+    FrontEnd fe;
+    const Eigen::Vector2d u(std::cos(wing), std::sin(wing)), n(-u.y(), u.x());
+    const Eigen::Vector2d door = 5.0 * u + 1.1 * n;  // a 0.9 m door in the left wall
+    std::vector<Action> actions;
+    std::vector<laser_features::Corner> corners;
+    std::vector<PassedLandmark> passed;
+    auto scan = [&](const Pose2D& pose) {
+      // The wing's walls, 1.1 m either side, 3 m behind and ahead; the door within 5 m.
+      std::vector<laser_features::LineSegment> lines;
+      const double rel = normalizeAngle(wing - pose.theta);  // the wing's direction in the robot frame
+      const Eigen::Vector2d ur(std::cos(rel), std::sin(rel)), nr(-ur.y(), ur.x());
+      for (double side : {1.0, -1.0}) {
+        laser_features::LineSegment l;
+        l.line.alpha = normalizeAngle(rel + side * 0.5 * kPi);
+        l.line.r = 1.1;
+        l.line.cov << 1e-4, 0, 0, 1e-4;
+        l.start = side * 1.1 * nr - 3.0 * ur;
+        l.end = side * 1.1 * nr + 3.0 * ur;
+        lines.push_back(l);
+      }
+      std::vector<laser_features::Opening> openings;
+      const Eigen::Vector2d d = door - Eigen::Vector2d(pose.x, pose.y);
+      if (d.norm() <= 5.0) {
+        laser_features::Opening o;
+        o.center = Eigen::Rotation2Dd(-pose.theta) * d;
+        o.theta = normalizeAngle(wing + 0.5 * kPi - pose.theta);
+        o.width = 0.9;
+        o.confidence = 0.8;
+        openings.push_back(o);
+      }
+      ASSERT_TRUE(fe.process(pose, lines, corners, openings, &actions));
+      for (const PassedLandmark& p : fe.takePassed()) passed.push_back(p);
+    };
+    Pose2D pose{0, 0, wing};
+    for (int i = 0; i <= 200; ++i) {  // 10 m along the wing
+      pose.x = 0.05 * i * u.x();
+      pose.y = 0.05 * i * u.y();
+      scan(pose);
+    }
+    double travel = 0.0;
+    for (const Action& a : actions) {
+      ASSERT_EQ(a.kind, Action::Travel) << wing;
+      travel += a.distance;
+    }
+    EXPECT_NEAR(travel, 10.0, 0.5) << wing;
+    EXPECT_NEAR(normalizeAngle(fe.travelAxis() - wing), 0.0, 0.02) << wing;
+    ASSERT_EQ(passed.size(), 1u) << wing;
+    EXPECT_EQ(passed[0].landmark.type, LandmarkType::Opening);
+    EXPECT_NEAR(passed[0].landmark.lateral, 1.1, 0.1) << wing;
+    EXPECT_NEAR(passed[0].landmark.orientation, 0.5 * kPi, 0.1) << wing;
+    actions.clear();
+    for (int i = 1; i <= 30; ++i) {  // a U-turn on the spot in the wing
+      pose.theta = normalizeAngle(wing + std::min(kPi, 0.12 * i));
+      scan(pose);
+    }
+    ASSERT_EQ(actions.size(), 1u) << wing;
+    EXPECT_EQ(actions[0].kind, Action::Turn);
+    EXPECT_EQ(std::abs(actions[0].turn_bins), 2) << wing;
+  }
+}
+
 // An odometry jump (kidnapping) while a frontier is mapped: the frontier's way is left as an
 // unexplored opening of the node it started from, and the belief is uniform (unconfident, so the
 // map does not change until the robot is localized again); on the known graph, just the belief.

@@ -59,13 +59,16 @@ struct CoordinatorParams {
   RoomVisitParams room_visit;        // a room's visit (room_visit/* in config/exploration.yaml)
   double branch_record_distance = 1.0;  // m travelled after a turn before the ways not taken are recorded
   double u_turn_cost = 2.0;          // m, route cost of turning back on an edge
-  int max_route_attempts = 3;        // -, turns round towards one node's opening before it is given up
+  int max_route_attempts = 3;        // -, turns round towards one node's opening, or into one branch towards it, before it is given up
   double jump_tolerance = 4.0;       // m, a belief whose node is farther along the graph from the last
                                      // trusted one than the travel since plus this has jumped ...
   double jump_hold_distance = 6.0;   // m, ... and is not acted on until it held for this much travel
   double goal_pass_distance = 3.0;   // m, travel at the goal node (as the belief says) without finding
                                      // its opening before the opening is given up
   double goal_refresh_distance = 0.25;  // m, the hallway goal is re-sent when it moved this much
+  double follow_stall_time = 20.0;   // s, following a hallway without getting a robot's diameter away from
+                                     // where the robot was this long ago is a hallway end (the hallway goal
+                                     // moves with the robot, so the controller's own stuck test never fires)
   double max_time = 0.0;             // s, the exploration gives up after this (sim time); 0: no limit
   bool explore = true;               // -, explore from the start; false: wait for missions (a loaded map)
   MissionParams mission;             // missions (mission/* in config/exploration.yaml)
@@ -146,6 +149,23 @@ class Coordinator {
   std::optional<int> startHallwayAxis(const Perception& p, const TopoView& topo) const;
   int binOf(double map_heading) const;
   double odomHeadingOfBin(int bin, const TopoView& topo) const;
+  /// The hallway's heading in the odometry frame: bin_'s and the hallway's offset from it.
+  double odomHallwayHeading(const TopoView& topo) const { return odomHeadingOfBin(bin_, topo) + axis_offset_; }
+  /// The hallway's direction (robot frame) from its walls: along the direction followed, else the
+  /// walls of a hallway at an angle to it (a wing, a bend); the offset from bin_ is kept (re-binned
+  /// past half a bin). The view along the result in `v`.
+  double trackHallwayAxis(const Perception& p, const TopoView& topo, HallwayView* v);
+  /// A bearing in the odometry frame (a door's, into its room) as the topological map has it: in the
+  /// map frame, and square to the axes where a wing's hallway runs at axis_offset_ to them
+  /// (pomdp_topo's front end takes a wing's openings relative to its walls the same way).
+  double topoBearing(double odom_bearing, const TopoView& topo) const;
+  /// At a hallway's end with no way open along the axes: a hallway leaving at an angle (a wing),
+  /// its direction in the robot frame.
+  std::optional<double> obliqueWayAtEnd(const Perception& p, double dir_robot, const HallwayView& v) const;
+  /// The lane (lateral offset, m, robot frame) past an obstacle ahead in the hallway, if there is one.
+  std::optional<double> laneAround(const Perception& p, double dir_robot, const HallwayView& v, bool blocked);
+  /// Following without progress for follow_stall_time (see there).
+  bool followStalled(const Perception& p);
   void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
   // The states' steps of update(): the start (which way to set off), a turn on the spot, the stop
   // at a door (enter it, or on if pomdp_topo took it for a known one), a place created for the room.
@@ -158,6 +178,8 @@ class Coordinator {
   /// On the known map with a sure belief: the route, the end of the exploration or mission, and a
   /// turn round or an opening given up for it.
   bool followRoute(const Perception& p, const TopoView& topo, RouteStep* route, Decision* d);
+  /// Marks the route's goal opening explored (given up unreached) and says so.
+  void giveUpRouteGoal(const RouteStep& route, Decision* d);
   bool giveUpGoalPassed(const TopoView& topo, const RouteStep& route, int near, Decision* d);
   bool turnRoundForRoute(const Perception& p, const TopoView& topo, const RouteStep& route, int near, Decision* d);
   bool enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v, Decision* d);
@@ -213,6 +235,12 @@ class Coordinator {
 
   // Hallway following.
   int bin_ = 0;                  // travel heading bin (map frame)
+  double axis_offset_ = 0.0;     // rad, the hallway followed runs this far from bin_'s heading (a wing at
+                                 // an angle to the building's axes; 0 along them)
+  Eigen::Vector2d stall_anchor_ = Eigen::Vector2d::Zero();  // odometry frame: where the stall window began
+  double stall_since_ = -1.0;    // s, when (-1: not following)
+  bool lane_valid_ = false;      // a lane past an obstacle is being kept ...
+  Eigen::Vector2d lane_point_odom_ = Eigen::Vector2d::Zero();  // ... through this point (odometry frame)
   bool have_goal_ = false;
   Eigen::Vector2d last_goal_ = Eigen::Vector2d::Zero();
   HallwayDoors doors_;  // the doors along the hallway being followed
@@ -224,6 +252,7 @@ class Coordinator {
   int goal_pass_node_ = -1;        // the route's goal node the robot is at (as the belief says)
   double goal_pass_travel_ = 0.0;  // m, travel_ when it got there
   std::map<uint32_t, int> route_attempts_;  // U-turns towards each goal node
+  std::map<std::pair<uint32_t, uint32_t>, int> branch_turns_;  // turns into (node's branch, towards goal node)
   int enter_node_ = -1;                     // the known door's node being entered (-1: a new door)
   double enter_bearing_ = 0.0;              // rad, map frame, its opening's bearing
   double last_turn_travel_ = -1e9;  // m, travel_ at the last turn
@@ -245,6 +274,7 @@ class Coordinator {
   int place_id_ = -1;
   laser_features::Pose2D hallway_pose_odom_;  // where the robot left the hallway
   int hallway_bin_ = 0;
+  double hallway_offset_ = 0.0;  // rad, axis_offset_ of the hallway left for the room
   bool place_ok_ = false;
   bool in_room_ = false;            // Idle: the robot stands in place place_id_ (after a mission)
   std::vector<Request> pending_requests_;  // to go out with the next update (from cancelMission)

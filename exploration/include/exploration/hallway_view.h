@@ -6,10 +6,12 @@
 // ROS-free: Eigen and laser_features only.
 #pragma once
 
+#include "laser_features/building_axes.h"
 #include "laser_features/line_extractor.h"
 
 #include <Eigen/Core>
 
+#include <optional>
 #include <vector>
 
 namespace exploration {
@@ -19,12 +21,17 @@ struct HallwayViewParams {
   double side_sector = 0.44;           // rad (25 deg), half-width of the sectors left and right (a door
                                        // beside the robot subtends more: it does not open a side)
   double side_open_distance = 2.0;     // m, a side sector free this far is an open way
-  double wall_parallel_tolerance = 0.26;  // rad (15 deg), lines this close to the direction are walls
-  double wall_min_length = 0.8;        // m, shorter lines are no hallway walls
+  // rad (15 deg), lines this close to the direction are walls; m, shorter lines are no hallway walls
+  // (the defaults are laser_features::HallwayWallsParams', whose rule finds a wing's walls)
+  double wall_parallel_tolerance = laser_features::HallwayWallsParams().parallel_tolerance;
+  double wall_min_length = laser_features::HallwayWallsParams().min_length;
   double wall_max_lateral = 2.0;       // m, walls farther to the side are not this hallway's
   double min_wall_clearance = 0.8;     // m, with one wall only the mid-line keeps this far from it
   double wall_same_lateral = 0.3;      // m, lines this close to a wall's lateral offset are that wall
                                        // (its pieces between doors; a wall is 0.1-0.2 m thick)
+  // Derived, not configured (the coordinator sets them from config/robot.yaml and config/building.yaml):
+  double clearance = 0.35;             // m, the robot's radius and safety margin
+  double min_mouth = 1.4;              // m, the narrowest hallway's mouth: hallway_min_width - width_tolerance
 };
 
 struct HallwayView {
@@ -32,12 +39,15 @@ struct HallwayView {
   double free_left = 0.0;        // m, nearest point in the left sector
   double free_right = 0.0;       // m
   double free_back = 0.0;        // m
-  bool open_left = false;        // from the robot
+  bool open_left = false;        // from the robot: the side sector is free, or a hallway's mouth is beside it
   bool open_right = false;
   // At a hallway's end: the sides seen from where the crossing's centre is expected (free_ahead
   // less half this hallway's width ahead): an L or T corner opens there, not beside the robot.
   bool end_open_left = false;
   bool end_open_right = false;
+  // Where a crossing's centre is expected (robot frame): half this hallway's width short of the
+  // free distance ahead, on the mid-line.
+  Eigen::Vector2d end_centre = Eigen::Vector2d::Zero();
   bool left_wall = false, right_wall = false;
   double left_lateral = 0.0;     // m, lateral offset of the nearest left wall (> 0), robot frame along the direction
   double right_lateral = 0.0;    // m, (< 0)
@@ -73,6 +83,47 @@ Lane freestLane(const std::vector<Eigen::Vector2d>& points, double direction, co
 HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
                         const std::vector<laser_features::LineSegment>& lines, double direction,
                         const HallwayViewParams& params, double range_cap = 15.0);
+
+/// viewHallway as seen from `origin` (robot frame) instead of the robot; distances and offsets are
+/// from `origin`.
+HallwayView viewHallwayFrom(const std::vector<Eigen::Vector2d>& points,
+                            const std::vector<laser_features::LineSegment>& lines, const Eigen::Vector2d& origin,
+                            double direction, const HallwayViewParams& params, double range_cap = 15.0);
+
+/// The ways out of a hallway's end that run at an angle to the building's axes: directions (rad,
+/// robot frame) within `max_turn` of `direction` and at least `off_axis` (rad) from every quarter
+/// turn of it, along which a corridor of half-width `half_width` (m) from `origin` (robot frame) is
+/// free for `min_free` (m). Adjacent free directions (every `step` rad) form one way, reported by
+/// its middle direction; left (counter-clockwise) first.
+std::vector<double> obliqueWays(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin,
+                                double direction, double half_width, double min_free, double max_turn,
+                                double off_axis, double step);
+
+/// A hallway leaving the end of the hallway seen in `view` (along `direction`, robot frame) at an
+/// angle to the axes: a wing of the building at 30-60 degrees. A way out (obliqueWays, from the
+/// expected crossing's centre, up to three eighths of a turn to either side, the robot's corridor
+/// (params.clearance) free for `min_free`) that is a hallway, not a door seen at a slant: seen from a point
+/// inside it, walls on both sides run along it within `max_width` of each other. Its direction (the
+/// walls', robot frame), the leftmost of several.
+std::optional<double> obliqueHallway(const std::vector<Eigen::Vector2d>& points,
+                                     const std::vector<laser_features::LineSegment>& lines, const HallwayView& view,
+                                     double direction, const HallwayViewParams& params, double min_free,
+                                     double max_width);
+
+/// How far a corridor of half-width `half_width` (m) from `origin` along `bearing` (robot frame) is
+/// free of scan points (m, `range_cap` if no point is in it).
+double corridorFree(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double bearing,
+                    double half_width, double range_cap);
+
+/// A hallway's mouth beside `origin` (robot frame) on the `side` (+1 left, -1 right) of `direction`:
+/// the robot's corridor (half-width `clearance`) straight to that side is free for `depth` (m) from
+/// `origin` and from every point along `direction` up to where the mouth's edges stop it, and the
+/// mouth (the free stretch and the corridor's width) is at least `min_mouth` (m) wide. A door is
+/// narrower: the narrowest hallway (less the width error) is wider than the widest single door. The
+/// side sector's test misses a narrow branch off a wide hallway: from the hallway's middle, a 1.6 m
+/// branch's edges stay in the sector nearer than side_open_distance.
+bool mouthBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction, int side,
+                 double clearance, double min_mouth, double depth);
 
 /// The nearest scan point's distance within `half_width` (rad) of `bearing` (robot frame).
 double freeDistance(const std::vector<Eigen::Vector2d>& points, double bearing, double half_width,

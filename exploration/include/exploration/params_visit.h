@@ -56,6 +56,7 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("jump_tolerance", &c.jump_tolerance);
   visit("jump_hold_distance", &c.jump_hold_distance);
   visit("goal_refresh_distance", &c.goal_refresh_distance);
+  visit("follow_stall_time", &c.follow_stall_time);
   visit("max_time", &c.max_time);
   visit("explore", &c.explore);
   MissionParams& m = c.mission;

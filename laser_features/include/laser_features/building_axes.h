@@ -15,10 +15,12 @@
 #pragma once
 
 #include <cmath>
+#include <optional>
 #include <utility>
 #include <vector>
 
 #include "laser_features/geometry.h"
+#include "laser_features/line_extractor.h"
 
 namespace laser_features {
 
@@ -82,6 +84,24 @@ class BuildingAxisEstimator {
   std::vector<std::pair<double, double>> lines_;  // (4 beta, length) of the used lines
   double total_ = 0.0;
 };
+
+/// Where the walls of the hallway the robot stands in are taken from (each with its unit and default).
+struct HallwayWallsParams {
+  double min_length = 0.8;            // m, shorter lines are no hallway walls (door frames, furniture)
+  double parallel_tolerance = 0.26;   // rad (15 deg), two walls of one hallway are this parallel
+  double behind = 1.0, ahead = 2.5;   // m, a wall beside the robot reaches from this far behind it to this far ahead
+  double min_lateral = 0.2;           // m, nearer lines are the robot's own clutter, not a wall
+  double max_width = 4.1;             // m, the widest hallway with its width error (config/building.yaml)
+};
+
+/// The direction (rad, robot frame) of the hallway the robot stands in, from its walls: a line on
+/// each side of the robot, beside it, parallel, the two within max_width of each other; of several
+/// pairs, the narrowest (the robot's own hallway, not a wider space seen past it). Only lines within
+/// `max_turn` (rad) of `reference` (rad, robot frame) are tried; the
+/// direction returned is the pair's length-weighted mean, the one of its two senses nearer
+/// `reference`. A wing of the building at 30-60 deg has such walls; so does a hallway along the axes.
+std::optional<double> hallwayWallsDirection(const std::vector<LineSegment>& lines, double reference, double max_turn,
+                                            const HallwayWallsParams& params);
 
 /// The axis (rad, in (-pi/4, pi/4]) of a set of headings weighted by `weights` (e.g. the headings of
 /// a map's hallway edges, which lie along the axes); 0 for an empty set.
