@@ -374,8 +374,8 @@ std::optional<double> Coordinator::laneAround(const Perception& p, double dir_ro
   // it is free as far (a pillar, a chair, a person): the robot keeps to that lane. The lane taken
   // is kept while it stays free past the obstacle: another lane as free (the other side of a pillar
   // on the mid-line) would swing the robot from side to side in front of it.
-  const Eigen::Vector2d n = unit(dir_robot + 0.5 * kPi);
-  if (lane_valid_ && apply(inverse(p.odom), lane_point_odom_).dot(unit(dir_robot)) < -params_.end_distance)
+  const Eigen::Vector2d n = unitVector(dir_robot + 0.5 * kPi);
+  if (lane_valid_ && transformPoint(inverse(p.odom), lane_point_odom_).dot(unitVector(dir_robot)) < -params_.end_distance)
     lane_valid_ = false;  // the obstacle is passed
   if (!(v.free_ahead < params_.end_distance) || blocked) return std::nullopt;
   const double past = v.free_ahead + params_.end_distance;
@@ -383,14 +383,14 @@ std::optional<double> Coordinator::laneAround(const Perception& p, double dir_ro
   const double clearance = params_.hallway.clearance;
   std::optional<double> lane;
   if (lane_valid_) {
-    const double kept = apply(inverse(p.odom), lane_point_odom_).dot(n);
+    const double kept = transformPoint(inverse(p.odom), lane_point_odom_).dot(n);
     if (corridorFree(p.points, kept * n, dir_robot, clearance, 15.0) > past) lane = kept;
   }
   if (!lane) {
     const Lane l = freestLane(p.points, dir_robot, v, clearance);
     if (!(l.free > past)) return std::nullopt;
     lane = l.lateral;
-    lane_point_odom_ = apply(p.odom, *lane * n);
+    lane_point_odom_ = transformPoint(p.odom, *lane * n);
     lane_valid_ = true;
   }
   state_text_ = "passing an obstacle in the hallway";
@@ -600,7 +600,7 @@ bool Coordinator::turnIntoRouteBranch(const Perception& p, const TopoView& topo,
       // A route that turns into the same branch towards the same goal again and again goes round
       // in a circle (a belief that moves back as the robot turns, look-alike junctions): the goal's
       // opening is given up after max_route_attempts such turns, as after as many U-turns.
-      if (!mission_active_ &&
+      if (!mission_.active() &&
           ++branch_turns_[{route.next_node, route.goal_node}] > params_.max_route_attempts) {
         giveUpRouteGoal(route, d);
         return true;
