@@ -13,6 +13,7 @@ add_library(exploration_core
   ${EXPLORATION_CORE_DIR}/src/frontier_explorer.cpp
   ${EXPLORATION_CORE_DIR}/src/room_explorer.cpp
   ${EXPLORATION_CORE_DIR}/src/hallway_view.cpp
+  ${EXPLORATION_CORE_DIR}/src/hallway_follower.cpp
   ${EXPLORATION_CORE_DIR}/src/topo_route.cpp
   ${EXPLORATION_CORE_DIR}/src/hallway_doors.cpp
   ${EXPLORATION_CORE_DIR}/src/room_visit.cpp

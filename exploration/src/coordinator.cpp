@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <sstream>
 
 namespace exploration {
@@ -13,7 +12,6 @@ using laser_features::kPi;
 using laser_features::normalizeAngle;
 using laser_features::Pose2D;
 using laser_features::transformPoint;
-using laser_features::unitVector;
 
 namespace {
 
@@ -37,8 +35,8 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
     if (error) *error = why;
     return false;
   };
-  if (!(p.lookahead > 0.3)) return fail("lookahead must be > 0.3 m");
-  if (!(p.end_distance > 0.5)) return fail("end_distance must be > 0.5 m");
+  if (!(p.follow.lookahead > 0.3)) return fail("lookahead must be > 0.3 m");
+  if (!(p.follow.end_distance > 0.5)) return fail("end_distance must be > 0.5 m");
   if (!p.rules.valid(error)) return false;
   if (!(p.doors.min_confidence >= 0.0 && p.doors.min_confidence <= 1.0)) return fail("door_min_confidence must be in [0, 1]");
   if (!(p.doors.max_lateral > 0.0 && p.doors.side_angle > 0.0 && p.doors.pass_distance >= 0.0 && p.doors.same_distance > 0.0 &&
@@ -50,95 +48,29 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
   if (p.max_route_attempts < 1) return fail("max_route_attempts must be >= 1");
   if (!(p.goal_pass_distance > 0.0)) return fail("goal_pass_distance must be > 0");
   if (!(p.jump_tolerance >= 0.0 && p.jump_hold_distance >= 0.0)) return fail("jump_tolerance and jump_hold_distance must be >= 0");
-  if (!(p.branch_record_distance >= 0.0 && p.u_turn_cost >= 0.0 && p.goal_refresh_distance > 0.0))
+  if (!(p.branch_record_distance >= 0.0 && p.u_turn_cost >= 0.0 && p.follow.goal_refresh_distance > 0.0))
     return fail("branch_record_distance and u_turn_cost must be >= 0, goal_refresh_distance > 0");
   if (!MissionRunner::validate(p.mission, error)) return false;
-  if (!(p.follow_stall_time > 0.0)) return fail("follow_stall_time must be > 0");
+  if (!(p.follow.stall_time > 0.0)) return fail("follow_stall_time must be > 0");
   return RoomExplorer::validate(p.room, error);
 }
 
 Coordinator::Coordinator(const CoordinatorParams& params)
     : params_(params),
+      follower_(params.follow, params.hallway, params.rules, params.room.planner),
       visit_(params.room_visit, params.room, params.rules, params.doors),
       mission_(params.mission),
       doors_(params.doors, params.rules) {
   std::string why;
   if (!validate(params, &why)) throw std::invalid_argument("exploration coordinator: " + why);
-  // The hallway view's derived sizes: the robot's footprint and the building's narrowest hallway.
-  params_.hallway.clearance = params.room.planner.robot_radius + params.room.planner.safety_margin;
-  params_.hallway.min_mouth = params.rules.hallway_min_width - params.rules.width_tolerance;
+  params_.hallway = follower_.viewParams();  // with its derived sizes
 }
 
 void Coordinator::setState(State s, const std::string& text) {
   state_ = s;
   state_since_ = now_;
   state_text_ = text;
-  stall_since_ = -1.0;  // the stall window starts again in the next state
-  lane_valid_ = false;
-}
-
-double Coordinator::binHeading(int bin) const { return bins_.heading(bin); }
-
-int Coordinator::binOf(double map_heading) const { return bins_.bin(map_heading); }
-
-std::optional<int> Coordinator::startHallwayAxis(const Perception& p, const TopoView& topo) const {
-  // The hallway the robot starts in runs between the nearest walls beside it: of the two axes, the
-  // one whose parallel wall lines enclose the robot most narrowly, within a hallway's width
-  // (BuildingRules::hallway_max_width, the robot anywhere across it). Beside: a wall reaches within
-  // half the widest door of the robot along the axis (a door's wall does, on both sides of the door
-  // the robot may stand in front of). A view through a door ahead is no hallway however deep: the
-  // room's side walls begin beyond the hallway's wall, its far wall and the hallway's wall behind
-  // the robot are farther apart than a hallway is wide.
-  const HallwayViewParams& hp = params_.hallway;
-  const int quarter = bins_.bins / 4;
-  std::optional<int> best;
-  double best_width = std::numeric_limits<double>::infinity();
-  for (int axis = 0; axis < 2; ++axis) {
-    const double dir = normalizeAngle(odomHeadingOfBin(bin_ + axis * quarter, topo) - p.odom.theta);  // robot frame
-    const Eigen::Vector2d u = unitVector(dir), n = unitVector(dir + 0.5 * kPi);
-    double left = std::numeric_limits<double>::infinity(), right = left;
-    for (const laser_features::LineSegment& l : p.lines) {
-      const Eigen::Vector2d d = l.end - l.start;
-      if (d.norm() < hp.wall_min_length) continue;
-      if (std::abs(laser_features::cross2(u, d.normalized())) > std::sin(hp.wall_parallel_tolerance)) continue;
-      const double beside = 0.5 * params_.rules.door_max_width + params_.rules.width_tolerance;
-      const double a0 = u.dot(l.start), a1 = u.dot(l.end);
-      if (std::min(a0, a1) > beside || std::max(a0, a1) < -beside) continue;
-      const double offset = n.dot(0.5 * (l.start + l.end));
-      (offset > 0.0 ? left : right) = std::min(offset > 0.0 ? left : right, std::abs(offset));
-    }
-    if (left + right <= params_.rules.hallway_max_width + params_.rules.width_tolerance && left + right < best_width) {
-      best_width = left + right;
-      best = axis;
-    }
-  }
-  return best;
-}
-
-int Coordinator::startBin(const Perception& p, const TopoView& topo) const {
-  // The robot may start facing any way: it sets off along the hallway it stands in (above), along
-  // its own bin if that is one of the two, else along the one whose way is free the farthest. With
-  // no walls on both sides of it: a hallway is longer than it is wide, so when the way ahead is
-  // shorter than a way to the side, the robot stands across the hallway.
-  const auto free = [&](int bin) {
-    return freeDistance(p.points, normalizeAngle(odomHeadingOfBin(bin, topo) - p.odom.theta), params_.hallway.ahead_sector,
-                        15.0);
-  };
-  const int quarter = bins_.bins / 4;
-  if (const std::optional<int> axis = startHallwayAxis(p, topo)) {
-    if (*axis == 0) return bin_;
-    return free(bin_ + quarter) >= free(bin_ - quarter) ? bins_.wrap(bin_ + quarter) : bins_.wrap(bin_ - quarter);
-  }
-  if (free(bin_) >= std::max(free(bin_ + quarter), free(bin_ - quarter))) return bin_;
-  int best = bin_;
-  for (int k = 1; k < bins_.bins; ++k) {
-    if (free(bin_ + k) > free(best)) best = bins_.wrap(bin_ + k);
-  }
-  return best;
-}
-
-double Coordinator::odomHeadingOfBin(int bin, const TopoView& topo) const {
-  return normalizeAngle(binHeading(bin) - (topo.heading_valid ? topo.heading_offset : 0.0));
+  follower_.restart();
 }
 
 Decision Coordinator::update(const Perception& p, const TopoView& topo, bool motion_reached, bool motion_blocked) {
@@ -218,22 +150,20 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
 void Coordinator::start(const Perception& p, const TopoView& topo, Decision* d) {
   d->stop = true;
   if (topo.valid && topo.heading_valid && !topo.mode.empty()) {
-    bin_ = binOf(p.odom.theta + topo.heading_offset);
+    follower_.faceRobotsBin(p, topo);
     if (!params_.explore) {
       setState(State::Idle, "waiting for a mission");
       return;
     }
-    const int along = startBin(p, topo);
-    const double back = normalizeAngle(odomHeadingOfBin(along + bins_.bins / 2, topo) - p.odom.theta);
-    const double free_back = freeDistance(p.points, back, params_.hallway.ahead_sector, 15.0);
-    if (topo.mode == "frontier" && free_back > params_.end_distance + 1.0) {
+    const int along = follower_.startBin(p, topo);
+    if (topo.mode == "frontier" && follower_.openBehind(along, p, topo)) {
       // The robot starts mid-hallway: the way behind it is an unexplored opening of the start node.
       Request r;
       r.kind = Request::RecordOpening;
-      r.bearing = binHeading(along + bins_.bins / 2);
+      r.bearing = follower_.binHeading(along + follower_.headingBins().bins / 2);
       d->requests.push_back(r);
     }
-    if (along != bin_) startTurn(along, p, topo, {});
+    if (along != follower_.bin()) startTurn(along, topo, {});
     else setState(State::Follow, "following the hallway");
   }
 }
@@ -244,11 +174,10 @@ void Coordinator::turn(const Perception& p, bool motion_reached, bool motion_blo
   turnGoal(p, d);
   const double err = std::abs(normalizeAngle(turn_odom_heading_ - p.odom.theta));
   if ((motion_reached && err < 0.15) || err < 0.05 || (motion_blocked && err < 0.3)) {
-    bin_ = turn_bin_;
-    stall_since_ = -1.0;
+    follower_.setBin(turn_bin_);
     pending_branch_travel_ = travel_;
     last_turn_travel_ = travel_;
-    have_goal_ = false;
+    follower_.forgetGoal();
     setState(State::Follow, "following the hallway");
   }
 }
@@ -286,8 +215,7 @@ void Coordinator::stopForDoor(const Perception& p, const TopoView& topo, Decisio
     // The door's node exists now (passed); the topological map stands still from here on.
     mode_ = CoordinatorMode::Metric;
     hallway_pose_odom_ = p.odom;
-    hallway_bin_ = bin_;
-    hallway_offset_ = axis_offset_;
+    entry_hallway_ = follower_.direction();
     door_bearing_map_ = enter_bearing_;
     Request rec;
     rec.kind = Request::RecordOpening;
@@ -318,7 +246,7 @@ void Coordinator::enterRoom(const Perception& p, const TopoView& topo, Decision*
     setState(State::Follow, "could not create a place: door skipped");
     return;
   }
-  visit_.beginNewRoom(p.odom, door_, odomHeadingOfBin(hallway_bin_, topo) + hallway_offset_);
+  visit_.beginNewRoom(p.odom, door_, follower_.odomHeading(entry_hallway_, topo));
   Request add;
   add.kind = Request::AddDoor;
   add.door_id = std::max(0, door_node_);
@@ -333,8 +261,8 @@ void Coordinator::enterRoom(const Perception& p, const TopoView& topo, Decision*
 void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d) {
   mode_ = CoordinatorMode::Topological;
   HallwayView v;
-  const double dir_robot = trackHallwayAxis(p, topo, &v);
-  if (followStalled(p)) blocked = true;
+  const double dir_robot = follower_.track(p, topo, &v);
+  if (follower_.stalled(p)) blocked = true;
   const bool localized = topo.mode == "localized";
   const bool sure = (topo.mode == "frontier") || (localized && topo.confident && beliefPlausible(topo));
   state_text_ = sure ? (localized ? "following the hallway on the known map" : "following a new hallway")
@@ -346,8 +274,9 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   if (enterPassedDoor(p, topo, dir_robot, v, d)) return;
   if (turnIntoRouteBranch(p, topo, route, sure, dir_robot, v, d)) return;
 
-  const std::optional<double> lane = laneAround(p, dir_robot, v, blocked);
-  if ((v.free_ahead < params_.end_distance && !lane) || blocked) {
+  const std::optional<double> lane = follower_.laneAround(p, dir_robot, v, blocked);
+  if (lane) state_text_ = "passing an obstacle in the hallway";
+  if ((follower_.atEnd(v) && !lane) || blocked) {
     decideAtEnd(p, topo, v, d);
     if (blocked) state_text_ = "motion blocked: " + state_text_;
     if (state_ == State::Turn) {
@@ -356,45 +285,10 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
     }
   }
 
-  // The goal: lookahead metres ahead on the mid-line (past an obstacle, on the lane beside it).
-  const double ahead = lane ? std::max(params_.lookahead, v.free_ahead + params_.end_distance) : params_.lookahead;
-  const Eigen::Vector2d g_robot = ahead * unitVector(dir_robot) + lane.value_or(v.centre_offset) * unitVector(dir_robot + 0.5 * kPi);
-  const Eigen::Vector2d g = transformPoint(p.odom, g_robot);
-  if (!have_goal_ || (g - last_goal_).norm() > params_.goal_refresh_distance) {
-    last_goal_ = g;
-    have_goal_ = true;
-  }
+  const Eigen::Vector2d goal = follower_.goal(p, dir_robot, v, lane);
   d->has_goal = true;
-  d->x = last_goal_.x();
-  d->y = last_goal_.y();
-}
-
-std::optional<double> Coordinator::laneAround(const Perception& p, double dir_robot, const HallwayView& v, bool blocked) {
-  // An obstacle ahead is no hallway end where the hallway's walls go on past it and a lane beside
-  // it is free as far (a pillar, a chair, a person): the robot keeps to that lane. The lane taken
-  // is kept while it stays free past the obstacle: another lane as free (the other side of a pillar
-  // on the mid-line) would swing the robot from side to side in front of it.
-  const Eigen::Vector2d n = unitVector(dir_robot + 0.5 * kPi);
-  if (lane_valid_ && transformPoint(inverse(p.odom), lane_point_odom_).dot(unitVector(dir_robot)) < -params_.end_distance)
-    lane_valid_ = false;  // the obstacle is passed
-  if (!(v.free_ahead < params_.end_distance) || blocked) return std::nullopt;
-  const double past = v.free_ahead + params_.end_distance;
-  if (!v.wallsReach(past)) return std::nullopt;
-  const double clearance = params_.hallway.clearance;
-  std::optional<double> lane;
-  if (lane_valid_) {
-    const double kept = transformPoint(inverse(p.odom), lane_point_odom_).dot(n);
-    if (corridorFree(p.points, kept * n, dir_robot, clearance, 15.0) > past) lane = kept;
-  }
-  if (!lane) {
-    const Lane l = freestLane(p.points, dir_robot, v, clearance);
-    if (!(l.free > past)) return std::nullopt;
-    lane = l.lateral;
-    lane_point_odom_ = transformPoint(p.odom, *lane * n);
-    lane_valid_ = true;
-  }
-  state_text_ = "passing an obstacle in the hallway";
-  return lane;
+  d->x = goal.x();
+  d->y = goal.y();
 }
 
 void Coordinator::recordWaysNotTaken(bool sure, Decision* d) {
@@ -404,7 +298,7 @@ void Coordinator::recordWaysNotTaken(bool sure, Decision* d) {
       for (int b : pending_branches_) {
         Request r;
         r.kind = Request::RecordOpening;
-        r.bearing = binHeading(b);
+        r.bearing = follower_.binHeading(b);
         d->requests.push_back(r);
       }
     }
@@ -479,7 +373,7 @@ bool Coordinator::turnRoundForRoute(const Perception& p, const TopoView& topo, c
   // The route points back along the hallway: turn round (after a few ticks of agreement), but
   // not for the node the robot is at: its door is entered once passed, or given up (above).
   if (route.found && (near < 0 || uint32_t(near) != route.goal_node) &&
-      std::abs(normalizeAngle(route.heading - binHeading(bin_))) > 0.75 * kPi) {
+      std::abs(normalizeAngle(route.heading - follower_.binHeading(follower_.bin()))) > 0.75 * kPi) {
     // Not again soon after a turn: a belief flickering between two edges would swing the robot.
     if (++route_behind_ticks_ >= 5 && travel_ - last_turn_travel_ > 3.0) {
       route_behind_ticks_ = 0;
@@ -508,7 +402,7 @@ bool Coordinator::turnRoundForRoute(const Perception& p, const TopoView& topo, c
         return true;
       }
       ++stats_.u_turns;
-      startTurn(bin_ + bins_.bins / 2, p, topo, {});
+      startTurn(follower_.bin() + follower_.headingBins().bins / 2, topo, {});
       state_text_ = "turning round towards node " + std::to_string(route.goal_node) + " (" +
                     std::to_string(route.distance) + " m, from " + (topo.position.at_node ? "node " : "edge ") +
                     std::to_string(topo.position.id) + ")";
@@ -570,9 +464,9 @@ bool Coordinator::turnIntoRouteBranch(const Perception& p, const TopoView& topo,
   // A mission's goal is a door: entered once passed (above), never turned into like a branch.
   const bool door_next = mission_.active() && route.next_node == route.goal_node;
   if (route.found && sure && !door_next) {
-    const int route_bin = binOf(route.next_heading);
-    const int n = bins_.bins;
-    const bool left = route_bin == (bin_ + n / 4) % n, right = route_bin == (bin_ + 3 * n / 4) % n;
+    const int route_bin = follower_.binOf(route.next_heading);
+    const int n = follower_.headingBins().bins, bin = follower_.bin();
+    const bool left = route_bin == (bin + n / 4) % n, right = route_bin == (bin + 3 * n / 4) % n;
     const int near = graph_.nearestNode(topo.position);
     // At the node as the belief says, or within 2 m of the goal node: the belief may be off by a
     // metre, the branch's mouth opens the side sector only within a quarter metre of its centre.
@@ -605,7 +499,7 @@ bool Coordinator::turnIntoRouteBranch(const Perception& p, const TopoView& topo,
         giveUpRouteGoal(route, d);
         return true;
       }
-      startTurn(route_bin, p, topo, {});
+      startTurn(route_bin, topo, {});
       state_text_ = "turning into the branch of node " + std::to_string(near) + " towards node " +
                     std::to_string(route.goal_node);
       turnGoal(p, d);
@@ -617,8 +511,8 @@ bool Coordinator::turnIntoRouteBranch(const Perception& p, const TopoView& topo,
 
 void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d) {
   (void)d;
-  const int n = bins_.bins;
-  const int left = (bin_ + n / 4) % n, right = (bin_ + 3 * n / 4) % n, back = (bin_ + n / 2) % n;
+  const int n = follower_.headingBins().bins, bin = follower_.bin();
+  const int left = (bin + n / 4) % n, right = (bin + 3 * n / 4) % n, back = (bin + n / 2) % n;
   std::vector<int> open;
   if (v.end_open_left) open.push_back(left);
   if (v.end_open_right) open.push_back(right);
@@ -628,21 +522,16 @@ void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const H
   const bool localized = topo.mode == "localized";
   const bool sure = topo.mode == "frontier" || (localized && topo.confident);
   if (open.empty()) {
-    const double dir_robot = normalizeAngle(odomHallwayHeading(topo) - p.odom.theta);
-    if (const std::optional<double> way = obliqueWayAtEnd(p, dir_robot, v)) {
-      // A wing: its heading is the hallway's from here on, as bin and offset.
-      const double map_heading = normalizeAngle(*way + p.odom.theta + (topo.heading_valid ? topo.heading_offset : 0.0));
-      const int way_bin = binOf(map_heading);
-      axis_offset_ = normalizeAngle(map_heading - binHeading(way_bin));
+    if (const std::optional<double> way = follower_.obliqueWayAtEnd(p, topo, v)) {
       ++stats_.turns;
-      startTurn(way_bin, p, topo, {});
+      startTurn(follower_.takeWay(*way, p, topo), topo, {});
       char angle[64];
       std::snprintf(angle, sizeof(angle), "hallway end: turning %.0f deg into a hallway at an angle", *way * 180.0 / kPi);
       state_text_ = angle + std::string(why);
       return;
     }
     ++stats_.u_turns;
-    startTurn(back, p, topo, {});
+    startTurn(back, topo, {});
     state_text_ = "hallway end: turning round" + std::string(why);
     return;
   }
@@ -651,7 +540,7 @@ void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const H
     const RouteStep r = plan(topo.position);
     if (r.found) {
       const int near = graph_.nearestNode(topo.position);
-      const int rb = binOf(near >= 0 && uint32_t(near) == r.next_node ? r.next_heading : r.heading);
+      const int rb = follower_.binOf(near >= 0 && uint32_t(near) == r.next_node ? r.next_heading : r.heading);
       if (std::find(open.begin(), open.end(), rb) != open.end()) choice = rb;
     }
   }
@@ -662,60 +551,8 @@ void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const H
     }
   }
   ++stats_.turns;
-  startTurn(choice, p, topo, not_taken);
+  startTurn(choice, topo, not_taken);
   state_text_ = "hallway end: turning " + std::string(choice == left ? "left" : "right") + why;
-}
-
-double Coordinator::topoBearing(double odom_bearing, const TopoView& topo) const {
-  return normalizeAngle(odom_bearing + topo.heading_offset - axis_offset_);
-}
-
-double Coordinator::trackHallwayAxis(const Perception& p, const TopoView& topo, HallwayView* v) {
-  double dir_robot = normalizeAngle(odomHallwayHeading(topo) - p.odom.theta);
-  *v = viewHallway(p.points, p.lines, dir_robot, params_.hallway);
-  const double half_bin = kPi / bins_.bins;
-  if (!v->wall_direction_valid) {
-    // No wall along the way followed: the walls of the hallway around the robot, up to half a bin
-    // and the wall tolerance from it (every way a wing can run: 30-60 deg to the axes).
-    laser_features::HallwayWallsParams walls;
-    walls.min_length = params_.hallway.wall_min_length;
-    walls.parallel_tolerance = params_.hallway.wall_parallel_tolerance;
-    walls.max_width = params_.rules.hallway_max_width + params_.rules.width_tolerance;
-    if (const std::optional<double> around = laser_features::hallwayWallsDirection(p.lines, dir_robot, half_bin + walls.parallel_tolerance, walls))
-      *v = viewHallway(p.points, p.lines, *around, params_.hallway);
-  }
-  if (!v->wall_direction_valid) return dir_robot;
-  dir_robot = v->wall_direction;
-  const double map_heading = normalizeAngle(dir_robot + p.odom.theta + (topo.heading_valid ? topo.heading_offset : 0.0));
-  axis_offset_ = normalizeAngle(map_heading - binHeading(bin_));
-  // Past half a bin (and the wall tolerance, against flicker at exactly half) the nearer bin is the
-  // hallway's.
-  if (std::abs(axis_offset_) > half_bin + 0.5 * params_.hallway.wall_parallel_tolerance) {
-    bin_ = binOf(map_heading);
-    axis_offset_ = normalizeAngle(map_heading - binHeading(bin_));
-  }
-  return dir_robot;
-}
-
-std::optional<double> Coordinator::obliqueWayAtEnd(const Perception& p, double dir_robot, const HallwayView& v) const {
-  // The robot's corridor free for a hallway's width is a way out; its walls within a hallway's
-  // width make it a hallway.
-  return obliqueHallway(p.points, p.lines, v, dir_robot, params_.hallway, params_.rules.hallway_max_width,
-                        params_.rules.hallway_max_width + params_.rules.width_tolerance);
-}
-
-bool Coordinator::followStalled(const Perception& p) {
-  const Eigen::Vector2d here(p.odom.x, p.odom.y);
-  const double diameter = 2.0 * params_.room.planner.robot_radius;
-  if (stall_since_ < 0.0 || (here - stall_anchor_).norm() > diameter) {
-    stall_anchor_ = here;
-    stall_since_ = now_;
-    return false;
-  }
-  if (now_ - stall_since_ < params_.follow_stall_time) return false;
-  stall_anchor_ = here;
-  stall_since_ = now_;
-  return true;
 }
 
 void Coordinator::turnGoal(const Perception& p, Decision* d) const {
@@ -725,14 +562,12 @@ void Coordinator::turnGoal(const Perception& p, Decision* d) const {
   d->theta = turn_odom_heading_;
 }
 
-void Coordinator::startTurn(int bin, const Perception& p, const TopoView& topo, std::vector<int> not_taken) {
+void Coordinator::startTurn(int bin, const TopoView& topo, std::vector<int> not_taken) {
   // Turns keep the hallway's offset from the axes: a wing's crossings and U-turns are square to it.
-  turn_bin_ = bins_.wrap(bin);
-  turn_odom_heading_ = normalizeAngle(odomHeadingOfBin(turn_bin_, topo) + axis_offset_);
+  turn_bin_ = follower_.headingBins().wrap(bin);
+  turn_odom_heading_ = normalizeAngle(follower_.odomHeadingAtOffset(turn_bin_, topo));
   pending_branches_ = std::move(not_taken);
   pending_branch_travel_ = -1.0;
-  last_goal_ = Eigen::Vector2d(p.odom.x, p.odom.y);
-  have_goal_ = true;
   doors_.clear();  // the doors and walls seen so far belong to the hallway being left
   setState(State::Turn, "turning");
 }
@@ -769,7 +604,7 @@ bool Coordinator::beliefPlausible(const TopoView& topo) {
 
 bool Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) {
   enter_node_ = -1;
-  enter_bearing_ = topoBearing(door.into_odom, topo);
+  enter_bearing_ = follower_.topoBearing(door.into_odom, topo);
   if (mission_.active()) {
     // Only the mission's door, at its node as a confident belief says, on its side.
     if (topo.mode != "localized" || !topo.confident || travel_ < distrust_until_) return false;
@@ -810,7 +645,7 @@ bool Coordinator::exploredAtFrontierNode(const TopoView& topo, const DoorTrack& 
     return false;
   const GraphNode* n = graph_.node(topo.position.id);
   if (n == nullptr) return false;  // a node made for this door, not in the graph received yet
-  const double bearing = topoBearing(door.into_odom, topo);
+  const double bearing = follower_.topoBearing(door.into_odom, topo);
   return std::any_of(n->openings.begin(), n->openings.end(),
                      [&](const GraphOpening& o) { return o.explored && sameOpening(o, bearing, door.width); });
 }
@@ -888,9 +723,8 @@ void Coordinator::leaveRoom(const Perception& q, Decision* d) {
 }
 
 void Coordinator::backOnHallway(bool exact, Decision* d) {
-  bin_ = hallway_bin_;
-  axis_offset_ = hallway_offset_;
-  have_goal_ = false;
+  follower_.setDirection(entry_hallway_);
+  follower_.forgetGoal();
   mode_ = CoordinatorMode::Topological;
   left_door_ = door_;
   left_door_travel_ = travel_;
@@ -939,7 +773,7 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
     leaveRoomForMission(to + ": leaving place " + std::to_string(place_id_) + " by its door");
     mode_ = CoordinatorMode::Metric;
   } else {
-    have_goal_ = false;
+    follower_.forgetGoal();
     last_turn_travel_ = travel_ - 3.0;  // the route may turn the robot round at once
     setState(State::Follow, to + ": following the hallway");
     mode_ = CoordinatorMode::Topological;
@@ -953,15 +787,15 @@ void Coordinator::leaveRoomForMission(const std::string& text) {
   at_door.valid = true;
   at_door.at_node = true;
   at_door.id = uint32_t(std::max(0, door_node_));
-  at_door.heading = binHeading(hallway_bin_);
+  at_door.heading = follower_.binHeading(entry_hallway_.bin);
   const PlaceDoor& goal_door = mission_.door();
   const RouteStep r = graph_.routeTo(at_door, goal_door.node, goal_door.opening, params_.u_turn_cost);
-  const int n = bins_.bins;
+  const int n = follower_.headingBins().bins;
   if (r.found && door_node_ >= 0 && uint32_t(door_node_) != goal_door.node) {
-    const int rb = binOf(r.heading);
-    if (rb == (hallway_bin_ + n / 2) % n) {
+    const int rb = follower_.binOf(r.heading);
+    if (rb == (entry_hallway_.bin + n / 2) % n) {
       visit_.turnExitHeadingRound();
-      hallway_bin_ = rb;
+      entry_hallway_.bin = rb;
     }
   }
   visit_.beginExit();
@@ -1007,8 +841,7 @@ void Coordinator::beginRelocation(const Perception& p, Decision* d) {
   d->stop = true;
   mode_ = CoordinatorMode::Metric;
   hallway_pose_odom_ = p.odom;
-  hallway_bin_ = bin_;
-  hallway_offset_ = axis_offset_;
+  entry_hallway_ = follower_.direction();
   place_id_ = mission_.place();
   door_node_ = int(mission_.door().node);
   mission_.beginRelocation(door_, p.odom, d);
@@ -1024,7 +857,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
       if (!step.text.empty()) state_text_ = step.text;
       return;
     case RelocationStep::Relocated:
-      visit_.beginKnownRoom(p, hallway_pose_odom_, odomHeadingOfBin(hallway_bin_, topo) + hallway_offset_,
+      visit_.beginKnownRoom(p, hallway_pose_odom_, follower_.odomHeading(entry_hallway_, topo),
                             mission_.door().opening, door_.width);
       setState(State::ApproachDoor, "relocated in place " + std::to_string(place_id_) + ": entering");
       return;
@@ -1047,7 +880,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
   reset.kind = Request::ResetBelief;
   d->requests.push_back(reset);
   mode_ = CoordinatorMode::Topological;
-  have_goal_ = false;
+  follower_.forgetGoal();
   setState(State::Follow, step.text);
 }
 

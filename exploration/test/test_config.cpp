@@ -60,6 +60,6 @@ TEST(Config, DefaultsAreValid) {
   std::string why;
   EXPECT_TRUE(exploration::Coordinator::validate(p.coordinator, &why)) << why;
   EXPECT_TRUE(exploration::MotionController::validate(p.motion, &why)) << why;
-  p.coordinator.lookahead = 0.2;
+  p.coordinator.follow.lookahead = 0.2;
   EXPECT_FALSE(exploration::Coordinator::validate(p.coordinator, &why));
 }

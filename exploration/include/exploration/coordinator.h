@@ -21,15 +21,17 @@
 // The coordinator does not talk to the other nodes itself: it returns requests (create a place,
 // record an opening, ...) that its node carries out as service calls and answers.
 //
-// The Coordinator runs the state machine, follows the hallways and chooses the route; a room's
-// visit (RoomVisit, room_visit.h) and a mission's relocation and drive to its goal (MissionRunner,
-// mission_runner.h) are classes of their own that it delegates to.
+// The Coordinator runs the state machine, decides the turns and the doors, and chooses the route;
+// the hallway's following (HallwayFollower, hallway_follower.h), a room's visit (RoomVisit,
+// room_visit.h) and a mission's relocation and drive to its goal (MissionRunner, mission_runner.h)
+// are classes of their own that it delegates to.
 //
 // ROS-free: Eigen, laser_features and the standard library only.
 #pragma once
 
 #include "exploration/coordinator_io.h"
 #include "exploration/hallway_doors.h"
+#include "exploration/hallway_follower.h"
 #include "exploration/hallway_view.h"
 #include "exploration/mission_runner.h"
 #include "exploration/room_explorer.h"
@@ -50,9 +52,9 @@ namespace exploration {
 
 struct CoordinatorParams {
   HallwayViewParams hallway;
+  HallwayFollowerParams follow;      // following a hallway (lookahead, end_distance, goal_refresh_distance,
+                                     // follow_stall_time in config/exploration.yaml)
   RoomExplorerParams room;
-  double lookahead = 1.5;            // m, the hallway goal lies this far ahead on the mid-line
-  double end_distance = 1.3;         // m, the hallway ends when the free distance ahead is below this
   laser_features::BuildingRules rules;  // door widths (config/building.yaml): openings outside them are no doors
   HallwayDoorParams doors;           // the hallway's doors (door_* in config/exploration.yaml)
   double settle_time = 0.5;          // s, standing still before a switch (the nodes see the robot stopped)
@@ -65,10 +67,6 @@ struct CoordinatorParams {
   double jump_hold_distance = 6.0;   // m, ... and is not acted on until it held for this much travel
   double goal_pass_distance = 3.0;   // m, travel at the goal node (as the belief says) without finding
                                      // its opening before the opening is given up
-  double goal_refresh_distance = 0.25;  // m, the hallway goal is re-sent when it moved this much
-  double follow_stall_time = 20.0;   // s, following a hallway without getting a robot's diameter away from
-                                     // where the robot was this long ago is a hallway end (the hallway goal
-                                     // moves with the robot, so the controller's own stuck test never fires)
   double max_time = 0.0;             // s, the exploration gives up after this (sim time); 0: no limit
   bool explore = true;               // -, explore from the start; false: wait for missions (a loaded map)
   MissionParams mission;             // missions (mission/* in config/exploration.yaml)
@@ -96,8 +94,8 @@ class Coordinator {
 
   /// The building's axes as pomdp_topo found them (its building_axes topic): the discrete
   /// headings of the hallways. Set before the first update().
-  void setHeadingBins(const laser_features::HeadingBins& bins) { bins_ = bins; }
-  const laser_features::HeadingBins& headingBins() const { return bins_; }
+  void setHeadingBins(const laser_features::HeadingBins& bins) { follower_.setHeadingBins(bins); }
+  const laser_features::HeadingBins& headingBins() const { return follower_.headingBins(); }
 
   /// The topological map as last published.
   void setGraph(const TopoGraph& graph) { graph_ = graph; }
@@ -142,30 +140,6 @@ class Coordinator {
   void setState(State s, const std::string& text);
   /// The door passed is the one the robot last came out of (see left_door_).
   bool justLeft(const DoorTrack& door) const;
-  double binHeading(int bin) const;   // map frame
-  int startBin(const Perception& p, const TopoView& topo) const;  // the bin the exploration sets off along
-  /// 0: the hallway at the start runs along the robot's own bin, 1: across it; none: no walls seen
-  /// on both sides of the robot.
-  std::optional<int> startHallwayAxis(const Perception& p, const TopoView& topo) const;
-  int binOf(double map_heading) const;
-  double odomHeadingOfBin(int bin, const TopoView& topo) const;
-  /// The hallway's heading in the odometry frame: bin_'s and the hallway's offset from it.
-  double odomHallwayHeading(const TopoView& topo) const { return odomHeadingOfBin(bin_, topo) + axis_offset_; }
-  /// The hallway's direction (robot frame) from its walls: along the direction followed, else the
-  /// walls of a hallway at an angle to it (a wing, a bend); the offset from bin_ is kept (re-binned
-  /// past half a bin). The view along the result in `v`.
-  double trackHallwayAxis(const Perception& p, const TopoView& topo, HallwayView* v);
-  /// A bearing in the odometry frame (a door's, into its room) as the topological map has it: in the
-  /// map frame, and square to the axes where a wing's hallway runs at axis_offset_ to them
-  /// (pomdp_topo's front end takes a wing's openings relative to its walls the same way).
-  double topoBearing(double odom_bearing, const TopoView& topo) const;
-  /// At a hallway's end with no way open along the axes: a hallway leaving at an angle (a wing),
-  /// its direction in the robot frame.
-  std::optional<double> obliqueWayAtEnd(const Perception& p, double dir_robot, const HallwayView& v) const;
-  /// The lane (lateral offset, m, robot frame) past an obstacle ahead in the hallway, if there is one.
-  std::optional<double> laneAround(const Perception& p, double dir_robot, const HallwayView& v, bool blocked);
-  /// Following without progress for follow_stall_time (see there).
-  bool followStalled(const Perception& p);
   void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
   // The states' steps of update(): the start (which way to set off), a turn on the spot, the stop
   // at a door (enter it, or on if pomdp_topo took it for a known one), a place created for the room.
@@ -195,7 +169,7 @@ class Coordinator {
   bool beliefPlausible(const TopoView& topo);
   /// The goal of a turn on the spot: where the robot is now, with the turn's heading.
   void turnGoal(const Perception& p, Decision* d) const;
-  void startTurn(int bin, const Perception& p, const TopoView& topo, std::vector<int> not_taken);
+  void startTurn(int bin, const TopoView& topo, std::vector<int> not_taken);
   void finish(bool success, const std::string& why, Decision* d);
   /// The route the robot follows: to the mission's door, or to the nearest unexplored opening.
   RouteStep plan(const GraphPosition& pos) const;
@@ -217,8 +191,8 @@ class Coordinator {
   void endMission(bool success, const std::string& why, Decision* d);
 
   CoordinatorParams params_;
-  laser_features::HeadingBins bins_;  // pomdp_topo's, from building_axes
   TopoGraph graph_;
+  HallwayFollower follower_;
   RoomVisit visit_;
   MissionRunner mission_;
   State state_ = State::Init;
@@ -233,16 +207,7 @@ class Coordinator {
   double travel_ = 0.0;          // m, odometric
   MotionFeedback motion_;          // the motion controller's last status in a room's states
 
-  // Hallway following.
-  int bin_ = 0;                  // travel heading bin (map frame)
-  double axis_offset_ = 0.0;     // rad, the hallway followed runs this far from bin_'s heading (a wing at
-                                 // an angle to the building's axes; 0 along them)
-  Eigen::Vector2d stall_anchor_ = Eigen::Vector2d::Zero();  // odometry frame: where the stall window began
-  double stall_since_ = -1.0;    // s, when (-1: not following)
-  bool lane_valid_ = false;      // a lane past an obstacle is being kept ...
-  Eigen::Vector2d lane_point_odom_ = Eigen::Vector2d::Zero();  // ... through this point (odometry frame)
-  bool have_goal_ = false;
-  Eigen::Vector2d last_goal_ = Eigen::Vector2d::Zero();
+  // Hallway following (the direction, goal, lane and stall in follower_).
   HallwayDoors doors_;  // the doors along the hallway being followed
   int route_behind_ticks_ = 0;     // consecutive ticks the route pointed back (U-turn hysteresis)
   int trusted_node_ = -1;          // the belief's node when last trusted
@@ -272,9 +237,8 @@ class Coordinator {
   double door_bearing_map_ = 0.0;  // rad, map frame, through the door into the room
   int door_node_ = -1;
   int place_id_ = -1;
-  laser_features::Pose2D hallway_pose_odom_;  // where the robot left the hallway
-  int hallway_bin_ = 0;
-  double hallway_offset_ = 0.0;  // rad, axis_offset_ of the hallway left for the room
+  laser_features::Pose2D hallway_pose_odom_;  // where the robot left the hallway ...
+  HallwayDirection entry_hallway_;            // ... and that hallway's direction
   bool place_ok_ = false;
   bool in_room_ = false;            // Idle: the robot stands in place place_id_ (after a mission)
   std::vector<Request> pending_requests_;  // to go out with the next update (from cancelMission)

@@ -39,8 +39,8 @@ void visitMotionParams(MotionParams* m, Visitor&& visit) {
 template <typename Visitor>
 void visitParams(ExplorationParams* p, Visitor&& visit) {
   CoordinatorParams& c = p->coordinator;
-  visit("lookahead", &c.lookahead);
-  visit("end_distance", &c.end_distance);
+  visit("lookahead", &c.follow.lookahead);
+  visit("end_distance", &c.follow.end_distance);
   visit("door_min_confidence", &c.doors.min_confidence);
   visit("door_max_lateral", &c.doors.max_lateral);
   visit("door_wall_tolerance", &c.doors.wall_tolerance);
@@ -55,8 +55,8 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("goal_pass_distance", &c.goal_pass_distance);
   visit("jump_tolerance", &c.jump_tolerance);
   visit("jump_hold_distance", &c.jump_hold_distance);
-  visit("goal_refresh_distance", &c.goal_refresh_distance);
-  visit("follow_stall_time", &c.follow_stall_time);
+  visit("goal_refresh_distance", &c.follow.goal_refresh_distance);
+  visit("follow_stall_time", &c.follow.stall_time);
   visit("max_time", &c.max_time);
   visit("explore", &c.explore);
   MissionParams& m = c.mission;
