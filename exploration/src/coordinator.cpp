@@ -58,6 +58,7 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
 Coordinator::Coordinator(const CoordinatorParams& params)
     : params_(params),
       follower_(params.follow, params.hallway, params.rules, params.room.planner),
+      door_entry_(params.doors, params.rules),
       visit_(params.room_visit, params.room, params.rules, params.doors),
       mission_(params.mission),
       doors_(params.doors, params.rules) {
@@ -91,12 +92,7 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
   last_odom_ = p.odom;
   have_last_odom_ = true;
   stats_.travel = travel_;
-  if (topo.mode != "frontier" || !topo.position.valid || !topo.position.at_node) {
-    frontier_node_ = -1;  // a new stretch from the same node later starts counting again
-  } else if (int(topo.position.id) != frontier_node_) {
-    frontier_node_ = int(topo.position.id);
-    frontier_node_travel_ = travel_;
-  }
+  door_entry_.observe(topo, travel_);
 
   if (!idle() && !mission_.active() && params_.max_time > 0.0 && now_ - start_time_ > params_.max_time) {
     finish(false, "time limit reached before the exploration was complete", &d);
@@ -185,24 +181,26 @@ void Coordinator::turn(const Perception& p, bool motion_reached, bool motion_blo
 void Coordinator::stopForDoor(const Perception& p, const TopoView& topo, Decision* d) {
   d->stop = true;
   mode_ = CoordinatorMode::Switching;
-  if (mission_.active()) {
-    if (now_ - state_since_ >= params_.settle_time) beginRelocation(p, d);
-    return;
-  }
-  if (now_ - state_since_ >= params_.settle_time && enter_node_ < 0 && topo.mode != "frontier" &&
-      !mayEnter(topo, door_)) {
+  if (now_ - state_since_ < params_.settle_time) return;
+  if (mission_.active()) return beginRelocation(p, d);
+  if (entering_.node < 0 && topo.mode != "frontier") {
     // Stopped for a door on a new stretch, and pomdp_topo has since made its node and taken it
     // for a known one: a loop hypothesis (the check merges the node, the door explored, or
     // rejects it, its opening unexplored and come back to), or a loop closed in the same scan
     // (explore_restart: room_east mapped twice). Entered only as a known unexplored door
     // (mayEnter); else on along the hallway.
-    mode_ = CoordinatorMode::Topological;
-    ++stats_.doors_passed;
-    setState(State::Follow, topo.mode == "loop_check" ? "door passed: pomdp_topo checks whether it is a known one"
-                                                      : "door passed: it is a known one (pomdp_topo closed a loop at it)");
-    return;
+    const std::optional<EntryOpening> known = mayEnter(topo, door_);
+    if (!known) {
+      mode_ = CoordinatorMode::Topological;
+      ++stats_.doors_passed;
+      setState(State::Follow, topo.mode == "loop_check" ? "door passed: pomdp_topo checks whether it is a known one"
+                                                        : "door passed: it is a known one (pomdp_topo closed a loop at it)");
+      return;
+    }
+    entering_ = *known;
   }
-  if (now_ - state_since_ >= params_.settle_time && enter_node_ < 0 && exploredAtFrontierNode(topo, door_)) {
+  if (entering_.node < 0 &&
+      door_entry_.exploredAtFrontierNode(topo, graph_, door_, follower_.topoBearing(door_.into_odom, topo), travel_)) {
     // On a new stretch pomdp_topo took the door for one its current node has, explored: a door
     // recorded at a junction a metre off its centre, seen again from it (large_floor: room_7_14,
     // entered from the junction at a T, entered again from a stretch leaving it 5,600 s later).
@@ -211,25 +209,23 @@ void Coordinator::stopForDoor(const Perception& p, const TopoView& topo, Decisio
     setState(State::Follow, "door passed: the node's explored one");
     return;
   }
-  if (now_ - state_since_ >= params_.settle_time) {
-    // The door's node exists now (passed); the topological map stands still from here on.
-    mode_ = CoordinatorMode::Metric;
-    hallway_pose_odom_ = p.odom;
-    entry_hallway_ = follower_.direction();
-    door_bearing_map_ = enter_bearing_;
-    Request rec;
-    rec.kind = Request::RecordOpening;
-    rec.node = enter_node_;
-    rec.bearing = door_bearing_map_;
-    rec.width = door_.width;
-    d->requests.push_back(rec);
-    Request create;
-    create.kind = Request::CreatePlace;
-    d->requests.push_back(create);
-    place_ok_ = false;
-    door_node_ = -1;
-    setState(State::EnterRoom, "creating a place for the room");
-  }
+  // The door's node exists now (passed); the topological map stands still from here on.
+  mode_ = CoordinatorMode::Metric;
+  hallway_pose_odom_ = p.odom;
+  entry_hallway_ = follower_.direction();
+  door_bearing_map_ = entering_.bearing;
+  Request rec;
+  rec.kind = Request::RecordOpening;
+  rec.node = entering_.node;
+  rec.bearing = door_bearing_map_;
+  rec.width = door_.width;
+  d->requests.push_back(rec);
+  Request create;
+  create.kind = Request::CreatePlace;
+  d->requests.push_back(create);
+  place_ok_ = false;
+  door_node_ = -1;
+  setState(State::EnterRoom, "creating a place for the room");
 }
 
 void Coordinator::enterRoom(const Perception& p, const TopoView& topo, Decision* d) {
@@ -436,10 +432,11 @@ bool Coordinator::enterPassedDoor(const Perception& p, const TopoView& topo, dou
   const HallwayDoors::Walls walls = doors_.track(p.odom, p.openings, dir_robot, v, travel_);
   DoorTrack door;
   if (doors_.passed(p.odom, dir_robot, walls, &door)) {
-    if (justLeft(door)) {
+    if (door_entry_.justLeft(door, travel_)) {
       ++stats_.doors_passed;
       state_text_ = "door passed: the one just left";
-    } else if (mayEnter(topo, door)) {
+    } else if (const std::optional<EntryOpening> entry = mayEnter(topo, door)) {
+      entering_ = *entry;
       door_ = door;
       // Where the door was taken to be (the log tells a door tracked wrongly from a real one).
       const Eigen::Vector2d rel = transformPoint(inverse(p.odom), door.centre_odom);  // robot frame
@@ -536,7 +533,7 @@ void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const H
     return;
   }
   int choice = open.front();  // left first (depth-first, one fixed order)
-  if (localized && topo.confident && travel_ >= distrust_until_) {
+  if (beliefTrusted(topo)) {
     const RouteStep r = plan(topo.position);
     if (r.found) {
       const int near = graph_.nearestNode(topo.position);
@@ -572,14 +569,6 @@ void Coordinator::startTurn(int bin, const TopoView& topo, std::vector<int> not_
   setState(State::Turn, "turning");
 }
 
-bool Coordinator::justLeft(const DoorTrack& door) const {
-  // Within 10 m of travel the odometry has not drifted by a door's spacing; twice the tracks'
-  // same-door distance, as the door seen again from beside it is seen at a grazing angle.
-  if (!left_door_ || travel_ - left_door_travel_ > 10.0) return false;
-  return (door.centre_odom - left_door_->centre_odom).norm() < 2.0 * params_.doors.same_distance &&
-         std::abs(normalizeAngle(door.into_odom - left_door_->into_odom)) < 0.5;
-}
-
 bool Coordinator::beliefPlausible(const TopoView& topo) {
   // A confident belief that jumps to a node farther along the graph than the robot has travelled
   // since it adopted the last trusted one is not acted on (no room entered, no turn for the route)
@@ -602,52 +591,13 @@ bool Coordinator::beliefPlausible(const TopoView& topo) {
   return travel_ >= distrust_until_;
 }
 
-bool Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) {
-  enter_node_ = -1;
-  enter_bearing_ = follower_.topoBearing(door.into_odom, topo);
-  if (mission_.active()) {
-    // Only the mission's door, at its node as a confident belief says, on its side.
-    if (topo.mode != "localized" || !topo.confident || travel_ < distrust_until_) return false;
-    const int n = graph_.nearestNode(topo.position);
-    if (n < 0 || uint32_t(n) != mission_.door().node) return false;
-    if (std::abs(normalizeAngle(mission_.door().opening.bearing - enter_bearing_)) > 0.5) return false;
-    enter_node_ = n;
-    enter_bearing_ = mission_.door().opening.bearing;
-    return true;
-  }
-  if (topo.mode == "frontier") return true;  // a door on a new stretch is new: its node is pomdp_topo's current one
-  if (topo.mode != "localized" || !topo.confident || travel_ < distrust_until_) return false;
-  const int n = graph_.nearestNode(topo.position);
-  if (n < 0) return false;
-  for (const GraphOpening& o : graph_.unexplored(uint32_t(n))) {
-    if (sameOpening(o, enter_bearing_, door.width)) {
-      // A known door not explored yet: the records go to that node and that opening.
-      enter_node_ = n;
-      enter_bearing_ = o.bearing;
-      return true;
-    }
-  }
-  return false;
+bool Coordinator::beliefTrusted(const TopoView& topo) const {
+  return topo.mode == "localized" && topo.confident && travel_ >= distrust_until_;
 }
 
-bool Coordinator::sameOpening(const GraphOpening& o, double bearing, double width) const {
-  // A door beside a junction's branch on the same side is not that branch; a door measured
-  // another width is that door (as pomdp_topo's TopologicalMap::differentOpenings).
-  if (params_.rules.differentOpenings(o.width, width)) return false;
-  return std::abs(normalizeAngle(o.bearing - bearing)) < 0.5;
-}
-
-bool Coordinator::exploredAtFrontierNode(const TopoView& topo, const DoorTrack& door) const {
-  if (topo.mode != "frontier" || !topo.position.valid || !topo.position.at_node) return false;
-  // Only near the node (a door joined to it lies within a door's spacing): a new door on the same
-  // side farther on, whose node pomdp_topo has not made yet, is not this one.
-  if (int(topo.position.id) != frontier_node_ || travel_ - frontier_node_travel_ > 2.0 * params_.doors.same_distance)
-    return false;
-  const GraphNode* n = graph_.node(topo.position.id);
-  if (n == nullptr) return false;  // a node made for this door, not in the graph received yet
-  const double bearing = follower_.topoBearing(door.into_odom, topo);
-  return std::any_of(n->openings.begin(), n->openings.end(),
-                     [&](const GraphOpening& o) { return o.explored && sameOpening(o, bearing, door.width); });
+std::optional<EntryOpening> Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) const {
+  return door_entry_.mayEnter(topo, graph_, door, follower_.topoBearing(door.into_odom, topo), beliefTrusted(topo),
+                              mission_.active() ? &mission_.door() : nullptr);
 }
 
 void Coordinator::placeCreated(bool ok, int place_id) {
@@ -726,8 +676,7 @@ void Coordinator::backOnHallway(bool exact, Decision* d) {
   follower_.setDirection(entry_hallway_);
   follower_.forgetGoal();
   mode_ = CoordinatorMode::Topological;
-  left_door_ = door_;
-  left_door_travel_ = travel_;
+  door_entry_.leftBy(door_, travel_);
   last_turn_travel_ = travel_;
   // The travel in the room is not travel past the route's goal node: a door facing the one just
   // explored across the hallway would be given up at once.

@@ -30,6 +30,7 @@
 #pragma once
 
 #include "exploration/coordinator_io.h"
+#include "exploration/door_entry.h"
 #include "exploration/hallway_doors.h"
 #include "exploration/hallway_follower.h"
 #include "exploration/hallway_view.h"
@@ -138,8 +139,6 @@ class Coordinator {
                      Idle, Relocate, GoToGoal };
 
   void setState(State s, const std::string& text);
-  /// The door passed is the one the robot last came out of (see left_door_).
-  bool justLeft(const DoorTrack& door) const;
   void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
   // The states' steps of update(): the start (which way to set off), a turn on the spot, the stop
   // at a door (enter it, or on if pomdp_topo took it for a known one), a place created for the room.
@@ -160,13 +159,11 @@ class Coordinator {
   bool turnIntoRouteBranch(const Perception& p, const TopoView& topo, const RouteStep& route, bool sure,
                            double dir_robot, const HallwayView& v, Decision* d);
   void decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d);
-  bool mayEnter(const TopoView& topo, const DoorTrack& door);
-  /// Opening `o` is the opening at `bearing` (map frame, rad) measured `width` (m) wide.
-  bool sameOpening(const GraphOpening& o, double bearing, double width) const;
-  /// On the frontier, the node pomdp_topo is at has `door` already, explored (pomdp_topo joined
-  /// the door to that node rather than making a new one).
-  bool exploredAtFrontierNode(const TopoView& topo, const DoorTrack& door) const;
+  /// The opening `door` is entered as, if it is (DoorEntry::mayEnter, from the belief now).
+  std::optional<EntryOpening> mayEnter(const TopoView& topo, const DoorTrack& door) const;
   bool beliefPlausible(const TopoView& topo);
+  /// The belief is localized and confident, and not on hold after a jump.
+  bool beliefTrusted(const TopoView& topo) const;
   /// The goal of a turn on the spot: where the robot is now, with the turn's heading.
   void turnGoal(const Perception& p, Decision* d) const;
   void startTurn(int bin, const TopoView& topo, std::vector<int> not_taken);
@@ -193,6 +190,7 @@ class Coordinator {
   CoordinatorParams params_;
   TopoGraph graph_;
   HallwayFollower follower_;
+  DoorEntry door_entry_;
   RoomVisit visit_;
   MissionRunner mission_;
   State state_ = State::Init;
@@ -218,22 +216,15 @@ class Coordinator {
   double goal_pass_travel_ = 0.0;  // m, travel_ when it got there
   std::map<uint32_t, int> route_attempts_;  // U-turns towards each goal node
   std::map<std::pair<uint32_t, uint32_t>, int> branch_turns_;  // turns into (node's branch, towards goal node)
-  int enter_node_ = -1;                     // the known door's node being entered (-1: a new door)
-  double enter_bearing_ = 0.0;              // rad, map frame, its opening's bearing
   double last_turn_travel_ = -1e9;  // m, travel_ at the last turn
   // Turning.
   int turn_bin_ = 0;
   double turn_odom_heading_ = 0.0;
   std::vector<int> pending_branches_;  // bins to record as unexplored after the turn
   double pending_branch_travel_ = -1.0;
-  // The door being entered, and the place of its room.
+  // The door being entered, the opening it is entered as, and the place of its room.
   DoorTrack door_;
-  // The door the robot last came out of, and the travel then: never entered again from just outside it.
-  std::optional<DoorTrack> left_door_;
-  double left_door_travel_ = 0.0;
-  // The node pomdp_topo's frontier was last at, and the travel when it became so.
-  int frontier_node_ = -1;
-  double frontier_node_travel_ = 0.0;
+  EntryOpening entering_;
   double door_bearing_map_ = 0.0;  // rad, map frame, through the door into the room
   int door_node_ = -1;
   int place_id_ = -1;

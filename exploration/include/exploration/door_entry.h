@@ -1,0 +1,66 @@
+// Whether a door the robot has passed on the hallway is entered (Tomatis, Nourbakhsh & Siegwart
+// 2001, section 3.2: a door passed that is new, or known but not explored, while the belief is
+// confident), and as which opening of the topological map:
+//  - never the door the robot has just come out of;
+//  - on a new stretch (pomdp_topo's frontier) a door is new, unless the node pomdp_topo stands at
+//    has it already, explored;
+//  - on the known map, an unexplored opening of the node a trusted belief puts the robot at;
+//  - on a mission, only the mission's door.
+// The coordinator tracks the doors (HallwayDoors) and stops for the one entered.
+//
+// ROS-free: Eigen, laser_features and the standard library only.
+#pragma once
+
+#include "exploration/coordinator_io.h"
+#include "exploration/hallway_doors.h"
+#include "exploration/topo_route.h"
+#include "laser_features/building_rules.h"
+
+#include <optional>
+
+namespace exploration {
+
+/// The opening of the topological map a door is entered as.
+struct EntryOpening {
+  int node = -1;         // -1: a new door, at pomdp_topo's current node
+  double bearing = 0.0;  // rad, map frame, into the room
+};
+
+class DoorEntry {
+ public:
+  /// `doors.same_distance` and `rules` (BuildingRules::differentOpenings) tell one door from another.
+  DoorEntry(const HallwayDoorParams& doors, const laser_features::BuildingRules& rules)
+      : doors_(doors), rules_(rules) {}
+
+  /// Each tick: the node pomdp_topo's frontier stands at, and the travel (m) since when.
+  void observe(const TopoView& topo, double travel);
+  /// The robot came out of a room through `door` at `travel` (m).
+  void leftBy(const DoorTrack& door, double travel);
+  /// `door` is the one the robot last came out of (within 10 m of travel).
+  bool justLeft(const DoorTrack& door, double travel) const;
+
+  /// The opening `door` is entered as, if it is entered. `bearing`: the door's bearing into the room
+  /// as the topological map has it (map frame); `belief_trusted`: the belief is localized and
+  /// confident and not on hold after a jump; `mission_door`: the running mission's door, if any.
+  std::optional<EntryOpening> mayEnter(const TopoView& topo, const TopoGraph& graph, const DoorTrack& door,
+                                       double bearing, bool belief_trusted, const PlaceDoor* mission_door) const;
+  /// On the frontier, the node pomdp_topo is at has `door` (at `bearing`) already, explored
+  /// (pomdp_topo joined the door to that node rather than making a new one).
+  bool exploredAtFrontierNode(const TopoView& topo, const TopoGraph& graph, const DoorTrack& door, double bearing,
+                              double travel) const;
+
+ private:
+  /// Opening `o` is the opening at `bearing` (map frame, rad) measured `width` (m) wide.
+  bool sameOpening(const GraphOpening& o, double bearing, double width) const;
+
+  HallwayDoorParams doors_;
+  laser_features::BuildingRules rules_;
+  // The door the robot last came out of, and the travel then: never entered again from just outside it.
+  std::optional<DoorTrack> left_door_;
+  double left_door_travel_ = 0.0;
+  // The node pomdp_topo's frontier was last at, and the travel when it became so.
+  int frontier_node_ = -1;
+  double frontier_node_travel_ = 0.0;
+};
+
+}  // namespace exploration

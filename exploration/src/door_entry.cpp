@@ -1,0 +1,74 @@
+#include "exploration/door_entry.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace exploration {
+
+using laser_features::normalizeAngle;
+
+void DoorEntry::observe(const TopoView& topo, double travel) {
+  if (topo.mode != "frontier" || !topo.position.valid || !topo.position.at_node) {
+    frontier_node_ = -1;  // a new stretch from the same node later starts counting again
+  } else if (int(topo.position.id) != frontier_node_) {
+    frontier_node_ = int(topo.position.id);
+    frontier_node_travel_ = travel;
+  }
+}
+
+void DoorEntry::leftBy(const DoorTrack& door, double travel) {
+  left_door_ = door;
+  left_door_travel_ = travel;
+}
+
+bool DoorEntry::justLeft(const DoorTrack& door, double travel) const {
+  // Within 10 m of travel the odometry has not drifted by a door's spacing; twice the tracks'
+  // same-door distance, as the door seen again from beside it is seen at a grazing angle.
+  if (!left_door_ || travel - left_door_travel_ > 10.0) return false;
+  return (door.centre_odom - left_door_->centre_odom).norm() < 2.0 * doors_.same_distance &&
+         std::abs(normalizeAngle(door.into_odom - left_door_->into_odom)) < 0.5;
+}
+
+std::optional<EntryOpening> DoorEntry::mayEnter(const TopoView& topo, const TopoGraph& graph, const DoorTrack& door,
+                                                double bearing, bool belief_trusted,
+                                                const PlaceDoor* mission_door) const {
+  if (mission_door) {
+    // Only the mission's door, at its node as a trusted belief says, on its side.
+    if (!belief_trusted) return std::nullopt;
+    const int n = graph.nearestNode(topo.position);
+    if (n < 0 || uint32_t(n) != mission_door->node) return std::nullopt;
+    if (std::abs(normalizeAngle(mission_door->opening.bearing - bearing)) > 0.5) return std::nullopt;
+    return EntryOpening{n, mission_door->opening.bearing};
+  }
+  if (topo.mode == "frontier") return EntryOpening{-1, bearing};  // a door on a new stretch is new: its node is pomdp_topo's current one
+  if (!belief_trusted) return std::nullopt;
+  const int n = graph.nearestNode(topo.position);
+  if (n < 0) return std::nullopt;
+  for (const GraphOpening& o : graph.unexplored(uint32_t(n))) {
+    // A known door not explored yet: the records go to that node and that opening.
+    if (sameOpening(o, bearing, door.width)) return EntryOpening{n, o.bearing};
+  }
+  return std::nullopt;
+}
+
+bool DoorEntry::sameOpening(const GraphOpening& o, double bearing, double width) const {
+  // A door beside a junction's branch on the same side is not that branch; a door measured
+  // another width is that door (as pomdp_topo's TopologicalMap::differentOpenings).
+  if (rules_.differentOpenings(o.width, width)) return false;
+  return std::abs(normalizeAngle(o.bearing - bearing)) < 0.5;
+}
+
+bool DoorEntry::exploredAtFrontierNode(const TopoView& topo, const TopoGraph& graph, const DoorTrack& door,
+                                       double bearing, double travel) const {
+  if (topo.mode != "frontier" || !topo.position.valid || !topo.position.at_node) return false;
+  // Only near the node (a door joined to it lies within a door's spacing): a new door on the same
+  // side farther on, whose node pomdp_topo has not made yet, is not this one.
+  if (int(topo.position.id) != frontier_node_ || travel - frontier_node_travel_ > 2.0 * doors_.same_distance)
+    return false;
+  const GraphNode* n = graph.node(topo.position.id);
+  if (n == nullptr) return false;  // a node made for this door, not in the graph received yet
+  return std::any_of(n->openings.begin(), n->openings.end(),
+                     [&](const GraphOpening& o) { return o.explored && sameOpening(o, bearing, door.width); });
+}
+
+}  // namespace exploration
