@@ -15,6 +15,7 @@ add_library(exploration_core
   ${EXPLORATION_CORE_DIR}/src/hallway_view.cpp
   ${EXPLORATION_CORE_DIR}/src/hallway_follower.cpp
   ${EXPLORATION_CORE_DIR}/src/topo_route.cpp
+  ${EXPLORATION_CORE_DIR}/src/route_policy.cpp
   ${EXPLORATION_CORE_DIR}/src/hallway_doors.cpp
   ${EXPLORATION_CORE_DIR}/src/door_entry.cpp
   ${EXPLORATION_CORE_DIR}/src/room_visit.cpp

@@ -13,13 +13,6 @@ using laser_features::normalizeAngle;
 using laser_features::Pose2D;
 using laser_features::transformPoint;
 
-namespace {
-
-// m: the robot is at a node when the belief puts it this close (pomdp_topo's node_radius).
-constexpr double kAtNodeDistance = 1.0;
-
-}  // namespace
-
 const char* toString(CoordinatorMode mode) {
   switch (mode) {
     case CoordinatorMode::Topological: return "TOPOLOGICAL";
@@ -45,10 +38,11 @@ bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
                 "door_pass_distance and door_wall_memory >= 0");
   if (!RoomVisit::validate(p.room_visit, error)) return false;
   if (!(p.settle_time >= 0.0 && p.max_time >= 0.0)) return fail("settle_time and max_time must be >= 0");
-  if (p.max_route_attempts < 1) return fail("max_route_attempts must be >= 1");
-  if (!(p.goal_pass_distance > 0.0)) return fail("goal_pass_distance must be > 0");
-  if (!(p.jump_tolerance >= 0.0 && p.jump_hold_distance >= 0.0)) return fail("jump_tolerance and jump_hold_distance must be >= 0");
-  if (!(p.branch_record_distance >= 0.0 && p.u_turn_cost >= 0.0 && p.follow.goal_refresh_distance > 0.0))
+  if (p.route.max_route_attempts < 1) return fail("max_route_attempts must be >= 1");
+  if (!(p.route.goal_pass_distance > 0.0)) return fail("goal_pass_distance must be > 0");
+  if (!(p.route.jump_tolerance >= 0.0 && p.route.jump_hold_distance >= 0.0))
+    return fail("jump_tolerance and jump_hold_distance must be >= 0");
+  if (!(p.branch_record_distance >= 0.0 && p.route.u_turn_cost >= 0.0 && p.follow.goal_refresh_distance > 0.0))
     return fail("branch_record_distance and u_turn_cost must be >= 0, goal_refresh_distance > 0");
   if (!MissionRunner::validate(p.mission, error)) return false;
   if (!(p.follow.stall_time > 0.0)) return fail("follow_stall_time must be > 0");
@@ -59,12 +53,22 @@ Coordinator::Coordinator(const CoordinatorParams& params)
     : params_(params),
       follower_(params.follow, params.hallway, params.rules, params.room.planner),
       door_entry_(params.doors, params.rules),
+      route_(params.route, params.rules),
       visit_(params.room_visit, params.room, params.rules, params.doors),
       mission_(params.mission),
       doors_(params.doors, params.rules) {
   std::string why;
   if (!validate(params, &why)) throw std::invalid_argument("exploration coordinator: " + why);
   params_.hallway = follower_.viewParams();  // with its derived sizes
+}
+
+CoordinatorStats Coordinator::stats() const {
+  CoordinatorStats s = stats_;
+  const RouteStats& route = route_.stats();
+  s.openings_given_up = route.openings_given_up;
+  s.belief_jumps = route.belief_jumps;
+  s.branch_turns_refused = route.branch_turns_refused;
+  return s;
 }
 
 void Coordinator::setState(State s, const std::string& text) {
@@ -172,7 +176,7 @@ void Coordinator::turn(const Perception& p, bool motion_reached, bool motion_blo
   if ((motion_reached && err < 0.15) || err < 0.05 || (motion_blocked && err < 0.3)) {
     follower_.setBin(turn_bin_);
     pending_branch_travel_ = travel_;
-    last_turn_travel_ = travel_;
+    route_.turned(travel_);
     follower_.forgetGoal();
     setState(State::Follow, "following the hallway");
   }
@@ -260,7 +264,8 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   const double dir_robot = follower_.track(p, topo, &v);
   if (follower_.stalled(p)) blocked = true;
   const bool localized = topo.mode == "localized";
-  const bool sure = (topo.mode == "frontier") || (localized && topo.confident && beliefPlausible(topo));
+  const bool sure = (topo.mode == "frontier") ||
+                    (localized && topo.confident && route_.beliefPlausible(graph_, topo.position, travel_));
   state_text_ = sure ? (localized ? "following the hallway on the known map" : "following a new hallway")
                      : "following the hallway until the belief is confident";
 
@@ -308,8 +313,9 @@ bool Coordinator::followRoute(const Perception& p, const TopoView& topo, RouteSt
   if (!mission_.active() && graph_.nodes().size() > 1 && graph_.unexploredCount() == 0 && pending_branches_.empty()) {
     // Complete only if nothing was given up: an opening given up unreached counts as explored,
     // and rooms behind it may be missing; a room left at its time limit is not all mapped.
-    if (stats_.openings_given_up > 0 || stats_.rooms_left_early > 0) {
-      finish(false, "no unexplored opening is left, but " + std::to_string(stats_.openings_given_up) +
+    const int given_up = route_.stats().openings_given_up;
+    if (given_up > 0 || stats_.rooms_left_early > 0) {
+      finish(false, "no unexplored opening is left, but " + std::to_string(given_up) +
                         " opening(s) were given up unreached and " + std::to_string(stats_.rooms_left_early) +
                         " room(s) left at their time limit", d);
     } else {
@@ -317,7 +323,7 @@ bool Coordinator::followRoute(const Perception& p, const TopoView& topo, RouteSt
     }
     return true;
   }
-  route = plan(topo.position);
+  route = route_.plan(graph_, topo.position, missionDoor());
   if (mission_.active()) {
     if (!route.found) {
       endMission(false, "no route on the topological map to the door of place " + std::to_string(mission_.place()), d);
@@ -325,105 +331,51 @@ bool Coordinator::followRoute(const Perception& p, const TopoView& topo, RouteSt
     }
     mission_.updateDistanceLeft(route);
   }
-  const int near = graph_.nearestNode(topo.position);
-  if (giveUpGoalPassed(topo, route, near, d)) return true;
-  return turnRoundForRoute(p, topo, route, near, d);
+  const RouteContext at{graph_, topo, travel_, mission_.active()};
+  return actOnRoute(route_.alongRoute(at, route, follower_.binHeading(follower_.bin())), route, p, topo, d);
 }
 
-bool Coordinator::giveUpGoalPassed(const TopoView& topo, const RouteStep& route, int near, Decision* d) {
-  // At the goal node with its opening to a side that never opens (a door the laser does not show
-  // again, a wide door taken for a branch): give it up once the robot has gone past, instead of
-  // turning round for it again and again (each U-turn on a hallway weakens the belief).
-  // Doors only: a hallway branch is never given up this way (the north half of institute lies
-  // behind one); the robot turns into it when its side opens (below).
-  const bool door_goal = route.goal_width > 0.0 && params_.rules.doorByWidth(route.goal_width);
-  // Counted from within kAtNodeDistance of it: the nearest node changes half-way along an edge
-  // (institute's printer door, 1.5 m before hall_north's east end: given up 3 m after the middle
-  // of its 6.5 m edge, before the robot had reached it or turned round at the end to pass it).
-  const bool at_goal = near >= 0 && uint32_t(near) == route.goal_node;
-  const bool close = at_goal && graph_.nearestNodeDistance(topo.position) <= kAtNodeDistance;
-  if (!mission_.active() && route.found && door_goal && at_goal && (goal_pass_node_ == near || close)) {
-    if (goal_pass_node_ != near) {
-      goal_pass_node_ = near;
-      goal_pass_travel_ = travel_;
-    } else if (travel_ - goal_pass_travel_ > params_.goal_pass_distance) {
-      Request give_up;
-      give_up.kind = Request::RecordOpening;
-      give_up.node = near;
-      give_up.bearing = route.goal_bearing;
-      give_up.explored = true;
-      d->requests.push_back(give_up);
-      ++stats_.openings_given_up;
-      goal_pass_node_ = -1;
-      state_text_ = "passed node " + std::to_string(near) + " without finding its opening: given up";
+bool Coordinator::actOnRoute(const RouteAction& action, const RouteStep& route, const Perception& p, const TopoView& topo,
+                             Decision* d) {
+  switch (action.kind) {
+    case RouteAction::None:
+      if (!action.text.empty()) state_text_ = action.text;
+      return false;
+    case RouteAction::GiveUp:
+      d->requests.push_back(action.record);
+      state_text_ = action.text;
       return true;
-    }
-  } else if (near != goal_pass_node_) {
-    goal_pass_node_ = -1;
-  }
-  return false;
-}
-
-bool Coordinator::turnRoundForRoute(const Perception& p, const TopoView& topo, const RouteStep& route, int near,
-                                    Decision* d) {
-  // The route points back along the hallway: turn round (after a few ticks of agreement), but
-  // not for the node the robot is at: its door is entered once passed, or given up (above).
-  if (route.found && (near < 0 || uint32_t(near) != route.goal_node) &&
-      std::abs(normalizeAngle(route.heading - follower_.binHeading(follower_.bin()))) > 0.75 * kPi) {
-    // Not again soon after a turn: a belief flickering between two edges would swing the robot.
-    if (++route_behind_ticks_ >= 5 && travel_ - last_turn_travel_ > 3.0) {
-      route_behind_ticks_ = 0;
-      // An opening the robot keeps turning round for (it passes its node without taking it:
-      // the door is not seen, or the belief flickers) is given up after max_route_attempts.
-      const bool missed = ++route_attempts_[route.goal_node] > params_.max_route_attempts;
-      if (missed && mission_.active()) {
-        const std::string why = "the door of place " + std::to_string(mission_.place()) + " was not found at node " +
-                                std::to_string(route.goal_node) + " after " + std::to_string(params_.max_route_attempts) +
-                                " turns towards it";
-        // A confident belief that keeps missing the door is likely wrong (a look-alike stretch):
-        // global localization again (a uniform belief) rather than giving up or going on lost.
-        if (mission_.missDoor()) {
-          endMission(false, why + ", " + std::to_string(mission_.doorMisses()) + " times", d);
-          return true;
-        }
-        route_attempts_.clear();
-        Request reset;
-        reset.kind = Request::ResetBelief;
-        d->requests.push_back(reset);
-        state_text_ = why + ": the belief is reset";
-        return true;
-      }
-      if (missed) {
-        giveUpRouteGoal(route, d);
-        return true;
-      }
+    case RouteAction::MissedDoor:
+      missedMissionDoor(route, d);
+      return true;
+    case RouteAction::TurnRound:
       ++stats_.u_turns;
       startTurn(follower_.bin() + follower_.headingBins().bins / 2, topo, {});
-      state_text_ = "turning round towards node " + std::to_string(route.goal_node) + " (" +
-                    std::to_string(route.distance) + " m, from " + (topo.position.at_node ? "node " : "edge ") +
-                    std::to_string(topo.position.id) + ")";
-      turnGoal(p, d);
-      return true;
-    }
-  } else {
-    route_behind_ticks_ = 0;
+      break;
+    case RouteAction::TurnIntoBranch:
+      startTurn(follower_.binOf(route.next_heading), topo, {});
+      break;
   }
-  return false;
+  state_text_ = action.text;
+  turnGoal(p, d);
+  return true;
 }
 
-void Coordinator::giveUpRouteGoal(const RouteStep& route, Decision* d) {
-  Request give_up;
-  give_up.kind = Request::RecordOpening;
-  give_up.node = int(route.goal_node);
-  give_up.bearing = route.goal_bearing;
-  give_up.explored = true;
-  d->requests.push_back(give_up);
-  ++stats_.openings_given_up;
-  route_attempts_.erase(route.goal_node);
-  for (auto it = branch_turns_.begin(); it != branch_turns_.end();) {
-    it = it->first.second == route.goal_node ? branch_turns_.erase(it) : std::next(it);
+void Coordinator::missedMissionDoor(const RouteStep& route, Decision* d) {
+  const std::string why = "the door of place " + std::to_string(mission_.place()) + " was not found at node " +
+                          std::to_string(route.goal_node) + " after " + std::to_string(params_.route.max_route_attempts) +
+                          " turns towards it";
+  // A confident belief that keeps missing the door is likely wrong (a look-alike stretch): global
+  // localization again (a uniform belief) rather than giving up or going on lost.
+  if (mission_.missDoor()) {
+    endMission(false, why + ", " + std::to_string(mission_.doorMisses()) + " times", d);
+    return;
   }
-  state_text_ = "gave up an opening of node " + std::to_string(route.goal_node);
+  route_.clearAttempts();
+  Request reset;
+  reset.kind = Request::ResetBelief;
+  d->requests.push_back(reset);
+  state_text_ = why + ": the belief is reset";
 }
 
 bool Coordinator::enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v,
@@ -456,54 +408,17 @@ bool Coordinator::enterPassedDoor(const Perception& p, const TopoView& topo, dou
 
 bool Coordinator::turnIntoRouteBranch(const Perception& p, const TopoView& topo, const RouteStep& route, bool sure,
                                       double dir_robot, const HallwayView& v, Decision* d) {
-  // A side branch the route takes at the node the robot is at now (the side must be open: the
-  // branch's mouth is beside the robot).
-  // A mission's goal is a door: entered once passed (above), never turned into like a branch.
-  const bool door_next = mission_.active() && route.next_node == route.goal_node;
-  if (route.found && sure && !door_next) {
-    const int route_bin = follower_.binOf(route.next_heading);
-    const int n = follower_.headingBins().bins, bin = follower_.bin();
-    const bool left = route_bin == (bin + n / 4) % n, right = route_bin == (bin + 3 * n / 4) % n;
-    const int near = graph_.nearestNode(topo.position);
-    // At the node as the belief says, or within 2 m of the goal node: the belief may be off by a
-    // metre, the branch's mouth opens the side sector only within a quarter metre of its centre.
-    const bool here = (near >= 0 && uint32_t(near) == route.next_node) ||
-                      (route.next_node == route.goal_node && route.distance < 2.0);
-    // A door abeam on that side is not the branch: the belief that puts the robot at the branch's
-    // node is wrong (large_floor: node 18's 2.2 m crossing taken at a 1.2 m office door 38 m east
-    // of it along a hallway of look-alike doors; the robot then mapped the office as hallways for
-    // 1,000 s). The robot drives on and the belief is not acted on (no turn round for the route,
-    // no room entered) for jump_hold_distance, as after a jump.
-    const bool side_open = (left && v.open_left) || (right && v.open_right);
-    const std::optional<DoorTrack> door_abeam =
-        side_open && here ? doors_.abeam(p.odom, dir_robot, left ? 1.0 : -1.0) : std::nullopt;
-    if (door_abeam) {
-      if (refused_branch_node_ != long(route.next_node)) {  // counted once per node in a row
-        refused_branch_node_ = long(route.next_node);
-        ++stats_.branch_turns_refused;
-      }
-      distrust_until_ = std::max(distrust_until_, travel_ + params_.jump_hold_distance);
-      char why[160];
-      std::snprintf(why, sizeof(why), "a %.2f m door beside the robot, not the branch of node %u: not turning",
-                    door_abeam->width, route.next_node);
-      state_text_ = why;
-    } else if (side_open && here) {
-      // A route that turns into the same branch towards the same goal again and again goes round
-      // in a circle (a belief that moves back as the robot turns, look-alike junctions): the goal's
-      // opening is given up after max_route_attempts such turns, as after as many U-turns.
-      if (!mission_.active() &&
-          ++branch_turns_[{route.next_node, route.goal_node}] > params_.max_route_attempts) {
-        giveUpRouteGoal(route, d);
-        return true;
-      }
-      startTurn(route_bin, topo, {});
-      state_text_ = "turning into the branch of node " + std::to_string(near) + " towards node " +
-                    std::to_string(route.goal_node);
-      turnGoal(p, d);
-      return true;
-    }
-  }
-  return false;
+  // A side branch the route takes at the node the robot is at now: the side it leaves to must be
+  // open (the branch's mouth is beside the robot); a door tracked beside the robot there is no branch.
+  if (!sure) return false;
+  const int route_bin = follower_.binOf(route.next_heading);
+  const int n = follower_.headingBins().bins, bin = follower_.bin();
+  const bool left = route_bin == (bin + n / 4) % n, right = route_bin == (bin + 3 * n / 4) % n;
+  const bool side_open = (left && v.open_left) || (right && v.open_right);
+  const std::optional<DoorTrack> door_abeam =
+      side_open ? doors_.abeam(p.odom, dir_robot, left ? 1.0 : -1.0) : std::nullopt;
+  const RouteContext at{graph_, topo, travel_, mission_.active()};
+  return actOnRoute(route_.atBranch(at, route, side_open, door_abeam), route, p, topo, d);
 }
 
 void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d) {
@@ -534,7 +449,7 @@ void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const H
   }
   int choice = open.front();  // left first (depth-first, one fixed order)
   if (beliefTrusted(topo)) {
-    const RouteStep r = plan(topo.position);
+    const RouteStep r = route_.plan(graph_, topo.position, missionDoor());
     if (r.found) {
       const int near = graph_.nearestNode(topo.position);
       const int rb = follower_.binOf(near >= 0 && uint32_t(near) == r.next_node ? r.next_heading : r.heading);
@@ -569,35 +484,13 @@ void Coordinator::startTurn(int bin, const TopoView& topo, std::vector<int> not_
   setState(State::Turn, "turning");
 }
 
-bool Coordinator::beliefPlausible(const TopoView& topo) {
-  // A confident belief that jumps to a node farther along the graph than the robot has travelled
-  // since it adopted the last trusted one is not acted on (no room entered, no turn for the route)
-  // until it has held for jump_hold_distance of travel: the map builder's belief can lock onto a
-  // look-alike place after a U-turn at a hallway end (institute's two dead ends of hall_south).
-  // Neighbours on the graph are never a jump (the nearest node changes half-way along an edge).
-  const int near = graph_.nearestNode(topo.position);
-  if (near < 0) return false;
-  if (trusted_node_ >= 0 && near != trusted_node_ && !graph_.adjacent(uint32_t(trusted_node_), uint32_t(near))) {
-    const double d = graph_.distance(uint32_t(trusted_node_), uint32_t(near));
-    if (d > travel_ - trusted_travel_ + params_.jump_tolerance) {
-      distrust_until_ = travel_ + params_.jump_hold_distance;
-      ++stats_.belief_jumps;
-    }
-  }
-  if (near != trusted_node_) {
-    trusted_node_ = near;
-    trusted_travel_ = travel_;
-  }
-  return travel_ >= distrust_until_;
-}
-
 bool Coordinator::beliefTrusted(const TopoView& topo) const {
-  return topo.mode == "localized" && topo.confident && travel_ >= distrust_until_;
+  return route_.beliefTrusted(topo, travel_);
 }
 
 std::optional<EntryOpening> Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) const {
   return door_entry_.mayEnter(topo, graph_, door, follower_.topoBearing(door.into_odom, topo), beliefTrusted(topo),
-                              mission_.active() ? &mission_.door() : nullptr);
+                              missionDoor());
 }
 
 void Coordinator::placeCreated(bool ok, int place_id) {
@@ -677,10 +570,7 @@ void Coordinator::backOnHallway(bool exact, Decision* d) {
   follower_.forgetGoal();
   mode_ = CoordinatorMode::Topological;
   door_entry_.leftBy(door_, travel_);
-  last_turn_travel_ = travel_;
-  // The travel in the room is not travel past the route's goal node: a door facing the one just
-  // explored across the hallway would be given up at once.
-  goal_pass_node_ = -1;
+  route_.backOnHallway(travel_);
   if (mission_.active()) {
     // A mission leaving a room: back on the hallway, on to the goal's door (nothing to record).
     place_id_ = -1;
@@ -700,11 +590,6 @@ void Coordinator::backOnHallway(bool exact, Decision* d) {
   setState(State::Follow, exact ? "following the hallway" : "following the hallway (the way back was not reached exactly)");
 }
 
-RouteStep Coordinator::plan(const GraphPosition& pos) const {
-  if (mission_.active()) return graph_.routeTo(pos, mission_.door().node, mission_.door().opening, params_.u_turn_cost);
-  return graph_.route(pos, params_.u_turn_cost);
-}
-
 bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* why) {
   auto refuse = [&](const std::string& text) {
     if (why) *why = text;
@@ -713,7 +598,7 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
   if (mission_.active()) return refuse("a mission is running (to place " + std::to_string(mission_.place()) + ")");
   if (!idle()) return refuse("the exploration is running: missions start once it is done");
   if (!mission_.start(place_id, goal, graph_, travel_, now_, why)) return false;
-  route_attempts_.clear();
+  route_.clearAttempts();
   const std::string to = "mission to place " + std::to_string(place_id);
   if (in_room_ && place_id_ == place_id) {
     beginGoToGoal(to + ": driving to the goal in the room", true);
@@ -723,7 +608,7 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
     mode_ = CoordinatorMode::Metric;
   } else {
     follower_.forgetGoal();
-    last_turn_travel_ = travel_ - 3.0;  // the route may turn the robot round at once
+    route_.allowTurnRound(travel_);
     setState(State::Follow, to + ": following the hallway");
     mode_ = CoordinatorMode::Topological;
   }
@@ -738,7 +623,7 @@ void Coordinator::leaveRoomForMission(const std::string& text) {
   at_door.id = uint32_t(std::max(0, door_node_));
   at_door.heading = follower_.binHeading(entry_hallway_.bin);
   const PlaceDoor& goal_door = mission_.door();
-  const RouteStep r = graph_.routeTo(at_door, goal_door.node, goal_door.opening, params_.u_turn_cost);
+  const RouteStep r = graph_.routeTo(at_door, goal_door.node, goal_door.opening, params_.route.u_turn_cost);
   const int n = follower_.headingBins().bins;
   if (r.found && door_node_ >= 0 && uint32_t(door_node_) != goal_door.node) {
     const int rb = follower_.binOf(r.heading);
@@ -843,8 +728,8 @@ void Coordinator::finish(bool success, const std::string& why, Decision* d) {
     << stats_.travel << " m travelled";
   // Given-up openings count as explored: rooms behind them may be missing (large_floor: 26 given
   // up, 58 rooms never seen).
-  if (stats_.openings_given_up > 0)
-    s << "; " << stats_.openings_given_up << " opening(s) given up unreached (rooms behind them may be missing)";
+  const int given_up = route_.stats().openings_given_up;
+  if (given_up > 0) s << "; " << given_up << " opening(s) given up unreached (rooms behind them may be missing)";
   Request save;
   save.kind = Request::SaveMaps;
   d->requests.push_back(save);

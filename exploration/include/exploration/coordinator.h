@@ -21,8 +21,9 @@
 // The coordinator does not talk to the other nodes itself: it returns requests (create a place,
 // record an opening, ...) that its node carries out as service calls and answers.
 //
-// The Coordinator runs the state machine, decides the turns and the doors, and chooses the route;
-// the hallway's following (HallwayFollower, hallway_follower.h), a room's visit (RoomVisit,
+// The Coordinator runs the state machine and decides the turns at a hallway's end; following the
+// hallway (HallwayFollower, hallway_follower.h), whether a passed door is entered (DoorEntry,
+// door_entry.h), the route's rules (RoutePolicy, route_policy.h), a room's visit (RoomVisit,
 // room_visit.h) and a mission's relocation and drive to its goal (MissionRunner, mission_runner.h)
 // are classes of their own that it delegates to.
 //
@@ -37,6 +38,7 @@
 #include "exploration/mission_runner.h"
 #include "exploration/room_explorer.h"
 #include "exploration/room_visit.h"
+#include "exploration/route_policy.h"
 #include "exploration/topo_route.h"
 #include "laser_features/building_axes.h"
 #include "laser_features/building_rules.h"
@@ -44,7 +46,6 @@
 
 #include <Eigen/Core>
 
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -61,13 +62,8 @@ struct CoordinatorParams {
   double settle_time = 0.5;          // s, standing still before a switch (the nodes see the robot stopped)
   RoomVisitParams room_visit;        // a room's visit (room_visit/* in config/exploration.yaml)
   double branch_record_distance = 1.0;  // m travelled after a turn before the ways not taken are recorded
-  double u_turn_cost = 2.0;          // m, route cost of turning back on an edge
-  int max_route_attempts = 3;        // -, turns round towards one node's opening, or into one branch towards it, before it is given up
-  double jump_tolerance = 4.0;       // m, a belief whose node is farther along the graph from the last
-                                     // trusted one than the travel since plus this has jumped ...
-  double jump_hold_distance = 6.0;   // m, ... and is not acted on until it held for this much travel
-  double goal_pass_distance = 3.0;   // m, travel at the goal node (as the belief says) without finding
-                                     // its opening before the opening is given up
+  RoutePolicyParams route;           // the route's rules (u_turn_cost, max_route_attempts, jump_tolerance,
+                                     // jump_hold_distance, goal_pass_distance in config/exploration.yaml)
   double max_time = 0.0;             // s, the exploration gives up after this (sim time); 0: no limit
   bool explore = true;               // -, explore from the start; false: wait for missions (a loaded map)
   MissionParams mission;             // missions (mission/* in config/exploration.yaml)
@@ -129,7 +125,7 @@ class Coordinator {
 
   CoordinatorMode mode() const { return mode_; }
   const std::string& state() const { return state_text_; }
-  const CoordinatorStats& stats() const { return stats_; }
+  CoordinatorStats stats() const;
   int currentPlace() const { return place_id_; }
   const RoomExplorer& room() const { return visit_.explorer(); }
   bool done() const { return state_ == State::Done; }
@@ -151,25 +147,27 @@ class Coordinator {
   /// On the known map with a sure belief: the route, the end of the exploration or mission, and a
   /// turn round or an opening given up for it.
   bool followRoute(const Perception& p, const TopoView& topo, RouteStep* route, Decision* d);
-  /// Marks the route's goal opening explored (given up unreached) and says so.
-  void giveUpRouteGoal(const RouteStep& route, Decision* d);
-  bool giveUpGoalPassed(const TopoView& topo, const RouteStep& route, int near, Decision* d);
-  bool turnRoundForRoute(const Perception& p, const TopoView& topo, const RouteStep& route, int near, Decision* d);
+  /// Carries out what the route asks (a turn, an opening given up, a mission's door missed); true
+  /// when that ends the tick.
+  bool actOnRoute(const RouteAction& action, const RouteStep& route, const Perception& p, const TopoView& topo,
+                  Decision* d);
+  /// The mission's door was not found after max_route_attempts turns towards it: the belief is
+  /// reset, or the mission fails after max_relocation_failures such misses.
+  void missedMissionDoor(const RouteStep& route, Decision* d);
   bool enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v, Decision* d);
   bool turnIntoRouteBranch(const Perception& p, const TopoView& topo, const RouteStep& route, bool sure,
                            double dir_robot, const HallwayView& v, Decision* d);
   void decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d);
   /// The opening `door` is entered as, if it is (DoorEntry::mayEnter, from the belief now).
   std::optional<EntryOpening> mayEnter(const TopoView& topo, const DoorTrack& door) const;
-  bool beliefPlausible(const TopoView& topo);
   /// The belief is localized and confident, and not on hold after a jump.
   bool beliefTrusted(const TopoView& topo) const;
+  /// The running mission's door, if a mission runs.
+  const PlaceDoor* missionDoor() const { return mission_.active() ? &mission_.door() : nullptr; }
   /// The goal of a turn on the spot: where the robot is now, with the turn's heading.
   void turnGoal(const Perception& p, Decision* d) const;
   void startTurn(int bin, const TopoView& topo, std::vector<int> not_taken);
   void finish(bool success, const std::string& why, Decision* d);
-  /// The route the robot follows: to the mission's door, or to the nearest unexplored opening.
-  RouteStep plan(const GraphPosition& pos) const;
   // A room's visit (visit_ in the room's place; the METRIC states): the visit's steps by state, and
   // what they end in.
   void visitRoom(const Perception& p, Decision* d);
@@ -191,12 +189,13 @@ class Coordinator {
   TopoGraph graph_;
   HallwayFollower follower_;
   DoorEntry door_entry_;
+  RoutePolicy route_;
   RoomVisit visit_;
   MissionRunner mission_;
   State state_ = State::Init;
   CoordinatorMode mode_ = CoordinatorMode::Topological;
   std::string state_text_ = "waiting for the first scan and the topological map";
-  CoordinatorStats stats_;
+  CoordinatorStats stats_;  // all but the route's counts (route_.stats(); both in stats())
   double state_since_ = 0.0;     // s, stamp when the state began
   double now_ = 0.0;
   double start_time_ = -1.0;
@@ -205,18 +204,7 @@ class Coordinator {
   double travel_ = 0.0;          // m, odometric
   MotionFeedback motion_;          // the motion controller's last status in a room's states
 
-  // Hallway following (the direction, goal, lane and stall in follower_).
   HallwayDoors doors_;  // the doors along the hallway being followed
-  int route_behind_ticks_ = 0;     // consecutive ticks the route pointed back (U-turn hysteresis)
-  int trusted_node_ = -1;          // the belief's node when last trusted
-  double trusted_travel_ = 0.0;    // m, travel_ when it became the trusted node
-  double distrust_until_ = 0.0;    // m, travel_ before which a jumped belief is not acted on
-  long refused_branch_node_ = -1;  // the last node whose branch turn was refused (a door beside)
-  int goal_pass_node_ = -1;        // the route's goal node the robot is at (as the belief says)
-  double goal_pass_travel_ = 0.0;  // m, travel_ when it got there
-  std::map<uint32_t, int> route_attempts_;  // U-turns towards each goal node
-  std::map<std::pair<uint32_t, uint32_t>, int> branch_turns_;  // turns into (node's branch, towards goal node)
-  double last_turn_travel_ = -1e9;  // m, travel_ at the last turn
   // Turning.
   int turn_bin_ = 0;
   double turn_odom_heading_ = 0.0;

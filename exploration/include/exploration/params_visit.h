@@ -50,11 +50,11 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("door_same_distance", &c.doors.same_distance);
   visit("settle_time", &c.settle_time);
   visit("branch_record_distance", &c.branch_record_distance);
-  visit("u_turn_cost", &c.u_turn_cost);
-  visit("max_route_attempts", &c.max_route_attempts);
-  visit("goal_pass_distance", &c.goal_pass_distance);
-  visit("jump_tolerance", &c.jump_tolerance);
-  visit("jump_hold_distance", &c.jump_hold_distance);
+  visit("u_turn_cost", &c.route.u_turn_cost);
+  visit("max_route_attempts", &c.route.max_route_attempts);
+  visit("goal_pass_distance", &c.route.goal_pass_distance);
+  visit("jump_tolerance", &c.route.jump_tolerance);
+  visit("jump_hold_distance", &c.route.jump_hold_distance);
   visit("goal_refresh_distance", &c.follow.goal_refresh_distance);
   visit("follow_stall_time", &c.follow.stall_time);
   visit("max_time", &c.max_time);

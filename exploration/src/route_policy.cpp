@@ -1,0 +1,158 @@
+#include "exploration/route_policy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iterator>
+
+namespace exploration {
+
+using laser_features::kPi;
+using laser_features::normalizeAngle;
+
+namespace {
+
+// m: the robot is at a node when the belief puts it this close (pomdp_topo's node_radius).
+constexpr double kAtNodeDistance = 1.0;
+
+}  // namespace
+
+RouteStep RoutePolicy::plan(const TopoGraph& graph, const GraphPosition& pos, const PlaceDoor* mission_door) const {
+  if (mission_door) return graph.routeTo(pos, mission_door->node, mission_door->opening, params_.u_turn_cost);
+  return graph.route(pos, params_.u_turn_cost);
+}
+
+bool RoutePolicy::beliefPlausible(const TopoGraph& graph, const GraphPosition& pos, double travel) {
+  // A confident belief that jumps to a node farther along the graph than the robot has travelled
+  // since it adopted the last trusted one is not acted on (no room entered, no turn for the route)
+  // until it has held for jump_hold_distance of travel: the map builder's belief can lock onto a
+  // look-alike place after a U-turn at a hallway end.
+  // Neighbours on the graph are never a jump (the nearest node changes half-way along an edge).
+  const int near = graph.nearestNode(pos);
+  if (near < 0) return false;
+  if (trusted_node_ >= 0 && near != trusted_node_ && !graph.adjacent(uint32_t(trusted_node_), uint32_t(near))) {
+    const double d = graph.distance(uint32_t(trusted_node_), uint32_t(near));
+    if (d > travel - trusted_travel_ + params_.jump_tolerance) {
+      distrust_until_ = travel + params_.jump_hold_distance;
+      ++stats_.belief_jumps;
+    }
+  }
+  if (near != trusted_node_) {
+    trusted_node_ = near;
+    trusted_travel_ = travel;
+  }
+  return travel >= distrust_until_;
+}
+
+bool RoutePolicy::beliefTrusted(const TopoView& topo, double travel) const {
+  return topo.mode == "localized" && topo.confident && travel >= distrust_until_;
+}
+
+RouteAction RoutePolicy::alongRoute(const RouteContext& at, const RouteStep& route, double heading) {
+  const int near = at.graph.nearestNode(at.topo.position);
+  RouteAction passed = passedGoal(at, route, near);
+  if (passed.kind != RouteAction::None) return passed;
+  // The route points back along the hallway: turn round (after a few ticks of agreement), but
+  // not for the node the robot is at: its door is entered once passed, or given up (above).
+  if (!(route.found && (near < 0 || uint32_t(near) != route.goal_node) &&
+        std::abs(normalizeAngle(route.heading - heading)) > 0.75 * kPi)) {
+    route_behind_ticks_ = 0;
+    return RouteAction{};
+  }
+  // Not again soon after a turn: a belief flickering between two edges would swing the robot.
+  if (++route_behind_ticks_ < 5 || !(at.travel - last_turn_travel_ > kTurnRoundGap)) return RouteAction{};
+  route_behind_ticks_ = 0;
+  // An opening the robot keeps turning round for (it passes its node without taking it: the door
+  // is not seen, or the belief flickers) is given up after max_route_attempts.
+  const bool missed = ++route_attempts_[route.goal_node] > params_.max_route_attempts;
+  if (missed && at.mission) return RouteAction{RouteAction::MissedDoor, {}, ""};
+  if (missed) return giveUp(route);
+  RouteAction turn_round{RouteAction::TurnRound, {}, ""};
+  turn_round.text = "turning round towards node " + std::to_string(route.goal_node) + " (" +
+                    std::to_string(route.distance) + " m, from " + (at.topo.position.at_node ? "node " : "edge ") +
+                    std::to_string(at.topo.position.id) + ")";
+  return turn_round;
+}
+
+RouteAction RoutePolicy::passedGoal(const RouteContext& at, const RouteStep& route, int near) {
+  // At the goal node with its opening to a side that never opens (a door the laser does not show
+  // again, a wide door taken for a branch): give it up once the robot has gone past, instead of
+  // turning round for it again and again (each U-turn on a hallway weakens the belief).
+  // Doors only: a hallway branch is never given up this way; the robot turns into it when its side
+  // opens (atBranch).
+  const bool door_goal = route.goal_width > 0.0 && rules_.doorByWidth(route.goal_width);
+  // Counted from within kAtNodeDistance of it: the nearest node changes half-way along an edge.
+  const bool at_goal = near >= 0 && uint32_t(near) == route.goal_node;
+  const bool close = at_goal && at.graph.nearestNodeDistance(at.topo.position) <= kAtNodeDistance;
+  if (!at.mission && route.found && door_goal && at_goal && (goal_pass_node_ == near || close)) {
+    if (goal_pass_node_ != near) {
+      goal_pass_node_ = near;
+      goal_pass_travel_ = at.travel;
+    } else if (at.travel - goal_pass_travel_ > params_.goal_pass_distance) {
+      RouteAction give_up{RouteAction::GiveUp, {}, ""};
+      give_up.record.kind = Request::RecordOpening;
+      give_up.record.node = near;
+      give_up.record.bearing = route.goal_bearing;
+      give_up.record.explored = true;
+      ++stats_.openings_given_up;
+      goal_pass_node_ = -1;
+      give_up.text = "passed node " + std::to_string(near) + " without finding its opening: given up";
+      return give_up;
+    }
+  } else if (near != goal_pass_node_) {
+    goal_pass_node_ = -1;
+  }
+  return RouteAction{};
+}
+
+RouteAction RoutePolicy::atBranch(const RouteContext& at, const RouteStep& route, bool side_open,
+                                  const std::optional<DoorTrack>& door_abeam) {
+  // A mission's goal is a door: entered once passed, never turned into like a branch.
+  const bool door_next = at.mission && route.next_node == route.goal_node;
+  if (!route.found || door_next) return RouteAction{};
+  const int near = at.graph.nearestNode(at.topo.position);
+  // At the node as the belief says, or within 2 m of the goal node: the belief may be off by a
+  // metre, the branch's mouth opens the side sector only within a quarter metre of its centre.
+  const bool here = (near >= 0 && uint32_t(near) == route.next_node) ||
+                    (route.next_node == route.goal_node && route.distance < 2.0);
+  if (!side_open || !here) return RouteAction{};
+  if (door_abeam) {
+    // A door abeam on that side is not the branch: the belief that puts the robot at the branch's
+    // node is wrong. The robot drives on and the belief is not acted on (no turn round for the
+    // route, no room entered) for jump_hold_distance, as after a jump.
+    if (refused_branch_node_ != long(route.next_node)) {  // counted once per node in a row
+      refused_branch_node_ = long(route.next_node);
+      ++stats_.branch_turns_refused;
+    }
+    distrust_until_ = std::max(distrust_until_, at.travel + params_.jump_hold_distance);
+    char why[160];
+    std::snprintf(why, sizeof(why), "a %.2f m door beside the robot, not the branch of node %u: not turning",
+                  door_abeam->width, route.next_node);
+    return RouteAction{RouteAction::None, {}, why};
+  }
+  // A route that turns into the same branch towards the same goal again and again goes round in a
+  // circle (a belief that moves back as the robot turns, look-alike junctions): the goal's opening
+  // is given up after max_route_attempts such turns, as after as many U-turns.
+  if (!at.mission && ++branch_turns_[{route.next_node, route.goal_node}] > params_.max_route_attempts)
+    return giveUp(route);
+  return RouteAction{RouteAction::TurnIntoBranch, {},
+                     "turning into the branch of node " + std::to_string(near) + " towards node " +
+                         std::to_string(route.goal_node)};
+}
+
+RouteAction RoutePolicy::giveUp(const RouteStep& route) {
+  RouteAction give_up{RouteAction::GiveUp, {}, ""};
+  give_up.record.kind = Request::RecordOpening;
+  give_up.record.node = int(route.goal_node);
+  give_up.record.bearing = route.goal_bearing;
+  give_up.record.explored = true;
+  ++stats_.openings_given_up;
+  route_attempts_.erase(route.goal_node);
+  for (auto it = branch_turns_.begin(); it != branch_turns_.end();) {
+    it = it->first.second == route.goal_node ? branch_turns_.erase(it) : std::next(it);
+  }
+  give_up.text = "gave up an opening of node " + std::to_string(route.goal_node);
+  return give_up;
+}
+
+}  // namespace exploration
