@@ -769,11 +769,13 @@ void Coordinator::startTurn(int bin, const Perception& p, const TopoView& topo, 
 }
 
 bool Coordinator::justLeft(const DoorTrack& door) const {
-  // Within 10 m of travel the odometry has not drifted by a door's spacing; twice the tracks'
-  // same-door distance, as the door seen again from beside it is seen at a grazing angle.
-  if (!left_door_ || travel_ - left_door_travel_ > 10.0) return false;
-  return (door.centre_odom - left_door_->centre_odom).norm() < 2.0 * params_.doors.same_distance &&
-         std::abs(normalizeAngle(door.into_odom - left_door_->into_odom)) < 0.5;
+  // Within kLeftDoorsTravel of travel the odometry has not drifted by a door's spacing; twice the
+  // tracks' same-door distance, as the door seen again from beside it is seen at a grazing angle.
+  return std::any_of(left_doors_.begin(), left_doors_.end(), [&](const std::pair<DoorTrack, double>& left) {
+    return travel_ - left.second <= kLeftDoorsTravel &&
+           (door.centre_odom - left.first.centre_odom).norm() < 2.0 * params_.doors.same_distance &&
+           std::abs(normalizeAngle(door.into_odom - left.first.into_odom)) < 0.5;
+  });
 }
 
 bool Coordinator::beliefPlausible(const TopoView& topo) {
@@ -923,8 +925,12 @@ void Coordinator::backOnHallway(bool exact, Decision* d) {
   axis_offset_ = hallway_offset_;
   have_goal_ = false;
   mode_ = CoordinatorMode::Topological;
-  left_door_ = door_;
-  left_door_travel_ = travel_;
+  left_doors_.erase(std::remove_if(left_doors_.begin(), left_doors_.end(),
+                                   [&](const std::pair<DoorTrack, double>& left) {
+                                     return travel_ - left.second > kLeftDoorsTravel;
+                                   }),
+                    left_doors_.end());
+  left_doors_.emplace_back(door_, travel_);
   last_turn_travel_ = travel_;
   // The travel in the room is not travel past the route's goal node: a door facing the one just
   // explored across the hallway would be given up at once.

@@ -140,7 +140,7 @@ class Coordinator {
                      Idle, Relocate, GoToGoal };
 
   void setState(State s, const std::string& text);
-  /// The door passed is the one the robot last came out of (see left_door_).
+  /// The door passed is one the robot came out of a moment ago (see left_doors_).
   bool justLeft(const DoorTrack& door) const;
   double binHeading(int bin) const;   // map frame
   int startBin(const Perception& p, const TopoView& topo) const;  // the bin the exploration sets off along
@@ -266,9 +266,11 @@ class Coordinator {
   double pending_branch_travel_ = -1.0;
   // The door being entered, and the place of its room.
   DoorTrack door_;
-  // The door the robot last came out of, and the travel then: never entered again from just outside it.
-  std::optional<DoorTrack> left_door_;
-  double left_door_travel_ = 0.0;
+  // The doors the robot came out of within the last kLeftDoorsTravel of travel, and the travel then:
+  // none is entered again from just outside it (two doors facing the robot in turn at a hallway's
+  // end would otherwise be entered again and again).
+  std::vector<std::pair<DoorTrack, double>> left_doors_;
+  static constexpr double kLeftDoorsTravel = 10.0;  // m
   // The node pomdp_topo's frontier was last at, and the travel when it became so.
   int frontier_node_ = -1;
   double frontier_node_travel_ = 0.0;
