@@ -385,10 +385,7 @@ bool Coordinator::enterDoorAhead(const Perception& p, const TopoView& topo, doub
   door.width = o->width;
   door.sightings = 1;
   door.room_sightings = o->room_behind ? 1 : 0;
-  // Only a door the robot came along the hallway towards: after a turn at a hallway's end, a door
-  // of the hallway's side wall faces it as closely, and pomdp_topo has it as a side door already.
-  const bool approached = travel_ - last_turn_travel_ >= params_.lookahead;
-  if (approached && along <= params_.end_distance && !justLeft(door) && mayEnter(topo, door)) {
+  if (along <= params_.end_distance && !justLeft(door) && mayEnter(topo, door)) {
     door_ = door;
     char what[96];
     std::snprintf(what, sizeof(what), " (%.2f m wide, %.2f m ahead)", door.width, along);
