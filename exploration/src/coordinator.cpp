@@ -345,7 +345,6 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   if (localized && sure && followRoute(p, topo, &route, d)) return;
   if (enterPassedDoor(p, topo, dir_robot, v, d)) return;
   if (turnIntoRouteBranch(p, topo, route, sure, dir_robot, v, d)) return;
-  if (enterDoorAhead(p, topo, dir_robot, &v, d)) return;
 
   const std::optional<double> lane = laneAround(p, dir_robot, v, blocked);
   if ((v.free_ahead < params_.end_distance && !lane) || blocked) {
@@ -368,33 +367,6 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   d->has_goal = true;
   d->x = last_goal_.x();
   d->y = last_goal_.y();
-}
-
-bool Coordinator::enterDoorAhead(const Perception& p, const TopoView& topo, double dir_robot, HallwayView* v,
-                                 Decision* d) {
-  // A door in the hallway's end wall is entered as a door beside it is (new, or known and
-  // unexplored, the belief sure), from where the robot stops in front of it; otherwise it is the
-  // hallway's end: the robot never drives through it as the hallway going on.
-  const std::optional<laser_features::Opening> o =
-      doorAhead(p.openings, dir_robot, *v, params_.doors, params_.rules, params_.end_distance + params_.lookahead);
-  if (!o) return false;
-  const double along = o->center.dot(unitVector(dir_robot));
-  DoorTrack door;
-  door.centre_odom = transformPoint(p.odom, o->center);
-  door.into_odom = normalizeAngle(o->theta + p.odom.theta);
-  door.width = o->width;
-  door.sightings = 1;
-  door.room_sightings = o->room_behind ? 1 : 0;
-  if (along <= params_.end_distance && !justLeft(door) && mayEnter(topo, door)) {
-    door_ = door;
-    char what[96];
-    std::snprintf(what, sizeof(what), " (%.2f m wide, %.2f m ahead)", door.width, along);
-    setState(State::StopForDoor, std::string("stopping at a door in the hallway's end wall to enter the room") + what);
-    d->stop = true;
-    return true;
-  }
-  v->free_ahead = std::min(v->free_ahead, along);
-  return false;
 }
 
 std::optional<double> Coordinator::laneAround(const Perception& p, double dir_robot, const HallwayView& v, bool blocked) {

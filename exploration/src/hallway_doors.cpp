@@ -126,22 +126,4 @@ bool HallwayDoors::passed(const Pose2D& odom, double dir_robot, const Walls& wal
   return false;
 }
 
-std::optional<laser_features::Opening> doorAhead(const std::vector<laser_features::Opening>& openings,
-                                                 double dir_robot, const HallwayView& v,
-                                                 const HallwayDoorParams& params,
-                                                 const laser_features::BuildingRules& rules, double max_ahead) {
-  const Eigen::Vector2d u = unitVector(dir_robot), n = unitVector(dir_robot + 0.5 * kPi);
-  const double left = v.left_wall ? v.left_lateral : params.max_lateral;
-  const double right = v.right_wall ? v.right_lateral : -params.max_lateral;
-  std::optional<laser_features::Opening> best;
-  for (const laser_features::Opening& o : openings) {
-    if (o.confidence < params.min_confidence || !rules.isDoor(o.width, o.room_behind)) continue;
-    if (std::abs(normalizeAngle(o.theta - dir_robot)) > params.side_angle) continue;
-    const double along = o.center.dot(u), lateral = o.center.dot(n);
-    if (along <= 0.0 || along > max_ahead || lateral > left || lateral < right) continue;
-    if (!best || along < best->center.dot(u)) best = o;
-  }
-  return best;
-}
-
 }  // namespace exploration

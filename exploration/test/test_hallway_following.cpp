@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "exploration/coordinator.h"
-#include "laser_features/opening_extractor.h"
 
 namespace {
 
@@ -39,14 +38,7 @@ double castRay(const std::vector<Segment>& walls, const Eigen::Vector2d& o, cons
   return best;
 }
 
-// A door as laser_features reports it (world frame): its centre, the normal into the room, its width.
-struct Door {
-  Eigen::Vector2d centre;
-  double normal, width;
-};
-
-Perception perceive(const std::vector<Segment>& walls, const Pose2D& pose, double stamp,
-                    const std::vector<Door>& doors = {}) {
+Perception perceive(const std::vector<Segment>& walls, const Pose2D& pose, double stamp) {
   Perception p;
   p.stamp = stamp;
   p.odom = pose;
@@ -57,18 +49,6 @@ Perception perceive(const std::vector<Segment>& walls, const Pose2D& pose, doubl
     const Eigen::Vector2d u(std::cos(a), std::sin(a));
     const double r = castRay(walls, o, u, 15.0);
     if (r < 15.0) p.points.push_back(to_robot * (r * u));
-  }
-  for (const Door& door : doors) {
-    if ((door.centre - o).norm() > 6.0) continue;
-    laser_features::Opening op;
-    op.center = to_robot * (door.centre - o);
-    op.theta = laser_features::normalizeAngle(door.normal - pose.theta);
-    op.width = door.width;
-    op.left = op.center + 0.5 * door.width * Eigen::Vector2d(-std::sin(op.theta), std::cos(op.theta));
-    op.right = op.center - 0.5 * door.width * Eigen::Vector2d(-std::sin(op.theta), std::cos(op.theta));
-    op.kind = laser_features::OpeningKind::kDoor;
-    op.confidence = 0.9;
-    p.openings.push_back(op);
   }
   for (const Segment& w : walls) {
     laser_features::LineSegment l;
@@ -81,9 +61,7 @@ Perception perceive(const std::vector<Segment>& walls, const Pose2D& pose, doubl
 
 // Drives `ticks` of 0.05 s: turns on the spot towards the goal (or its heading once there), then
 // straight at 0.5 m/s. Returns the poses driven through.
-// Places asked for are created at once; `first_place` is where the robot stood when the first was.
-std::vector<Pose2D> drive(Coordinator* c, const std::vector<Segment>& walls, Pose2D pose, int ticks,
-                          const std::vector<Door>& doors = {}, int* places = nullptr, Pose2D* first_place = nullptr) {
+std::vector<Pose2D> drive(Coordinator* c, const std::vector<Segment>& walls, Pose2D pose, int ticks) {
   TopoView topo;
   topo.valid = true;
   topo.mode = "frontier";
@@ -92,13 +70,8 @@ std::vector<Pose2D> drive(Coordinator* c, const std::vector<Segment>& walls, Pos
   std::vector<Pose2D> poses;
   bool reached = false;
   for (int i = 0; i < ticks; ++i) {
-    const Decision d = c->update(perceive(walls, pose, 0.05 * i, doors), topo, reached, false);
+    const Decision d = c->update(perceive(walls, pose, 0.05 * i), topo, reached, false);
     reached = false;
-    for (const exploration::Request& r : d.requests) {
-      if (r.kind != exploration::Request::CreatePlace || !places) continue;
-      if (*places == 0 && first_place) *first_place = pose;
-      c->placeCreated(true, (*places)++);
-    }
     if (d.has_goal) {
       const Eigen::Vector2d to(d.x - pose.x, d.y - pose.y);
       const bool there = to.norm() < 0.05;
@@ -146,28 +119,5 @@ TEST(HallwayFollowing, AWingAtAnAngleIsTakenAtTheHallwaysEndAndFollowedAlongItsW
       EXPECT_LT(std::abs(q.dot(n)), 0.3) << "at " << p.x << " " << p.y;
       EXPECT_LT(std::abs(laser_features::normalizeAngle(p.theta - angle)), 0.25) << "at " << p.x << " " << p.y;
     }
-  }
-}
-
-// A door in the hallway's end wall, a room behind it: the robot stops in front of it and enters it
-// as a room (a place is asked for), never driving through it as the hallway going on.
-TEST(HallwayFollowing, ADoorInTheHallwaysEndWallIsEnteredAsARoom) {
-  for (const double width : {0.8, 1.1}) {
-    SCOPED_TRACE(width);
-    const double h = 0.5 * width;
-    // A 2 m hallway along x ending at x = 4 with a door centred in its end wall; a 5 x 6 m room behind.
-    std::vector<Segment> walls = {{{-12.0, 1.0}, {4.0, 1.0}}, {{-12.0, -1.0}, {4.0, -1.0}},
-                                  {{4.0, 1.0}, {4.0, h}},     {{4.0, -h}, {4.0, -1.0}},
-                                  {{4.0, 3.0}, {9.0, 3.0}},   {{9.0, 3.0}, {9.0, -3.0}},
-                                  {{9.0, -3.0}, {4.0, -3.0}}, {{4.0, 3.0}, {4.0, 1.0}},
-                                  {{4.0, -1.0}, {4.0, -3.0}}, {{-12.0, -1.0}, {-12.0, 1.0}}};
-    Coordinator c;
-    int places = 0;
-    Pose2D at;
-    drive(&c, walls, Pose2D{-6.0, 0.0, 0.0}, 400, {{Eigen::Vector2d(4.0, 0.0), 0.0, width}}, &places, &at);
-    EXPECT_EQ(places, 1) << c.state();
-    // Asked for in front of the door (the room visit goes through it, not the hallway's following).
-    EXPECT_LT(at.x, 4.0 - 0.25);
-    EXPECT_GT(at.x, 4.0 - 1.5);
   }
 }

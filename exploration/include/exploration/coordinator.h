@@ -162,9 +162,6 @@ class Coordinator {
   /// At a hallway's end with no way open along the axes: a hallway leaving at an angle (a wing),
   /// its direction in the robot frame.
   std::optional<double> obliqueWayAtEnd(const Perception& p, double dir_robot, const HallwayView& v) const;
-  /// A door in the hallway's end wall ahead: entered (true, StopForDoor) or, if not to be entered,
-  /// the hallway's end (`v`'s free distance ahead cut to it).
-  bool enterDoorAhead(const Perception& p, const TopoView& topo, double dir_robot, HallwayView* v, Decision* d);
   /// The lane (lateral offset, m, robot frame) past an obstacle ahead in the hallway, if there is one.
   std::optional<double> laneAround(const Perception& p, double dir_robot, const HallwayView& v, bool blocked);
   /// Following without progress for follow_stall_time (see there).

@@ -44,16 +44,6 @@ struct DoorTrack {
   double wall_lateral = -1.0;  // m, its side's wall line from the robot when last seen (-1: no wall known)
 };
 
-/// A door in the end wall ahead of the robot (robot frame): an opening that is a door
-/// (BuildingRules::isDoor: a door's width, or a double door's with a room seen behind it) with
-/// min_confidence, facing along the travel direction `dir_robot` within side_angle (it lies in a wall
-/// across the hallway), its centre ahead within `max_ahead` (m) and between the hallway's walls in
-/// `v` (within max_lateral of the travel line where a wall is not seen). The nearest of several.
-std::optional<laser_features::Opening> doorAhead(const std::vector<laser_features::Opening>& openings,
-                                                 double dir_robot, const HallwayView& v,
-                                                 const HallwayDoorParams& params,
-                                                 const laser_features::BuildingRules& rules, double max_ahead);
-
 class HallwayDoors {
  public:
   // m, two tracks of one door: sightings from afar (grazing) lie up to about 1 m off the later ones
