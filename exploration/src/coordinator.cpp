@@ -567,8 +567,11 @@ bool Coordinator::turnIntoRouteBranch(const Perception& p, const TopoView& topo,
                                       double dir_robot, const HallwayView& v, Decision* d) {
   // A side branch the route takes at the node the robot is at now (the side must be open: the
   // branch's mouth is beside the robot).
-  // A mission's goal is a door: entered once passed (above), never turned into like a branch.
-  const bool door_next = mission_.active() && route.next_node == route.goal_node;
+  // A door is entered once passed (above), never turned into like a branch: a mission's goal, and
+  // an exploration's goal opening as narrow as only a door is (a side sector of a narrow hallway
+  // sees through a door into the room behind it and opens).
+  const bool door_next = route.next_node == route.goal_node &&
+                         (mission_.active() || (route.goal_width > 0.0 && params_.rules.doorByWidth(route.goal_width)));
   if (route.found && sure && !door_next) {
     const int route_bin = binOf(route.next_heading);
     const int n = bins_.bins;
