@@ -691,8 +691,10 @@ double Coordinator::trackHallwayAxis(const Perception& p, const TopoView& topo, 
   dir_robot = v->wall_direction;
   const double map_heading = normalizeAngle(dir_robot + p.odom.theta + (topo.heading_valid ? topo.heading_offset : 0.0));
   axis_offset_ = normalizeAngle(map_heading - binHeading(bin_));
-  // Past half a bin (and the wall tolerance, against flicker at exactly half) the nearer bin is the
-  // hallway's.
+  // Walls within the wall tolerance of the bin are the building's axis (the heading filter's
+  // residue): no offset is kept, the direction is refined from them tick by tick. Past half a bin
+  // (and the tolerance, against flicker at exactly half) the nearer bin is the hallway's.
+  if (std::abs(axis_offset_) <= params_.hallway.wall_parallel_tolerance) axis_offset_ = 0.0;
   if (std::abs(axis_offset_) > half_bin + 0.5 * params_.hallway.wall_parallel_tolerance) {
     bin_ = binOf(map_heading);
     axis_offset_ = normalizeAngle(map_heading - binHeading(bin_));
