@@ -156,8 +156,8 @@ class Coordinator {
   /// past half a bin). The view along the result in `v`.
   double trackHallwayAxis(const Perception& p, const TopoView& topo, HallwayView* v);
   /// A bearing in the odometry frame (a door's, into its room) as the topological map has it: in the
-  /// map frame, and square to the axes where a wing's hallway runs at axis_offset_ to them
-  /// (pomdp_topo's front end takes a wing's openings relative to its walls the same way).
+  /// map frame, and square to the axes where a wing's hallway runs at axis_offset_ to them (a node's
+  /// side openings are bin heading +-90 deg in pomdp_topo's map).
   double topoBearing(double odom_bearing, const TopoView& topo) const;
   /// At a hallway's end with no way open along the axes: a hallway leaving at an angle (a wing),
   /// its direction in the robot frame.
