@@ -17,16 +17,22 @@ void DoorEntry::observe(const TopoView& topo, double travel) {
 }
 
 void DoorEntry::leftBy(const DoorTrack& door, double travel) {
-  left_door_ = door;
-  left_door_travel_ = travel;
+  left_doors_.erase(std::remove_if(left_doors_.begin(), left_doors_.end(),
+                                   [&](const std::pair<DoorTrack, double>& left) {
+                                     return travel - left.second > kLeftDoorsTravel;
+                                   }),
+                    left_doors_.end());
+  left_doors_.emplace_back(door, travel);
 }
 
 bool DoorEntry::justLeft(const DoorTrack& door, double travel) const {
-  // Within 10 m of travel the odometry has not drifted by a door's spacing; twice the tracks'
-  // same-door distance, as the door seen again from beside it is seen at a grazing angle.
-  if (!left_door_ || travel - left_door_travel_ > 10.0) return false;
-  return (door.centre_odom - left_door_->centre_odom).norm() < 2.0 * doors_.same_distance &&
-         std::abs(normalizeAngle(door.into_odom - left_door_->into_odom)) < 0.5;
+  // Within kLeftDoorsTravel of travel the odometry has not drifted by a door's spacing; twice the
+  // tracks' same-door distance, as the door seen again from beside it is seen at a grazing angle.
+  return std::any_of(left_doors_.begin(), left_doors_.end(), [&](const std::pair<DoorTrack, double>& left) {
+    return travel - left.second <= kLeftDoorsTravel &&
+           (door.centre_odom - left.first.centre_odom).norm() < 2.0 * doors_.same_distance &&
+           std::abs(normalizeAngle(door.into_odom - left.first.into_odom)) < 0.5;
+  });
 }
 
 std::optional<EntryOpening> DoorEntry::mayEnter(const TopoView& topo, const TopoGraph& graph, const DoorTrack& door,

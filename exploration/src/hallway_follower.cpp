@@ -113,8 +113,10 @@ double HallwayFollower::track(const Perception& p, const TopoView& topo, Hallway
   dir_robot = v->wall_direction;
   const double map_heading = mapHeading(dir_robot, p, topo);
   direction_.offset = normalizeAngle(map_heading - binHeading(direction_.bin));
-  // Past half a bin (and the wall tolerance, against flicker at exactly half) the nearer bin is the
-  // hallway's.
+  // Walls within the wall tolerance of the bin are the building's axis (the heading filter's
+  // residue): no offset is kept, the direction is refined from them tick by tick. Past half a bin
+  // (and the tolerance, against flicker at exactly half) the nearer bin is the hallway's.
+  if (std::abs(direction_.offset) <= view_.wall_parallel_tolerance) direction_.offset = 0.0;
   if (std::abs(direction_.offset) > half_bin + 0.5 * view_.wall_parallel_tolerance) {
     direction_.bin = binOf(map_heading);
     direction_.offset = normalizeAngle(map_heading - binHeading(direction_.bin));

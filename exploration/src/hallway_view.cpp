@@ -178,7 +178,12 @@ std::optional<double> obliqueHallway(const std::vector<Eigen::Vector2d>& points,
     for (double depth : {0.5 * min_free, 0.75 * min_free}) {
       const Eigen::Vector2d inside = view.end_centre + depth * Eigen::Vector2d(std::cos(way), std::sin(way));
       const HallwayView w = viewHallwayFrom(points, lines, inside, way, params);
-      if (w.left_wall && w.right_wall && w.wall_direction_valid && w.width() <= max_width) return w.wall_direction;
+      // Its walls themselves at an angle to the axes (a room's walls seen past a door are not).
+      const double rel = normalizeAngle(w.wall_direction - direction);
+      const double off_axis = std::abs(rel - std::round(rel / (0.5 * kPi)) * 0.5 * kPi);
+      if (w.left_wall && w.right_wall && w.wall_direction_valid && w.width() <= max_width &&
+          off_axis >= params.wall_parallel_tolerance)
+        return w.wall_direction;
     }
   }
   return std::nullopt;

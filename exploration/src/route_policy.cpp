@@ -107,8 +107,11 @@ RouteAction RoutePolicy::passedGoal(const RouteContext& at, const RouteStep& rou
 
 RouteAction RoutePolicy::atBranch(const RouteContext& at, const RouteStep& route, bool side_open,
                                   const std::optional<DoorTrack>& door_abeam) {
-  // A mission's goal is a door: entered once passed, never turned into like a branch.
-  const bool door_next = at.mission && route.next_node == route.goal_node;
+  // A door is entered once passed, never turned into like a branch: a mission's goal, and an
+  // exploration's goal opening as narrow as only a door is (a side sector of a narrow hallway sees
+  // through a door into the room behind it and opens).
+  const bool door_next = route.next_node == route.goal_node &&
+                         (at.mission || (route.goal_width > 0.0 && rules_.doorByWidth(route.goal_width)));
   if (!route.found || door_next) return RouteAction{};
   const int near = at.graph.nearestNode(at.topo.position);
   // At the node as the belief says, or within 2 m of the goal node: the belief may be off by a

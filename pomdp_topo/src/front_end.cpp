@@ -9,9 +9,7 @@ using laser_features::kPi;
 using laser_features::normalizeAngle;
 
 FrontEnd::FrontEnd(const FrontEndParams& params, const HeadingEstimatorParams& heading_params)
-    : params_(params), heading_(heading_params) {
-  walls_.max_width = params_.rules.hallway_max_width + params_.rules.width_tolerance;
-}
+    : params_(params), heading_(heading_params) {}
 
 void FrontEnd::reset(const Pose2D& odom, double theta, double variance) {
   heading_.reset(theta, variance);
@@ -20,7 +18,6 @@ void FrontEnd::reset(const Pose2D& odom, double theta, double variance) {
   // drove off before pomdp_topo started maps where it is, not at the origin.
   pose_ = Pose2D{odom.x, odom.y, heading_.theta()};
   bin_ = headingBins().bin(theta);
-  local_offset_ = 0.0;
   travel_ = 0.0;
   pending_ = 0.0;
   turning_ = false;
@@ -75,9 +72,8 @@ bool FrontEnd::process(const Pose2D& odom, const std::vector<laser_features::Lin
   pose_.y += std::sin(theta_mid) * delta.x + std::cos(theta_mid) * delta.y;
   pose_.theta = heading_.theta();
 
-  // Travel along the hallway's axis (the current bin heading but in a wing).
-  if (std::abs(delta.theta) <= params_.track_max_rotation) trackLocalAxis(lines);
-  const double hb = travelAxis();
+  // Travel along the current bin heading.
+  const double hb = travelHeading();
   const double along = std::cos(hb) * (std::cos(theta_mid) * delta.x - std::sin(theta_mid) * delta.y) +
                        std::sin(hb) * (std::sin(theta_mid) * delta.x + std::cos(theta_mid) * delta.y);
   pending_ += along;
@@ -123,18 +119,6 @@ bool FrontEnd::process(const Pose2D& odom, const std::vector<laser_features::Lin
                 tracks_.end());
   checkPassed();
   return true;
-}
-
-void FrontEnd::trackLocalAxis(const std::vector<laser_features::LineSegment>& lines) {
-  const double axis_robot = normalizeAngle(travelAxis() - pose_.theta);
-  std::optional<double> dir = laser_features::hallwayWallsDirection(lines, axis_robot, walls_.parallel_tolerance, walls_);
-  if (!dir) {
-    dir = laser_features::hallwayWallsDirection(lines, normalizeAngle(travelHeading() - pose_.theta),
-                                                0.5 * headingBins().width() + walls_.parallel_tolerance, walls_);
-  }
-  if (!dir) return;  // no hallway walls in view (doors break them): the last offset holds
-  const double off = normalizeAngle(*dir + pose_.theta - travelHeading());
-  local_offset_ = std::abs(off) > walls_.parallel_tolerance ? off : 0.0;
 }
 
 void FrontEnd::track(LandmarkType type, const Eigen::Vector2d& p_robot, double theta_robot, double width,
@@ -184,7 +168,7 @@ bool FrontEnd::confirmed(const Track& t) const {
 }
 
 ObservedLandmark FrontEnd::toTravelFrame(const Track& t) const {
-  const double h = travelAxis();
+  const double h = travelHeading();
   const Eigen::Vector2d rel = t.position - Eigen::Vector2d(pose_.x, pose_.y);
   ObservedLandmark o;
   o.type = t.type;

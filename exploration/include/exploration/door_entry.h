@@ -1,7 +1,7 @@
 // Whether a door the robot has passed on the hallway is entered (Tomatis, Nourbakhsh & Siegwart
 // 2001, section 3.2: a door passed that is new, or known but not explored, while the belief is
 // confident), and as which opening of the topological map:
-//  - never the door the robot has just come out of;
+//  - never a door the robot came out of a moment ago;
 //  - on a new stretch (pomdp_topo's frontier) a door is new, unless the node pomdp_topo stands at
 //    has it already, explored;
 //  - on the known map, an unexplored opening of the node a trusted belief puts the robot at;
@@ -17,6 +17,8 @@
 #include "laser_features/building_rules.h"
 
 #include <optional>
+#include <utility>
+#include <vector>
 
 namespace exploration {
 
@@ -36,7 +38,7 @@ class DoorEntry {
   void observe(const TopoView& topo, double travel);
   /// The robot came out of a room through `door` at `travel` (m).
   void leftBy(const DoorTrack& door, double travel);
-  /// `door` is the one the robot last came out of (within 10 m of travel).
+  /// `door` is one the robot came out of within the last kLeftDoorsTravel (10 m) of travel.
   bool justLeft(const DoorTrack& door, double travel) const;
 
   /// The opening `door` is entered as, if it is entered. `bearing`: the door's bearing into the room
@@ -55,9 +57,11 @@ class DoorEntry {
 
   HallwayDoorParams doors_;
   laser_features::BuildingRules rules_;
-  // The door the robot last came out of, and the travel then: never entered again from just outside it.
-  std::optional<DoorTrack> left_door_;
-  double left_door_travel_ = 0.0;
+  // The doors the robot came out of within the last kLeftDoorsTravel of travel, and the travel then:
+  // none is entered again from just outside it (two doors facing the robot in turn at a hallway's
+  // end would otherwise be entered again and again).
+  std::vector<std::pair<DoorTrack, double>> left_doors_;
+  static constexpr double kLeftDoorsTravel = 10.0;  // m
   // The node pomdp_topo's frontier was last at, and the travel when it became so.
   int frontier_node_ = -1;
   double frontier_node_travel_ = 0.0;

@@ -73,7 +73,7 @@ class HallwayFollower {
   }
   /// A bearing in the odometry frame (a door's, into its room) as the topological map has it: in the
   /// map frame, and square to the axes where a wing's hallway runs at its offset to them
-  /// (pomdp_topo's front end takes a wing's openings relative to its walls the same way).
+  /// (a node's side openings are bin heading +-90 deg in pomdp_topo's map).
   double topoBearing(double odom_bearing, const TopoView& topo) const;
 
   // The start: the robot may face any way.

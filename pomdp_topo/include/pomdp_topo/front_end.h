@@ -6,7 +6,6 @@
 // observation, in the travel frame.
 #pragma once
 
-#include "laser_features/building_axes.h"
 #include "laser_features/corner_extractor.h"
 #include "laser_features/geometry.h"
 #include "laser_features/opening_extractor.h"
@@ -80,11 +79,6 @@ class FrontEnd {
   laser_features::HeadingBins headingBins() const { return {params_.axis_angle, params_.heading_bins}; }
   double binHeading(int bin) const { return headingBins().heading(bin); }
   double travelHeading() const { return binHeading(bin_); }
-  /// The hallway's own axis, along which travel, turns and the travel frame are taken: the travel
-  /// heading, turned by the offset of a wing's walls from the building's axes (0 along them).
-  double travelAxis() const { return laser_features::normalizeAngle(travelHeading() + local_offset_); }
-  /// rad, the offset of the hallway's walls from the travel heading (see travelAxis).
-  double localOffset() const { return local_offset_; }
   /// The building's axis (rad, map frame), once it is known (before the first scan is processed:
   /// the heading bins of everything mapped are along it).
   void setAxis(double axis_angle) {
@@ -138,10 +132,6 @@ class FrontEnd {
   bool confirmed(const Track& t) const;
   ObservedLandmark toTravelFrame(const Track& t) const;
   void checkPassed();
-  /// The hallway's walls in this scan (robot frame lines): along the axis followed, else a wing's
-  /// within half a bin and the wall tolerance of the travel heading (30-60 deg to the axes); sets
-  /// local_offset_ where found.
-  void trackLocalAxis(const std::vector<laser_features::LineSegment>& lines);
 
   FrontEndParams params_;
   HeadingEstimator heading_;
@@ -149,11 +139,6 @@ class FrontEnd {
   Pose2D last_odom_;
   Pose2D pose_;
   int bin_ = 0;
-  // A wing of the building at an angle to its axes: the topological abstraction stays on the bins
-  // (its nodes' openings square to them), and the robot's travel, turns and landmarks are taken
-  // relative to the wing's walls, so its doors are side openings like any hallway's.
-  double local_offset_ = 0.0;
-  laser_features::HallwayWallsParams walls_;  // max_width from the building rules
   double travel_ = 0.0;
   double pending_ = 0.0;
   bool turning_ = false;
