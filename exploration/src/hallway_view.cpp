@@ -10,6 +10,11 @@ namespace exploration {
 using laser_features::kPi;
 using laser_features::normalizeAngle;
 
+namespace {
+// m, the spacing of the lanes freestLane tries: a mouth is found by a corridor this much narrower.
+constexpr double kLaneStep = 0.1;
+}  // namespace
+
 double freeDistance(const std::vector<Eigen::Vector2d>& points, double bearing, double half_width,
                     double range_cap, const Eigen::Vector2d& origin) {
   double best = range_cap;
@@ -30,9 +35,11 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   v.free_left = freeDistance(points, direction + 0.5 * kPi, params.side_sector, range_cap);
   v.free_right = freeDistance(points, direction - 0.5 * kPi, params.side_sector, range_cap);
   v.free_back = freeDistance(points, direction + kPi, params.ahead_sector, range_cap);
-  const auto open = [&](const Eigen::Vector2d& origin, double free_sector, int side) {
-    return free_sector >= params.side_open_distance ||
-           mouthBeside(points, origin, direction, side, params.clearance, params.min_mouth, params.side_open_distance);
+  // A side is open where a hallway's mouth is, and only there: a door lets a side sector see into
+  // the room behind it whenever it is wider than the sector's chord at the wall (a 1.2 m door at
+  // 0.75 m, in a 1.5 m hallway, subtends 77 deg), but no door is as wide as the narrowest hallway.
+  const auto open = [&](const Eigen::Vector2d& origin, double /*free_sector*/, int side) {
+    return mouthBeside(points, origin, direction, side, params.clearance, params.min_mouth, params.side_open_distance);
   };
   v.open_left = open(Eigen::Vector2d::Zero(), v.free_left, 1);
   v.open_right = open(Eigen::Vector2d::Zero(), v.free_right, -1);
@@ -90,6 +97,15 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   } else if (v.right_wall) {
     v.centre_offset = std::max(0.0, v.right_lateral + params.min_wall_clearance);
   }
+  // A hallway goes on only through a mouth as wide as the narrowest hallway's: where no lane is free
+  // that wide and the walls stop there too, a wall crosses the hallway (its end wall, with a door in
+  // it or not). The sector ahead alone sees through a door on the mid-line once nearer than the
+  // door's width over its tangent (3 m for a 1 m door), and the robot fits through the door.
+  if (!v.wallsReach(v.free_ahead + 2.0 * params.clearance)) {
+    const double hallway_free = freestLane(points, direction, v, 0.5 * (params.min_mouth - kLaneStep), range_cap).free;
+    if (hallway_free >= 0.0 && hallway_free < v.free_ahead && !v.wallsReach(hallway_free + 2.0 * params.clearance))
+      v.free_ahead = hallway_free;
+  }
   const double half_width = v.left_wall && v.right_wall ? 0.5 * v.width() : 1.0;
   const Eigen::Vector2d centre = std::max(0.0, v.free_ahead - half_width) * u + v.centre_offset * n;
   v.end_centre = centre;
@@ -118,7 +134,7 @@ Lane freestLane(const std::vector<Eigen::Vector2d>& points, double direction, co
   const double lo = view.right_wall ? view.right_lateral + clearance : view.centre_offset;
   const double hi = view.left_wall ? view.left_lateral - clearance : view.centre_offset;
   Lane best{view.centre_offset, -1.0};
-  for (double lateral = lo; lateral <= hi + 1e-9; lateral += 0.1) {
+  for (double lateral = lo; lateral <= hi + 1e-9; lateral += kLaneStep) {
     const double free = corridorFree(points, lateral * n, direction, clearance, range_cap);
     const bool nearer = std::abs(lateral - view.centre_offset) < std::abs(best.lateral - view.centre_offset);
     if (free > best.free + 1e-6 || (std::abs(free - best.free) <= 1e-6 && nearer)) best = {lateral, free};

@@ -538,7 +538,7 @@ TEST(Coordinator, TheRouteTurnsIntoABranchButNotIntoADoorWhereTheBeliefPutsTheBr
   for (bool branch : {true, false}) {
     Hallway h;
     h.branch = branch;
-    h.door_width = 1.2;  // wide enough to open the side sector (a 0.9 m door does not)
+    h.door_width = 1.6;  // a double door: as wide as a narrow hallway's mouth, it opens the side (a single door does not)
     Coordinator c;
     c.setGraph(g);
     bool turned = false;

@@ -207,3 +207,66 @@ TEST(HallwayView, ANarrowBranchOffAWideHallwayOpensTheSideADoorDoesNot) {
     }
   }
 }
+
+// A side opens only where a hallway's mouth is: a door as wide as a single door gets (up to
+// hallway_min_width - width_tolerance) never opens it, beside the robot or at a hallway's end, in a
+// hallway as narrow as 1.5 m, where the side sector sees through the door into the room behind.
+TEST(HallwayView, ADoorNeverOpensASideEvenInANarrowHallway) {
+  for (const double hallway : {1.5, 2.0, 3.0}) {
+    for (const double door : {0.7, 0.9, 1.2, 1.35}) {
+      std::vector<Eigen::Vector2d> pts;
+      std::vector<laser_features::LineSegment> lines;
+      const double wall = 0.5 * hallway, half = 0.5 * door;
+      // The door in the left wall beside the robot, a 4 x 4 m room behind it; the hallway ends in a
+      // wall 1.6 m ahead with another door in its right wall beside the end.
+      addWall(&pts, &lines, {-6.0, wall}, {-half, wall});
+      addWall(&pts, &lines, {half, wall}, {1.6, wall});
+      addWall(&pts, &lines, {-2.0, wall}, {-2.0, wall + 4.0});
+      addWall(&pts, &lines, {2.0, wall}, {2.0, wall + 4.0});
+      addWall(&pts, &lines, {-2.0, wall + 4.0}, {2.0, wall + 4.0});
+      const double end = 1.6, right_door = 1.6 - wall;  // the right door's centre abeam of the end's centre
+      addWall(&pts, &lines, {-6.0, -wall}, {right_door - half, -wall});
+      addWall(&pts, &lines, {right_door + half, -wall}, {end, -wall});
+      addWall(&pts, &lines, {right_door - 2.0, -wall - 4.0}, {right_door + 2.0, -wall - 4.0});
+      addWall(&pts, &lines, {end, -wall - 4.0}, {end, wall});
+      const auto v = viewHallway(pts, lines, 0.0, HallwayViewParams());
+      EXPECT_FALSE(v.open_left) << door << " m door beside the robot, " << hallway << " m hallway";
+      EXPECT_FALSE(v.end_open_right) << door << " m door at the end, " << hallway << " m hallway";
+    }
+  }
+}
+
+// A hallway ends at a wall across it even where a door in that wall lies on the mid-line: the
+// sector ahead sees through the door, but no lane as wide as the narrowest hallway's mouth is free
+// past the wall and the hallway's walls stop there. A hallway that narrows to the narrowest width
+// goes on.
+TEST(HallwayView, AnEndWallWithADoorOnTheMidLineEndsTheHallway) {
+  for (const double hallway : {1.5, 2.0, 3.0}) {
+    for (const double door : {0.8, 1.0, 1.3}) {
+      std::vector<Eigen::Vector2d> pts;
+      std::vector<laser_features::LineSegment> lines;
+      const double wall = 0.5 * hallway, end = 2.5, half = 0.5 * door;
+      addWall(&pts, &lines, {-6.0, wall}, {end, wall});
+      addWall(&pts, &lines, {-6.0, -wall}, {end, -wall});
+      addWall(&pts, &lines, {end, wall}, {end, half});  // the end wall, the door in its middle
+      addWall(&pts, &lines, {end, -half}, {end, -wall});
+      addWall(&pts, &lines, {end, 3.0}, {end + 5.0, 3.0});  // the room behind it
+      addWall(&pts, &lines, {end, -3.0}, {end + 5.0, -3.0});
+      addWall(&pts, &lines, {end + 5.0, -3.0}, {end + 5.0, 3.0});
+      const auto v = viewHallway(pts, lines, 0.0, HallwayViewParams());
+      EXPECT_NEAR(v.free_ahead, end, 0.05) << door << " m door, " << hallway << " m hallway";
+    }
+  }
+  // A 3 m hallway narrowing to 1.5 m (its right wall steps in, 2.5 m ahead), the robot on the
+  // narrow part's mid-line: the hallway goes on past the step (the sector ahead meets the 1.5 m
+  // part's walls 4.3 m ahead).
+  std::vector<Eigen::Vector2d> pts;
+  std::vector<laser_features::LineSegment> lines;
+  addWall(&pts, &lines, {-6.0, 0.75}, {12.0, 0.75});
+  addWall(&pts, &lines, {-6.0, -2.25}, {2.5, -2.25});
+  addWall(&pts, &lines, {2.5, -2.25}, {2.5, -0.75});
+  addWall(&pts, &lines, {2.5, -0.75}, {12.0, -0.75});
+  addWall(&pts, &lines, {12.0, -0.75}, {12.0, 0.75});
+  const auto v = viewHallway(pts, lines, 0.0, HallwayViewParams());
+  EXPECT_GT(v.free_ahead, 4.0);
+}
