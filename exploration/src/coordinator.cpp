@@ -23,32 +23,6 @@ const char* toString(CoordinatorMode mode) {
   return "?";
 }
 
-bool Coordinator::validate(const CoordinatorParams& p, std::string* error) {
-  auto fail = [&](const char* why) {
-    if (error) *error = why;
-    return false;
-  };
-  if (!(p.follow.lookahead > 0.3)) return fail("lookahead must be > 0.3 m");
-  if (!(p.follow.end_distance > 0.5)) return fail("end_distance must be > 0.5 m");
-  if (!p.rules.valid(error)) return false;
-  if (!(p.doors.min_confidence >= 0.0 && p.doors.min_confidence <= 1.0)) return fail("door_min_confidence must be in [0, 1]");
-  if (!(p.doors.max_lateral > 0.0 && p.doors.side_angle > 0.0 && p.doors.pass_distance >= 0.0 && p.doors.same_distance > 0.0 &&
-        p.doors.wall_tolerance > 0.0 && p.doors.wall_memory >= 0.0))
-    return fail("door_max_lateral, door_side_angle, door_same_distance and door_wall_tolerance must be > 0, "
-                "door_pass_distance and door_wall_memory >= 0");
-  if (!RoomVisit::validate(p.room_visit, error)) return false;
-  if (!(p.settle_time >= 0.0 && p.max_time >= 0.0)) return fail("settle_time and max_time must be >= 0");
-  if (p.route.max_route_attempts < 1) return fail("max_route_attempts must be >= 1");
-  if (!(p.route.goal_pass_distance > 0.0)) return fail("goal_pass_distance must be > 0");
-  if (!(p.route.jump_tolerance >= 0.0 && p.route.jump_hold_distance >= 0.0))
-    return fail("jump_tolerance and jump_hold_distance must be >= 0");
-  if (!(p.branch_record_distance >= 0.0 && p.route.u_turn_cost >= 0.0 && p.follow.goal_refresh_distance > 0.0))
-    return fail("branch_record_distance and u_turn_cost must be >= 0, goal_refresh_distance > 0");
-  if (!MissionRunner::validate(p.mission, error)) return false;
-  if (!(p.follow.stall_time > 0.0)) return fail("follow_stall_time must be > 0");
-  return RoomExplorer::validate(p.room, error);
-}
-
 Coordinator::Coordinator(const CoordinatorParams& params)
     : params_(params),
       follower_(params.follow, params.hallway, params.rules, params.room.planner),
@@ -58,7 +32,7 @@ Coordinator::Coordinator(const CoordinatorParams& params)
       mission_(params.mission),
       doors_(params.doors, params.rules) {
   std::string why;
-  if (!validate(params, &why)) throw std::invalid_argument("exploration coordinator: " + why);
+  if (!params.valid(&why)) throw std::invalid_argument("exploration coordinator: " + why);
   params_.hallway = follower_.viewParams();  // with its derived sizes
 }
 

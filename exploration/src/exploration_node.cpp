@@ -33,6 +33,7 @@
 #include <atomic>
 #include <mutex>
 
+#include "exploration/coordinator.h"
 #include "exploration/params_visit.h"
 #include "laser_features/building_rules_ros.h"
 #include "laser_features/tf_lookup.h"
@@ -56,7 +57,7 @@ class ExplorationNode {
     params_.coordinator.rules = laser_features::readBuildingRules(nh_);
     applyFootprint(laser_features::readRobotFootprint(nh_), &params_);
     std::string why;
-    if (!Coordinator::validate(params_.coordinator, &why) || !MotionController::validate(params_.motion, &why)) {
+    if (!params_.coordinator.valid(&why) || !MotionController::validate(params_.motion, &why)) {
       ROS_FATAL("exploration: bad parameter: %s", why.c_str());
       throw std::invalid_argument(why);
     }

@@ -58,8 +58,8 @@ TEST(Config, BaselineYamlDefaultsEqualTheCodeDefaults) {
 TEST(Config, DefaultsAreValid) {
   exploration::ExplorationParams p;
   std::string why;
-  EXPECT_TRUE(exploration::Coordinator::validate(p.coordinator, &why)) << why;
+  EXPECT_TRUE(p.coordinator.valid(&why)) << why;
   EXPECT_TRUE(exploration::MotionController::validate(p.motion, &why)) << why;
   p.coordinator.follow.lookahead = 0.2;
-  EXPECT_FALSE(exploration::Coordinator::validate(p.coordinator, &why));
+  EXPECT_FALSE(p.coordinator.valid(&why));
 }

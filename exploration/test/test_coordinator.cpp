@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <functional>
+#include <stdexcept>
+#include <string>
 
 #include "exploration/coordinator.h"
 
@@ -193,6 +195,30 @@ RoomVisits driveVisitingRooms(Coordinator* c, Hallway* h, int max_ticks,
 }
 
 }  // namespace
+
+// The parameters' check names the first value out of range by its key, and the coordinator refuses
+// parameters that fail it.
+TEST(CoordinatorParams, AValueOutOfRangeIsRefusedByItsKey) {
+  exploration::CoordinatorParams p;
+  std::string why;
+  EXPECT_TRUE(p.valid(&why)) << why;
+  p.follow.lookahead = 0.2;
+  EXPECT_FALSE(p.valid(&why));
+  EXPECT_EQ(why, "lookahead must be > 0.3 m");
+  p = exploration::CoordinatorParams();
+  p.route.max_route_attempts = 0;
+  p.follow.stall_time = 0.0;
+  EXPECT_FALSE(p.valid(&why));
+  EXPECT_EQ(why, "max_route_attempts must be >= 1");  // the first one out of range
+  p = exploration::CoordinatorParams();
+  p.mission.max_relocation_failures = -1;
+  EXPECT_FALSE(p.valid(&why));
+  EXPECT_NE(why.find("mission/max_relocation_failures"), std::string::npos) << why;
+  p = exploration::CoordinatorParams();
+  p.settle_time = -1.0;
+  EXPECT_FALSE(p.valid());
+  EXPECT_THROW(Coordinator{p}, std::invalid_argument);
+}
 
 // The robot seen by a turned scanner: the hallway's points and lines in the frame of a robot at x
 // facing `yaw` (map frame = odometry frame, as the Hallway is drawn).

@@ -31,6 +31,7 @@
 #pragma once
 
 #include "exploration/coordinator_io.h"
+#include "exploration/coordinator_params.h"
 #include "exploration/door_entry.h"
 #include "exploration/hallway_doors.h"
 #include "exploration/hallway_follower.h"
@@ -52,23 +53,6 @@
 
 namespace exploration {
 
-struct CoordinatorParams {
-  HallwayViewParams hallway;
-  HallwayFollowerParams follow;      // following a hallway (lookahead, end_distance, goal_refresh_distance,
-                                     // follow_stall_time in config/exploration.yaml)
-  RoomExplorerParams room;
-  laser_features::BuildingRules rules;  // door widths (config/building.yaml): openings outside them are no doors
-  HallwayDoorParams doors;           // the hallway's doors (door_* in config/exploration.yaml)
-  double settle_time = 0.5;          // s, standing still before a switch (the nodes see the robot stopped)
-  RoomVisitParams room_visit;        // a room's visit (room_visit/* in config/exploration.yaml)
-  double branch_record_distance = 1.0;  // m travelled after a turn before the ways not taken are recorded
-  RoutePolicyParams route;           // the route's rules (u_turn_cost, max_route_attempts, jump_tolerance,
-                                     // jump_hold_distance, goal_pass_distance in config/exploration.yaml)
-  double max_time = 0.0;             // s, the exploration gives up after this (sim time); 0: no limit
-  bool explore = true;               // -, explore from the start; false: wait for missions (a loaded map)
-  MissionParams mission;             // missions (mission/* in config/exploration.yaml)
-};
-
 struct CoordinatorStats {
   int places = 0;
   int rooms_left_early = 0;   // rooms whose exploration hit the time limit
@@ -86,7 +70,6 @@ struct CoordinatorStats {
 class Coordinator {
  public:
   explicit Coordinator(const CoordinatorParams& params = CoordinatorParams());
-  static bool validate(const CoordinatorParams& params, std::string* error = nullptr);
   const CoordinatorParams& params() const { return params_; }
 
   /// The building's axes as pomdp_topo found them (its building_axes topic): the discrete

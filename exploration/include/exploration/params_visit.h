@@ -2,7 +2,7 @@
 // list: the node reads them with it, the tests check the YAML's defaults against the code's with it.
 #pragma once
 
-#include "exploration/coordinator.h"
+#include "exploration/coordinator_params.h"
 #include "exploration/motion_controller.h"
 #include "laser_features/robot_footprint.h"
 
