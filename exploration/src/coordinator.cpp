@@ -4,14 +4,11 @@
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
 
 namespace exploration {
 
-using laser_features::inverse;
-using laser_features::kPi;
-using laser_features::normalizeAngle;
 using laser_features::Pose2D;
-using laser_features::transformPoint;
 
 const char* toString(CoordinatorMode mode) {
   switch (mode) {
@@ -25,20 +22,22 @@ const char* toString(CoordinatorMode mode) {
 
 Coordinator::Coordinator(const CoordinatorParams& params)
     : params_(params),
-      follower_(params.follow, params.hallway, params.rules, params.room.planner),
-      door_entry_(params.doors, params.rules),
-      route_(params.route, params.rules),
+      hallway_(params.follow, params.hallway, params.rules, params.room.planner, params.doors, params.route,
+               params.branch_record_distance),
       visit_(params.room_visit, params.room, params.rules, params.doors),
-      mission_(params.mission),
-      doors_(params.doors, params.rules) {
+      mission_(params.mission) {
   std::string why;
   if (!params.valid(&why)) throw std::invalid_argument("exploration coordinator: " + why);
-  params_.hallway = follower_.viewParams();  // with its derived sizes
+  params_.hallway = hallway_.viewParams();  // with its derived sizes
 }
 
 CoordinatorStats Coordinator::stats() const {
   CoordinatorStats s = stats_;
-  const RouteStats& route = route_.stats();
+  const HallwayStats& hallway = hallway_.stats();
+  s.doors_passed = hallway.doors_passed;
+  s.turns = hallway.turns;
+  s.u_turns = hallway.u_turns;
+  const RouteStats& route = hallway_.routeStats();
   s.openings_given_up = route.openings_given_up;
   s.belief_jumps = route.belief_jumps;
   s.branch_turns_refused = route.branch_turns_refused;
@@ -49,7 +48,7 @@ void Coordinator::setState(State s, const std::string& text) {
   state_ = s;
   state_since_ = now_;
   state_text_ = text;
-  follower_.restart();
+  hallway_.restart();
 }
 
 Decision Coordinator::update(const Perception& p, const TopoView& topo, bool motion_reached, bool motion_blocked) {
@@ -70,7 +69,7 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
   last_odom_ = p.odom;
   have_last_odom_ = true;
   stats_.travel = travel_;
-  door_entry_.observe(topo, travel_);
+  hallway_.observe(topo, travel_);
 
   if (!idle() && !mission_.active() && params_.max_time > 0.0 && now_ - start_time_ > params_.max_time) {
     finish(false, "time limit reached before the exploration was complete", &d);
@@ -124,36 +123,18 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
 void Coordinator::start(const Perception& p, const TopoView& topo, Decision* d) {
   d->stop = true;
   if (topo.valid && topo.heading_valid && !topo.mode.empty()) {
-    follower_.faceRobotsBin(p, topo);
+    hallway_.faceRobotsBin(p, topo);
     if (!params_.explore) {
       setState(State::Idle, "waiting for a mission");
       return;
     }
-    const int along = follower_.startBin(p, topo);
-    if (topo.mode == "frontier" && follower_.openBehind(along, p, topo)) {
-      // The robot starts mid-hallway: the way behind it is an unexplored opening of the start node.
-      Request r;
-      r.kind = Request::RecordOpening;
-      r.bearing = follower_.binHeading(along + follower_.headingBins().bins / 2);
-      d->requests.push_back(r);
-    }
-    if (along != follower_.bin()) startTurn(along, topo, {});
+    if (hallway_.setOff(p, topo, d)) setState(State::Turn, "turning");
     else setState(State::Follow, "following the hallway");
   }
 }
 
 void Coordinator::turn(const Perception& p, bool motion_reached, bool motion_blocked, Decision* d) {
-  // Turn on the spot where the robot is now: a position fixed when the turn was decided lies
-  // behind the robot once it has braked, and the controller would turn round to reach it.
-  turnGoal(p, d);
-  const double err = std::abs(normalizeAngle(turn_odom_heading_ - p.odom.theta));
-  if ((motion_reached && err < 0.15) || err < 0.05 || (motion_blocked && err < 0.3)) {
-    follower_.setBin(turn_bin_);
-    pending_branch_travel_ = travel_;
-    route_.turned(travel_);
-    follower_.forgetGoal();
-    setState(State::Follow, "following the hallway");
-  }
+  if (hallway_.turn(p, motion_reached, motion_blocked, travel_, d)) setState(State::Follow, "following the hallway");
 }
 
 void Coordinator::stopForDoor(const Perception& p, const TopoView& topo, Decision* d) {
@@ -161,42 +142,23 @@ void Coordinator::stopForDoor(const Perception& p, const TopoView& topo, Decisio
   mode_ = CoordinatorMode::Switching;
   if (now_ - state_since_ < params_.settle_time) return;
   if (mission_.active()) return beginRelocation(p, d);
-  if (entering_.node < 0 && topo.mode != "frontier") {
-    // Stopped for a door on a new stretch, and pomdp_topo has since made its node and taken it
-    // for a known one: a loop hypothesis (the check merges the node, the door explored, or
-    // rejects it, its opening unexplored and come back to), or a loop closed in the same scan
-    // (explore_restart: room_east mapped twice). Entered only as a known unexplored door
-    // (mayEnter); else on along the hallway.
-    const std::optional<EntryOpening> known = mayEnter(topo, door_);
-    if (!known) {
-      mode_ = CoordinatorMode::Topological;
-      ++stats_.doors_passed;
-      setState(State::Follow, topo.mode == "loop_check" ? "door passed: pomdp_topo checks whether it is a known one"
-                                                        : "door passed: it is a known one (pomdp_topo closed a loop at it)");
-      return;
-    }
-    entering_ = *known;
-  }
-  if (entering_.node < 0 &&
-      door_entry_.exploredAtFrontierNode(topo, graph_, door_, follower_.topoBearing(door_.into_odom, topo), travel_)) {
-    // On a new stretch pomdp_topo took the door for one its current node has, explored: a door
-    // recorded at a junction a metre off its centre, seen again from it (large_floor: room_7_14,
-    // entered from the junction at a T, entered again from a stretch leaving it 5,600 s later).
+  std::string why_passed;
+  const std::optional<EntryOpening> entering = hallway_.enterAfterStop(topo, hallwayContext(), &why_passed);
+  if (!entering) {
     mode_ = CoordinatorMode::Topological;
-    ++stats_.doors_passed;
-    setState(State::Follow, "door passed: the node's explored one");
+    setState(State::Follow, why_passed);
     return;
   }
   // The door's node exists now (passed); the topological map stands still from here on.
   mode_ = CoordinatorMode::Metric;
   hallway_pose_odom_ = p.odom;
-  entry_hallway_ = follower_.direction();
-  door_bearing_map_ = entering_.bearing;
+  entry_hallway_ = hallway_.direction();
+  door_bearing_map_ = entering->bearing;
   Request rec;
   rec.kind = Request::RecordOpening;
-  rec.node = entering_.node;
+  rec.node = entering->node;
   rec.bearing = door_bearing_map_;
-  rec.width = door_.width;
+  rec.width = hallway_.door().width;
   d->requests.push_back(rec);
   Request create;
   create.kind = Request::CreatePlace;
@@ -220,7 +182,7 @@ void Coordinator::enterRoom(const Perception& p, const TopoView& topo, Decision*
     setState(State::Follow, "could not create a place: door skipped");
     return;
   }
-  visit_.beginNewRoom(p.odom, door_, follower_.odomHeading(entry_hallway_, topo));
+  visit_.beginNewRoom(p.odom, hallway_.door(), hallway_.odomHeading(entry_hallway_, topo));
   Request add;
   add.kind = Request::AddDoor;
   add.door_id = std::max(0, door_node_);
@@ -234,105 +196,38 @@ void Coordinator::enterRoom(const Perception& p, const TopoView& topo, Decision*
 
 void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d) {
   mode_ = CoordinatorMode::Topological;
-  HallwayView v;
-  const double dir_robot = follower_.track(p, topo, &v);
-  if (follower_.stalled(p)) blocked = true;
-  const bool localized = topo.mode == "localized";
-  const bool sure = (topo.mode == "frontier") ||
-                    (localized && topo.confident && route_.beliefPlausible(graph_, topo.position, travel_));
-  state_text_ = sure ? (localized ? "following the hallway on the known map" : "following a new hallway")
-                     : "following the hallway until the belief is confident";
-
-  recordWaysNotTaken(sure, d);
-  RouteStep route;
-  if (localized && sure && followRoute(p, topo, &route, d)) return;
-  if (enterPassedDoor(p, topo, dir_robot, v, d)) return;
-  if (turnIntoRouteBranch(p, topo, route, sure, dir_robot, v, d)) return;
-
-  const std::optional<double> lane = follower_.laneAround(p, dir_robot, v, blocked);
-  if (lane) state_text_ = "passing an obstacle in the hallway";
-  if ((follower_.atEnd(v) && !lane) || blocked) {
-    decideAtEnd(p, topo, v, d);
-    if (blocked) state_text_ = "motion blocked: " + state_text_;
-    if (state_ == State::Turn) {
-      turnGoal(p, d);
+  const HallwayStep step = hallway_.follow(p, topo, blocked, hallwayContext(), d);
+  // A mission's distance left: along the route planned this tick.
+  if (mission_.active() && step.route.found) mission_.updateDistanceLeft(step.route);
+  switch (step.kind) {
+    case HallwayStep::Following:
+      state_text_ = step.text;
       return;
-    }
-  }
-
-  const Eigen::Vector2d goal = follower_.goal(p, dir_robot, v, lane);
-  d->has_goal = true;
-  d->x = goal.x();
-  d->y = goal.y();
-}
-
-void Coordinator::recordWaysNotTaken(bool sure, Decision* d) {
-  // The ways not taken at the last turn, once the map builder has the turn's node.
-  if (pending_branch_travel_ >= 0.0 && travel_ - pending_branch_travel_ >= params_.branch_record_distance) {
-    if (sure) {
-      for (int b : pending_branches_) {
-        Request r;
-        r.kind = Request::RecordOpening;
-        r.bearing = follower_.binHeading(b);
-        d->requests.push_back(r);
-      }
-    }
-    pending_branches_.clear();
-    pending_branch_travel_ = -1.0;
+    case HallwayStep::Turning:
+      return setState(State::Turn, step.text);
+    case HallwayStep::StopForDoor:
+      return setState(State::StopForDoor, step.text);
+    case HallwayStep::Complete:
+      return noOpeningLeft(d);
+    case HallwayStep::NoRoute:
+      return endMission(false,
+                        "no route on the topological map to the door of place " + std::to_string(mission_.place()), d);
+    case HallwayStep::MissedDoor:
+      return missedMissionDoor(step.route, d);
   }
 }
 
-bool Coordinator::followRoute(const Perception& p, const TopoView& topo, RouteStep* out, Decision* d) {
-  RouteStep& route = *out;
-  if (!mission_.active() && graph_.nodes().size() > 1 && graph_.unexploredCount() == 0 && pending_branches_.empty()) {
-    // Complete only if nothing was given up: an opening given up unreached counts as explored,
-    // and rooms behind it may be missing; a room left at its time limit is not all mapped.
-    const int given_up = route_.stats().openings_given_up;
-    if (given_up > 0 || stats_.rooms_left_early > 0) {
-      finish(false, "no unexplored opening is left, but " + std::to_string(given_up) +
-                        " opening(s) were given up unreached and " + std::to_string(stats_.rooms_left_early) +
-                        " room(s) left at their time limit", d);
-    } else {
-      finish(true, "no unexplored opening is left", d);
-    }
-    return true;
+void Coordinator::noOpeningLeft(Decision* d) {
+  // Complete only if nothing was given up: an opening given up unreached counts as explored,
+  // and rooms behind it may be missing; a room left at its time limit is not all mapped.
+  const int given_up = hallway_.routeStats().openings_given_up;
+  if (given_up > 0 || stats_.rooms_left_early > 0) {
+    finish(false, "no unexplored opening is left, but " + std::to_string(given_up) +
+                      " opening(s) were given up unreached and " + std::to_string(stats_.rooms_left_early) +
+                      " room(s) left at their time limit", d);
+  } else {
+    finish(true, "no unexplored opening is left", d);
   }
-  route = route_.plan(graph_, topo.position, missionDoor());
-  if (mission_.active()) {
-    if (!route.found) {
-      endMission(false, "no route on the topological map to the door of place " + std::to_string(mission_.place()), d);
-      return true;
-    }
-    mission_.updateDistanceLeft(route);
-  }
-  const RouteContext at{graph_, topo, travel_, mission_.active()};
-  return actOnRoute(route_.alongRoute(at, route, follower_.binHeading(follower_.bin())), route, p, topo, d);
-}
-
-bool Coordinator::actOnRoute(const RouteAction& action, const RouteStep& route, const Perception& p, const TopoView& topo,
-                             Decision* d) {
-  switch (action.kind) {
-    case RouteAction::None:
-      if (!action.text.empty()) state_text_ = action.text;
-      return false;
-    case RouteAction::GiveUp:
-      d->requests.push_back(action.record);
-      state_text_ = action.text;
-      return true;
-    case RouteAction::MissedDoor:
-      missedMissionDoor(route, d);
-      return true;
-    case RouteAction::TurnRound:
-      ++stats_.u_turns;
-      startTurn(follower_.bin() + follower_.headingBins().bins / 2, topo, {});
-      break;
-    case RouteAction::TurnIntoBranch:
-      startTurn(follower_.binOf(route.next_heading), topo, {});
-      break;
-  }
-  state_text_ = action.text;
-  turnGoal(p, d);
-  return true;
 }
 
 void Coordinator::missedMissionDoor(const RouteStep& route, Decision* d) {
@@ -345,126 +240,11 @@ void Coordinator::missedMissionDoor(const RouteStep& route, Decision* d) {
     endMission(false, why + ", " + std::to_string(mission_.doorMisses()) + " times", d);
     return;
   }
-  route_.clearAttempts();
+  hallway_.clearRouteAttempts();
   Request reset;
   reset.kind = Request::ResetBelief;
   d->requests.push_back(reset);
   state_text_ = why + ": the belief is reset";
-}
-
-bool Coordinator::enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v,
-                                  Decision* d) {
-  // Doors: entered once passed, if new (frontier) or known and unexplored, and the belief is sure.
-  const HallwayDoors::Walls walls = doors_.track(p.odom, p.openings, dir_robot, v, travel_);
-  DoorTrack door;
-  if (doors_.passed(p.odom, dir_robot, walls, &door)) {
-    if (door_entry_.justLeft(door, travel_)) {
-      ++stats_.doors_passed;
-      state_text_ = "door passed: the one just left";
-    } else if (const std::optional<EntryOpening> entry = mayEnter(topo, door)) {
-      entering_ = *entry;
-      door_ = door;
-      // Where the door was taken to be (the log tells a door tracked wrongly from a real one).
-      const Eigen::Vector2d rel = transformPoint(inverse(p.odom), door.centre_odom);  // robot frame
-      char where[128];
-      char wall[40] = "no wall known";
-      if (door.wall_lateral >= 0.0) std::snprintf(wall, sizeof(wall), "its wall %.2f m aside", door.wall_lateral);
-      std::snprintf(where, sizeof(where), " (%.2f m wide, %d sightings, at %.2f m ahead, %.2f m left, %s)", door.width,
-                    door.sightings, rel.x(), rel.y(), wall);
-      setState(State::StopForDoor, std::string("stopping at a door to enter the room") + where);
-      d->stop = true;
-      return true;
-    }
-    ++stats_.doors_passed;
-  }
-  return false;
-}
-
-bool Coordinator::turnIntoRouteBranch(const Perception& p, const TopoView& topo, const RouteStep& route, bool sure,
-                                      double dir_robot, const HallwayView& v, Decision* d) {
-  // A side branch the route takes at the node the robot is at now: the side it leaves to must be
-  // open (the branch's mouth is beside the robot); a door tracked beside the robot there is no branch.
-  if (!sure) return false;
-  const int route_bin = follower_.binOf(route.next_heading);
-  const int n = follower_.headingBins().bins, bin = follower_.bin();
-  const bool left = route_bin == (bin + n / 4) % n, right = route_bin == (bin + 3 * n / 4) % n;
-  const bool side_open = (left && v.open_left) || (right && v.open_right);
-  const std::optional<DoorTrack> door_abeam =
-      side_open ? doors_.abeam(p.odom, dir_robot, left ? 1.0 : -1.0) : std::nullopt;
-  const RouteContext at{graph_, topo, travel_, mission_.active()};
-  return actOnRoute(route_.atBranch(at, route, side_open, door_abeam), route, p, topo, d);
-}
-
-void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d) {
-  (void)d;
-  const int n = follower_.headingBins().bins, bin = follower_.bin();
-  const int left = (bin + n / 4) % n, right = (bin + 3 * n / 4) % n, back = (bin + n / 2) % n;
-  std::vector<int> open;
-  if (v.end_open_left) open.push_back(left);
-  if (v.end_open_right) open.push_back(right);
-  char why[160];
-  std::snprintf(why, sizeof(why), " (free ahead %.2f m, left %s, right %s, at %.2f %.2f odom)", v.free_ahead,
-                v.end_open_left ? "open" : "closed", v.end_open_right ? "open" : "closed", p.odom.x, p.odom.y);
-  const bool localized = topo.mode == "localized";
-  const bool sure = topo.mode == "frontier" || (localized && topo.confident);
-  if (open.empty()) {
-    if (const std::optional<double> way = follower_.obliqueWayAtEnd(p, topo, v)) {
-      ++stats_.turns;
-      startTurn(follower_.takeWay(*way, p, topo), topo, {});
-      char angle[64];
-      std::snprintf(angle, sizeof(angle), "hallway end: turning %.0f deg into a hallway at an angle", *way * 180.0 / kPi);
-      state_text_ = angle + std::string(why);
-      return;
-    }
-    ++stats_.u_turns;
-    startTurn(back, topo, {});
-    state_text_ = "hallway end: turning round" + std::string(why);
-    return;
-  }
-  int choice = open.front();  // left first (depth-first, one fixed order)
-  if (beliefTrusted(topo)) {
-    const RouteStep r = route_.plan(graph_, topo.position, missionDoor());
-    if (r.found) {
-      const int near = graph_.nearestNode(topo.position);
-      const int rb = follower_.binOf(near >= 0 && uint32_t(near) == r.next_node ? r.next_heading : r.heading);
-      if (std::find(open.begin(), open.end(), rb) != open.end()) choice = rb;
-    }
-  }
-  std::vector<int> not_taken;
-  if (sure && topo.mode == "frontier" && !mission_.active()) {
-    for (int b : open) {
-      if (b != choice) not_taken.push_back(b);
-    }
-  }
-  ++stats_.turns;
-  startTurn(choice, topo, not_taken);
-  state_text_ = "hallway end: turning " + std::string(choice == left ? "left" : "right") + why;
-}
-
-void Coordinator::turnGoal(const Perception& p, Decision* d) const {
-  d->has_goal = true;
-  d->x = p.odom.x;
-  d->y = p.odom.y;
-  d->theta = turn_odom_heading_;
-}
-
-void Coordinator::startTurn(int bin, const TopoView& topo, std::vector<int> not_taken) {
-  // Turns keep the hallway's offset from the axes: a wing's crossings and U-turns are square to it.
-  turn_bin_ = follower_.headingBins().wrap(bin);
-  turn_odom_heading_ = normalizeAngle(follower_.odomHeadingAtOffset(turn_bin_, topo));
-  pending_branches_ = std::move(not_taken);
-  pending_branch_travel_ = -1.0;
-  doors_.clear();  // the doors and walls seen so far belong to the hallway being left
-  setState(State::Turn, "turning");
-}
-
-bool Coordinator::beliefTrusted(const TopoView& topo) const {
-  return route_.beliefTrusted(topo, travel_);
-}
-
-std::optional<EntryOpening> Coordinator::mayEnter(const TopoView& topo, const DoorTrack& door) const {
-  return door_entry_.mayEnter(topo, graph_, door, follower_.topoBearing(door.into_odom, topo), beliefTrusted(topo),
-                              missionDoor());
 }
 
 void Coordinator::placeCreated(bool ok, int place_id) {
@@ -540,11 +320,8 @@ void Coordinator::leaveRoom(const Perception& q, Decision* d) {
 }
 
 void Coordinator::backOnHallway(bool exact, Decision* d) {
-  follower_.setDirection(entry_hallway_);
-  follower_.forgetGoal();
+  hallway_.backFromRoom(entry_hallway_, travel_);
   mode_ = CoordinatorMode::Topological;
-  door_entry_.leftBy(door_, travel_);
-  route_.backOnHallway(travel_);
   if (mission_.active()) {
     // A mission leaving a room: back on the hallway, on to the goal's door (nothing to record).
     place_id_ = -1;
@@ -556,7 +333,7 @@ void Coordinator::backOnHallway(bool exact, Decision* d) {
   rec.kind = Request::RecordOpening;
   rec.node = door_node_;
   rec.bearing = door_bearing_map_;
-  rec.width = door_.width;
+  rec.width = hallway_.door().width;
   rec.explored = true;
   rec.place_id = place_id_;
   rec.pose = visit_.doorInPlace();
@@ -572,7 +349,7 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
   if (mission_.active()) return refuse("a mission is running (to place " + std::to_string(mission_.place()) + ")");
   if (!idle()) return refuse("the exploration is running: missions start once it is done");
   if (!mission_.start(place_id, goal, graph_, travel_, now_, why)) return false;
-  route_.clearAttempts();
+  hallway_.clearRouteAttempts();
   const std::string to = "mission to place " + std::to_string(place_id);
   if (in_room_ && place_id_ == place_id) {
     beginGoToGoal(to + ": driving to the goal in the room", true);
@@ -581,8 +358,7 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
     leaveRoomForMission(to + ": leaving place " + std::to_string(place_id_) + " by its door");
     mode_ = CoordinatorMode::Metric;
   } else {
-    follower_.forgetGoal();
-    route_.allowTurnRound(travel_);
+    hallway_.beginMission(travel_);
     setState(State::Follow, to + ": following the hallway");
     mode_ = CoordinatorMode::Topological;
   }
@@ -595,12 +371,12 @@ void Coordinator::leaveRoomForMission(const std::string& text) {
   at_door.valid = true;
   at_door.at_node = true;
   at_door.id = uint32_t(std::max(0, door_node_));
-  at_door.heading = follower_.binHeading(entry_hallway_.bin);
+  at_door.heading = hallway_.headingBins().heading(entry_hallway_.bin);
   const PlaceDoor& goal_door = mission_.door();
   const RouteStep r = graph_.routeTo(at_door, goal_door.node, goal_door.opening, params_.route.u_turn_cost);
-  const int n = follower_.headingBins().bins;
+  const int n = hallway_.headingBins().bins;
   if (r.found && door_node_ >= 0 && uint32_t(door_node_) != goal_door.node) {
-    const int rb = follower_.binOf(r.heading);
+    const int rb = hallway_.headingBins().bin(r.heading);
     if (rb == (entry_hallway_.bin + n / 2) % n) {
       visit_.turnExitHeadingRound();
       entry_hallway_.bin = rb;
@@ -649,24 +425,24 @@ void Coordinator::beginRelocation(const Perception& p, Decision* d) {
   d->stop = true;
   mode_ = CoordinatorMode::Metric;
   hallway_pose_odom_ = p.odom;
-  entry_hallway_ = follower_.direction();
+  entry_hallway_ = hallway_.direction();
   place_id_ = mission_.place();
   door_node_ = int(mission_.door().node);
-  mission_.beginRelocation(door_, p.odom, d);
+  mission_.beginRelocation(hallway_.door(), p.odom, d);
   setState(State::Relocate, "relocating in place " + std::to_string(mission_.place()) + " at its door");
 }
 
 void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* d) {
   d->stop = true;
   mode_ = CoordinatorMode::Metric;
-  const RelocationStep step = mission_.relocate(p, door_, now_, now_ - state_since_, motion_, d);
+  const RelocationStep step = mission_.relocate(p, hallway_.door(), now_, now_ - state_since_, motion_, d);
   switch (step.kind) {
     case RelocationStep::Pending:
       if (!step.text.empty()) state_text_ = step.text;
       return;
     case RelocationStep::Relocated:
-      visit_.beginKnownRoom(p, hallway_pose_odom_, follower_.odomHeading(entry_hallway_, topo),
-                            mission_.door().opening, door_.width);
+      visit_.beginKnownRoom(p, hallway_pose_odom_, hallway_.odomHeading(entry_hallway_, topo),
+                            mission_.door().opening, hallway_.door().width);
       setState(State::ApproachDoor, "relocated in place " + std::to_string(place_id_) + ": entering");
       return;
     case RelocationStep::AskedAgain:
@@ -688,7 +464,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
   reset.kind = Request::ResetBelief;
   d->requests.push_back(reset);
   mode_ = CoordinatorMode::Topological;
-  follower_.forgetGoal();
+  hallway_.forgetGoal();
   setState(State::Follow, step.text);
 }
 
@@ -702,7 +478,7 @@ void Coordinator::finish(bool success, const std::string& why, Decision* d) {
     << stats_.travel << " m travelled";
   // Given-up openings count as explored: rooms behind them may be missing (large_floor: 26 given
   // up, 58 rooms never seen).
-  const int given_up = route_.stats().openings_given_up;
+  const int given_up = hallway_.routeStats().openings_given_up;
   if (given_up > 0) s << "; " << given_up << " opening(s) given up unreached (rooms behind them may be missing)";
   Request save;
   save.kind = Request::SaveMaps;

@@ -21,11 +21,11 @@
 // The coordinator does not talk to the other nodes itself: it returns requests (create a place,
 // record an opening, ...) that its node carries out as service calls and answers.
 //
-// The Coordinator runs the state machine and decides the turns at a hallway's end; following the
-// hallway (HallwayFollower, hallway_follower.h), whether a passed door is entered (DoorEntry,
-// door_entry.h), the route's rules (RoutePolicy, route_policy.h), a room's visit (RoomVisit,
-// room_visit.h) and a mission's relocation and drive to its goal (MissionRunner, mission_runner.h)
-// are classes of their own that it delegates to.
+// The Coordinator runs the state machine: the start, the switch at a door between the hallway and
+// the room, missions, the end. Navigating the hallways (HallwayNavigator, hallway_navigator.h:
+// following a hallway, the doors passed and whether one is entered, the route, the turns), a room's
+// visit (RoomVisit, room_visit.h) and a mission's relocation and drive to its goal (MissionRunner,
+// mission_runner.h) are classes of their own that it delegates to.
 //
 // ROS-free: Eigen, laser_features and the standard library only.
 #pragma once
@@ -33,21 +33,16 @@
 #include "exploration/coordinator_io.h"
 #include "exploration/coordinator_params.h"
 #include "exploration/door_entry.h"
-#include "exploration/hallway_doors.h"
 #include "exploration/hallway_follower.h"
-#include "exploration/hallway_view.h"
+#include "exploration/hallway_navigator.h"
 #include "exploration/mission_runner.h"
 #include "exploration/room_explorer.h"
 #include "exploration/room_visit.h"
-#include "exploration/route_policy.h"
 #include "exploration/topo_route.h"
 #include "laser_features/building_axes.h"
-#include "laser_features/building_rules.h"
 #include "laser_features/geometry.h"
 
-#include <Eigen/Core>
-
-#include <optional>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -74,8 +69,8 @@ class Coordinator {
 
   /// The building's axes as pomdp_topo found them (its building_axes topic): the discrete
   /// headings of the hallways. Set before the first update().
-  void setHeadingBins(const laser_features::HeadingBins& bins) { follower_.setHeadingBins(bins); }
-  const laser_features::HeadingBins& headingBins() const { return follower_.headingBins(); }
+  void setHeadingBins(const laser_features::HeadingBins& bins) { hallway_.setHeadingBins(bins); }
+  const laser_features::HeadingBins& headingBins() const { return hallway_.headingBins(); }
 
   /// The topological map as last published.
   void setGraph(const TopoGraph& graph) { graph_ = graph; }
@@ -118,38 +113,24 @@ class Coordinator {
                      Idle, Relocate, GoToGoal };
 
   void setState(State s, const std::string& text);
-  void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
-  // The states' steps of update(): the start (which way to set off), a turn on the spot, the stop
-  // at a door (enter it, or on if pomdp_topo took it for a known one), a place created for the room.
+  // The states' steps of update(): the start (which way to set off), following the hallway, a turn
+  // on the spot, the stop at a door (enter it, or on if pomdp_topo took it for a known one), a place
+  // created for the room.
   void start(const Perception& p, const TopoView& topo, Decision* d);
+  void follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d);
   void turn(const Perception& p, bool motion_reached, bool motion_blocked, Decision* d);
   void stopForDoor(const Perception& p, const TopoView& topo, Decision* d);
   void enterRoom(const Perception& p, const TopoView& topo, Decision* d);
-  /// Pieces of follow(); those returning bool end the tick when true (a decision was made).
-  void recordWaysNotTaken(bool sure, Decision* d);  // the ways not taken at the last turn, at its node
-  /// On the known map with a sure belief: the route, the end of the exploration or mission, and a
-  /// turn round or an opening given up for it.
-  bool followRoute(const Perception& p, const TopoView& topo, RouteStep* route, Decision* d);
-  /// Carries out what the route asks (a turn, an opening given up, a mission's door missed); true
-  /// when that ends the tick.
-  bool actOnRoute(const RouteAction& action, const RouteStep& route, const Perception& p, const TopoView& topo,
-                  Decision* d);
+  /// The map and the robot on it, for the hallway's navigation.
+  HallwayContext hallwayContext() const { return HallwayContext{graph_, travel_, missionDoor()}; }
+  /// On the known map no unexplored opening is left: the exploration ends, complete only if no
+  /// opening was given up and no room left at its time limit.
+  void noOpeningLeft(Decision* d);
   /// The mission's door was not found after max_route_attempts turns towards it: the belief is
   /// reset, or the mission fails after max_relocation_failures such misses.
   void missedMissionDoor(const RouteStep& route, Decision* d);
-  bool enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v, Decision* d);
-  bool turnIntoRouteBranch(const Perception& p, const TopoView& topo, const RouteStep& route, bool sure,
-                           double dir_robot, const HallwayView& v, Decision* d);
-  void decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d);
-  /// The opening `door` is entered as, if it is (DoorEntry::mayEnter, from the belief now).
-  std::optional<EntryOpening> mayEnter(const TopoView& topo, const DoorTrack& door) const;
-  /// The belief is localized and confident, and not on hold after a jump.
-  bool beliefTrusted(const TopoView& topo) const;
   /// The running mission's door, if a mission runs.
   const PlaceDoor* missionDoor() const { return mission_.active() ? &mission_.door() : nullptr; }
-  /// The goal of a turn on the spot: where the robot is now, with the turn's heading.
-  void turnGoal(const Perception& p, Decision* d) const;
-  void startTurn(int bin, const TopoView& topo, std::vector<int> not_taken);
   void finish(bool success, const std::string& why, Decision* d);
   // A room's visit (visit_ in the room's place; the METRIC states): the visit's steps by state, and
   // what they end in.
@@ -170,15 +151,13 @@ class Coordinator {
 
   CoordinatorParams params_;
   TopoGraph graph_;
-  HallwayFollower follower_;
-  DoorEntry door_entry_;
-  RoutePolicy route_;
+  HallwayNavigator hallway_;
   RoomVisit visit_;
   MissionRunner mission_;
   State state_ = State::Init;
   CoordinatorMode mode_ = CoordinatorMode::Topological;
   std::string state_text_ = "waiting for the first scan and the topological map";
-  CoordinatorStats stats_;  // all but the route's counts (route_.stats(); both in stats())
+  CoordinatorStats stats_;  // all but the hallway's and the route's counts (hallway_; all in stats())
   double state_since_ = 0.0;     // s, stamp when the state began
   double now_ = 0.0;
   double start_time_ = -1.0;
@@ -187,15 +166,7 @@ class Coordinator {
   double travel_ = 0.0;          // m, odometric
   MotionFeedback motion_;          // the motion controller's last status in a room's states
 
-  HallwayDoors doors_;  // the doors along the hallway being followed
-  // Turning.
-  int turn_bin_ = 0;
-  double turn_odom_heading_ = 0.0;
-  std::vector<int> pending_branches_;  // bins to record as unexplored after the turn
-  double pending_branch_travel_ = -1.0;
-  // The door being entered, the opening it is entered as, and the place of its room.
-  DoorTrack door_;
-  EntryOpening entering_;
+  // The door being entered (hallway_.door()), the opening it is entered as, and the place of its room.
   double door_bearing_map_ = 0.0;  // rad, map frame, through the door into the room
   int door_node_ = -1;
   int place_id_ = -1;

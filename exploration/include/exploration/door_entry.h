@@ -6,7 +6,7 @@
 //    has it already, explored;
 //  - on the known map, an unexplored opening of the node a trusted belief puts the robot at;
 //  - on a mission, only the mission's door.
-// The coordinator tracks the doors (HallwayDoors) and stops for the one entered.
+// HallwayNavigator tracks the doors (HallwayDoors) and stops for the one entered.
 //
 // ROS-free: Eigen, laser_features and the standard library only.
 #pragma once

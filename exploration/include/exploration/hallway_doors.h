@@ -2,7 +2,7 @@
 // odometry frame (odometry is good over a hallway's stretch): which openings are doors of this
 // hallway (on the wall beside the robot, facing across the travel), their running mean position and
 // width and the scans that saw a room behind them, and which door the robot has just passed (then
-// the coordinator decides whether to enter). The walls it gates with are remembered for a few metres
+// HallwayNavigator decides whether to enter). The walls it gates with are remembered for a few metres
 // where the scan does not see them (doors break them into short pieces).
 //
 // ROS-free: Eigen and laser_features' geometry.

@@ -4,7 +4,7 @@
 //
 // HallwayFollower keeps the direction followed (a bin, and the hallway's offset from the bin's
 // heading), the goal on the mid-line, and the lane past an obstacle ahead; it tells a stall, a way
-// out at an angle at a hallway's end, and the bin to set off along at the start. The coordinator
+// out at an angle at a hallway's end, and the bin to set off along at the start. HallwayNavigator
 // decides the turns (at ends, for the route) and the doors, and sets the bin turned to.
 //
 // ROS-free: Eigen, laser_features and the standard library only.

@@ -5,7 +5,8 @@
 // missing it; and whether a confident belief is trusted (one that jumped along the graph is not acted
 // on for a while).
 //
-// The coordinator turns the robot and ends missions; RoutePolicy keeps the counts its rules need.
+// HallwayNavigator turns the robot, the coordinator ends missions; RoutePolicy keeps the counts its
+// rules need.
 //
 // ROS-free: laser_features and the standard library only.
 #pragma once

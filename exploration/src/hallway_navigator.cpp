@@ -1,0 +1,294 @@
+#include "exploration/hallway_navigator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <utility>
+
+namespace exploration {
+
+using laser_features::inverse;
+using laser_features::kPi;
+using laser_features::normalizeAngle;
+using laser_features::transformPoint;
+
+HallwayNavigator::HallwayNavigator(const HallwayFollowerParams& follow, const HallwayViewParams& view,
+                                   const laser_features::BuildingRules& rules, const PlannerParams& robot,
+                                   const HallwayDoorParams& doors, const RoutePolicyParams& route,
+                                   double branch_record_distance)
+    : branch_record_distance_(branch_record_distance),
+      follower_(follow, view, rules, robot),
+      doors_(doors, rules),
+      door_entry_(doors, rules),
+      route_(route, rules) {}
+
+bool HallwayNavigator::setOff(const Perception& p, const TopoView& topo, Decision* d) {
+  const int along = follower_.startBin(p, topo);
+  if (topo.mode == "frontier" && follower_.openBehind(along, p, topo)) {
+    // The robot starts mid-hallway: the way behind it is an unexplored opening of the start node.
+    Request r;
+    r.kind = Request::RecordOpening;
+    r.bearing = follower_.binHeading(along + follower_.headingBins().bins / 2);
+    d->requests.push_back(r);
+  }
+  if (along == follower_.bin()) return false;
+  beginTurn(along, topo, {});
+  return true;
+}
+
+HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, bool blocked, const HallwayContext& at,
+                                     Decision* d) {
+  HallwayStep step;
+  HallwayView v;
+  const double dir_robot = follower_.track(p, topo, &v);
+  if (follower_.stalled(p)) blocked = true;
+  const bool localized = topo.mode == "localized";
+  const bool sure = (topo.mode == "frontier") ||
+                    (localized && topo.confident && route_.beliefPlausible(at.graph, topo.position, at.travel));
+  step.text = sure ? (localized ? "following the hallway on the known map" : "following a new hallway")
+                   : "following the hallway until the belief is confident";
+
+  recordWaysNotTaken(sure, at.travel, d);
+  if (localized && sure && followRoute(p, topo, at, &step, d)) return step;
+  if (enterPassedDoor(p, topo, dir_robot, v, at, &step, d)) return step;
+  if (turnIntoRouteBranch(p, topo, sure, dir_robot, v, at, &step, d)) return step;
+
+  const std::optional<double> lane = follower_.laneAround(p, dir_robot, v, blocked);
+  if (lane) step.text = "passing an obstacle in the hallway";
+  if ((follower_.atEnd(v) && !lane) || blocked) {
+    turnAtEnd(p, topo, v, at, &step);
+    if (blocked) step.text = "motion blocked: " + step.text;
+    turnGoal(p, d);
+    return step;
+  }
+
+  const Eigen::Vector2d goal = follower_.goal(p, dir_robot, v, lane);
+  d->has_goal = true;
+  d->x = goal.x();
+  d->y = goal.y();
+  return step;
+}
+
+void HallwayNavigator::recordWaysNotTaken(bool sure, double travel, Decision* d) {
+  // The ways not taken at the last turn, once the map builder has the turn's node.
+  if (pending_branch_travel_ >= 0.0 && travel - pending_branch_travel_ >= branch_record_distance_) {
+    if (sure) {
+      for (int b : pending_branches_) {
+        Request r;
+        r.kind = Request::RecordOpening;
+        r.bearing = follower_.binHeading(b);
+        d->requests.push_back(r);
+      }
+    }
+    pending_branches_.clear();
+    pending_branch_travel_ = -1.0;
+  }
+}
+
+bool HallwayNavigator::followRoute(const Perception& p, const TopoView& topo, const HallwayContext& at,
+                                   HallwayStep* step, Decision* d) {
+  if (!at.mission_door && at.graph.nodes().size() > 1 && at.graph.unexploredCount() == 0 && pending_branches_.empty()) {
+    step->kind = HallwayStep::Complete;
+    return true;
+  }
+  step->route = route_.plan(at.graph, topo.position, at.mission_door);
+  if (at.mission_door && !step->route.found) {
+    step->kind = HallwayStep::NoRoute;
+    return true;
+  }
+  const RouteContext route_at{at.graph, topo, at.travel, at.mission_door != nullptr};
+  return actOnRoute(route_.alongRoute(route_at, step->route, follower_.binHeading(follower_.bin())), p, topo, step, d);
+}
+
+bool HallwayNavigator::actOnRoute(const RouteAction& action, const Perception& p, const TopoView& topo,
+                                  HallwayStep* step, Decision* d) {
+  switch (action.kind) {
+    case RouteAction::None:
+      if (!action.text.empty()) step->text = action.text;
+      return false;
+    case RouteAction::GiveUp:
+      d->requests.push_back(action.record);
+      step->text = action.text;
+      return true;
+    case RouteAction::MissedDoor:
+      step->kind = HallwayStep::MissedDoor;
+      return true;
+    case RouteAction::TurnRound:
+      ++stats_.u_turns;
+      beginTurn(follower_.bin() + follower_.headingBins().bins / 2, topo, {});
+      break;
+    case RouteAction::TurnIntoBranch:
+      beginTurn(follower_.binOf(step->route.next_heading), topo, {});
+      break;
+  }
+  step->kind = HallwayStep::Turning;
+  step->text = action.text;
+  turnGoal(p, d);
+  return true;
+}
+
+bool HallwayNavigator::enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v,
+                                       const HallwayContext& at, HallwayStep* step, Decision* d) {
+  // Doors: entered once passed, if new (frontier) or known and unexplored, and the belief is sure.
+  const HallwayDoors::Walls walls = doors_.track(p.odom, p.openings, dir_robot, v, at.travel);
+  DoorTrack door;
+  if (doors_.passed(p.odom, dir_robot, walls, &door)) {
+    if (door_entry_.justLeft(door, at.travel)) {
+      ++stats_.doors_passed;
+      step->text = "door passed: the one just left";
+    } else if (const std::optional<EntryOpening> entry = mayEnter(topo, at, door)) {
+      entering_ = *entry;
+      door_ = door;
+      // Where the door was taken to be (the log tells a door tracked wrongly from a real one).
+      const Eigen::Vector2d rel = transformPoint(inverse(p.odom), door.centre_odom);  // robot frame
+      char where[128];
+      char wall[40] = "no wall known";
+      if (door.wall_lateral >= 0.0) std::snprintf(wall, sizeof(wall), "its wall %.2f m aside", door.wall_lateral);
+      std::snprintf(where, sizeof(where), " (%.2f m wide, %d sightings, at %.2f m ahead, %.2f m left, %s)", door.width,
+                    door.sightings, rel.x(), rel.y(), wall);
+      step->kind = HallwayStep::StopForDoor;
+      step->text = std::string("stopping at a door to enter the room") + where;
+      d->stop = true;
+      return true;
+    }
+    ++stats_.doors_passed;
+  }
+  return false;
+}
+
+bool HallwayNavigator::turnIntoRouteBranch(const Perception& p, const TopoView& topo, bool sure, double dir_robot,
+                                           const HallwayView& v, const HallwayContext& at, HallwayStep* step,
+                                           Decision* d) {
+  // A side branch the route takes at the node the robot is at now: the side it leaves to must be
+  // open (the branch's mouth is beside the robot); a door tracked beside the robot there is no branch.
+  if (!sure) return false;
+  const int route_bin = follower_.binOf(step->route.next_heading);
+  const int n = follower_.headingBins().bins, bin = follower_.bin();
+  const bool left = route_bin == (bin + n / 4) % n, right = route_bin == (bin + 3 * n / 4) % n;
+  const bool side_open = (left && v.open_left) || (right && v.open_right);
+  const std::optional<DoorTrack> door_abeam =
+      side_open ? doors_.abeam(p.odom, dir_robot, left ? 1.0 : -1.0) : std::nullopt;
+  const RouteContext route_at{at.graph, topo, at.travel, at.mission_door != nullptr};
+  return actOnRoute(route_.atBranch(route_at, step->route, side_open, door_abeam), p, topo, step, d);
+}
+
+void HallwayNavigator::turnAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v,
+                                 const HallwayContext& at, HallwayStep* step) {
+  step->kind = HallwayStep::Turning;
+  const int n = follower_.headingBins().bins, bin = follower_.bin();
+  const int left = (bin + n / 4) % n, right = (bin + 3 * n / 4) % n, back = (bin + n / 2) % n;
+  std::vector<int> open;
+  if (v.end_open_left) open.push_back(left);
+  if (v.end_open_right) open.push_back(right);
+  char why[160];
+  std::snprintf(why, sizeof(why), " (free ahead %.2f m, left %s, right %s, at %.2f %.2f odom)", v.free_ahead,
+                v.end_open_left ? "open" : "closed", v.end_open_right ? "open" : "closed", p.odom.x, p.odom.y);
+  const bool localized = topo.mode == "localized";
+  const bool sure = topo.mode == "frontier" || (localized && topo.confident);
+  if (open.empty()) {
+    if (const std::optional<double> way = follower_.obliqueWayAtEnd(p, topo, v)) {
+      ++stats_.turns;
+      beginTurn(follower_.takeWay(*way, p, topo), topo, {});
+      char angle[64];
+      std::snprintf(angle, sizeof(angle), "hallway end: turning %.0f deg into a hallway at an angle", *way * 180.0 / kPi);
+      step->text = angle + std::string(why);
+      return;
+    }
+    ++stats_.u_turns;
+    beginTurn(back, topo, {});
+    step->text = "hallway end: turning round" + std::string(why);
+    return;
+  }
+  int choice = open.front();  // left first (depth-first, one fixed order)
+  if (beliefTrusted(topo, at.travel)) {
+    const RouteStep r = route_.plan(at.graph, topo.position, at.mission_door);
+    if (r.found) {
+      const int near = at.graph.nearestNode(topo.position);
+      const int rb = follower_.binOf(near >= 0 && uint32_t(near) == r.next_node ? r.next_heading : r.heading);
+      if (std::find(open.begin(), open.end(), rb) != open.end()) choice = rb;
+    }
+  }
+  std::vector<int> not_taken;
+  if (sure && topo.mode == "frontier" && !at.mission_door) {
+    for (int b : open) {
+      if (b != choice) not_taken.push_back(b);
+    }
+  }
+  ++stats_.turns;
+  beginTurn(choice, topo, not_taken);
+  step->text = "hallway end: turning " + std::string(choice == left ? "left" : "right") + why;
+}
+
+void HallwayNavigator::beginTurn(int bin, const TopoView& topo, std::vector<int> not_taken) {
+  // Turns keep the hallway's offset from the axes: a wing's crossings and U-turns are square to it.
+  turn_bin_ = follower_.headingBins().wrap(bin);
+  turn_odom_heading_ = normalizeAngle(follower_.odomHeadingAtOffset(turn_bin_, topo));
+  pending_branches_ = std::move(not_taken);
+  pending_branch_travel_ = -1.0;
+  doors_.clear();  // the doors and walls seen so far belong to the hallway being left
+}
+
+void HallwayNavigator::turnGoal(const Perception& p, Decision* d) const {
+  d->has_goal = true;
+  d->x = p.odom.x;
+  d->y = p.odom.y;
+  d->theta = turn_odom_heading_;
+}
+
+bool HallwayNavigator::turn(const Perception& p, bool motion_reached, bool motion_blocked, double travel, Decision* d) {
+  // Turn on the spot where the robot is now: a position fixed when the turn was decided lies
+  // behind the robot once it has braked, and the controller would turn round to reach it.
+  turnGoal(p, d);
+  const double err = std::abs(normalizeAngle(turn_odom_heading_ - p.odom.theta));
+  if (!((motion_reached && err < 0.15) || err < 0.05 || (motion_blocked && err < 0.3))) return false;
+  follower_.setBin(turn_bin_);
+  pending_branch_travel_ = travel;
+  route_.turned(travel);
+  follower_.forgetGoal();
+  return true;
+}
+
+std::optional<EntryOpening> HallwayNavigator::enterAfterStop(const TopoView& topo, const HallwayContext& at,
+                                                             std::string* why_passed) {
+  if (entering_.node < 0 && topo.mode != "frontier") {
+    // Stopped for a door on a new stretch, and pomdp_topo has since made its node and taken it
+    // for a known one: a loop hypothesis (the check merges the node, the door explored, or
+    // rejects it, its opening unexplored and come back to), or a loop closed in the same scan
+    // (explore_restart: room_east mapped twice). Entered only as a known unexplored door
+    // (mayEnter); else on along the hallway.
+    const std::optional<EntryOpening> known = mayEnter(topo, at, door_);
+    if (!known) {
+      ++stats_.doors_passed;
+      *why_passed = topo.mode == "loop_check" ? "door passed: pomdp_topo checks whether it is a known one"
+                                              : "door passed: it is a known one (pomdp_topo closed a loop at it)";
+      return std::nullopt;
+    }
+    entering_ = *known;
+  }
+  if (entering_.node < 0 &&
+      door_entry_.exploredAtFrontierNode(topo, at.graph, door_, follower_.topoBearing(door_.into_odom, topo), at.travel)) {
+    // On a new stretch pomdp_topo took the door for one its current node has, explored: a door
+    // recorded at a junction a metre off its centre, seen again from it (large_floor: room_7_14,
+    // entered from the junction at a T, entered again from a stretch leaving it 5,600 s later).
+    ++stats_.doors_passed;
+    *why_passed = "door passed: the node's explored one";
+    return std::nullopt;
+  }
+  return entering_;
+}
+
+void HallwayNavigator::backFromRoom(const HallwayDirection& direction, double travel) {
+  follower_.setDirection(direction);
+  follower_.forgetGoal();
+  door_entry_.leftBy(door_, travel);
+  route_.backOnHallway(travel);
+}
+
+std::optional<EntryOpening> HallwayNavigator::mayEnter(const TopoView& topo, const HallwayContext& at,
+                                                       const DoorTrack& door) const {
+  return door_entry_.mayEnter(topo, at.graph, door, follower_.topoBearing(door.into_odom, topo),
+                              beliefTrusted(topo, at.travel), at.mission_door);
+}
+
+}  // namespace exploration
