@@ -1,0 +1,255 @@
+// The hallway's navigation on its own, on a straight hallway of wall segments: setting off along it,
+// following its mid-line, a U-turn at its dead end, the stop at a door passed on a new stretch and
+// the opening it is entered as (or passed, when pomdp_topo checks a loop), and what the known map
+// says: no unexplored opening left, a mission's door with no route.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "exploration/coordinator_params.h"
+#include "exploration/hallway_navigator.h"
+#include "segment_world.h"
+
+using exploration::Decision;
+using exploration::EntryOpening;
+using exploration::GraphEdge;
+using exploration::GraphNode;
+using exploration::GraphOpening;
+using exploration::HallwayContext;
+using exploration::HallwayNavigator;
+using exploration::HallwayStep;
+using exploration::Perception;
+using exploration::PlaceDoor;
+using exploration::TopoGraph;
+using exploration::TopoView;
+using laser_features::kPi;
+using laser_features::Pose2D;
+
+namespace {
+
+// A hallway along +x, 2 m wide (y in [-1, 1]), from x = -10 to its dead end at x = 20; with
+// `door`, a 0.9 m door in its left wall at x = 5 to a room 4 m deep.
+struct Hallway : exploration::test::SegmentWorld {
+  bool door = false;
+
+  explicit Hallway(bool with_door) : door(with_door) {
+    wall(-10.0, -1.0, 20.0, -1.0);
+    wall(-10.0, -1.0, -10.0, 1.0);
+    wall(20.0, -1.0, 20.0, 1.0);
+    if (!door) {
+      wall(-10.0, 1.0, 20.0, 1.0);
+      return;
+    }
+    wall(-10.0, 1.0, 4.55, 1.0);
+    wall(5.45, 1.0, 20.0, 1.0);
+    wall(3.0, 1.0, 3.0, 5.0);
+    wall(3.0, 5.0, 7.0, 5.0);
+    wall(7.0, 5.0, 7.0, 1.0);
+  }
+
+  // The scan's points and the walls' lines (all of them) in the robot frame; the door as
+  // laser_features reports it, from within 6 m.
+  Perception perceive(const Pose2D& robot, double stamp) const {
+    Perception p;
+    p.stamp = stamp;
+    p.odom = robot;
+    const Pose2D to_robot = laser_features::inverse(robot);
+    const Eigen::Vector2d at(robot.x, robot.y);
+    for (int k = 0; k < 360; ++k) {
+      const Eigen::Vector2d u = laser_features::unitVector(robot.theta + k * kPi / 180.0);
+      const double r = raycast(at, u);
+      if (r < 15.0) p.points.push_back(laser_features::transformPoint(to_robot, at + r * u));
+    }
+    for (const exploration::test::Segment& w : walls) {
+      laser_features::LineSegment l;
+      l.start = laser_features::transformPoint(to_robot, w.a);
+      l.end = laser_features::transformPoint(to_robot, w.b);
+      p.lines.push_back(l);
+    }
+    if (door && std::abs(robot.x - 5.0) < 6.0) {
+      laser_features::Opening o;
+      o.left = laser_features::transformPoint(to_robot, Eigen::Vector2d(4.55, 1.0));
+      o.right = laser_features::transformPoint(to_robot, Eigen::Vector2d(5.45, 1.0));
+      o.center = 0.5 * (o.left + o.right);
+      o.theta = laser_features::normalizeAngle(0.5 * kPi - robot.theta);
+      o.width = 0.9;
+      o.kind = laser_features::OpeningKind::kDoor;
+      o.confidence = 0.9;
+      p.openings.push_back(o);
+    }
+    return p;
+  }
+};
+
+TopoView belief(const std::string& mode) {
+  TopoView v;
+  v.valid = true;
+  v.mode = mode;
+  v.confident = true;
+  v.heading_valid = true;
+  return v;
+}
+
+HallwayNavigator navigator() {
+  const exploration::CoordinatorParams p;
+  HallwayNavigator nav(p.follow, p.hallway, p.rules, p.room.planner, p.doors, p.route, p.branch_record_distance);
+  nav.setHeadingBins({0.0, 4});
+  return nav;
+}
+
+// An ideal robot, one 0.1 s tick: 0.05 m towards the goal, or at it 0.1 rad towards its heading.
+void step(const Decision& d, Pose2D* robot) {
+  if (d.stop || !d.has_goal) return;
+  const Eigen::Vector2d to(d.x - robot->x, d.y - robot->y);
+  if (to.norm() > 0.01) {
+    const Eigen::Vector2d s = to.norm() > 0.05 ? Eigen::Vector2d(0.05 * to.normalized()) : to;
+    robot->x += s.x();
+    robot->y += s.y();
+  } else if (d.theta) {
+    robot->theta += std::max(-0.1, std::min(0.1, laser_features::normalizeAngle(*d.theta - robot->theta)));
+  }
+}
+
+struct Followed {
+  HallwayStep step;
+  Decision last;  // the decision of the last tick
+  double travel = 0.0;  // m
+  int ticks = 0;
+};
+
+// Follows the hallway (a new stretch, no map yet) from `robot` until the tick that is not on along
+// the hallway, or for `max_ticks`; `mode`: pomdp_topo's.
+Followed followUntilChange(HallwayNavigator* nav, const Hallway& h, Pose2D* robot, int max_ticks,
+                           const std::string& mode = "frontier") {
+  const TopoGraph none;
+  Followed run;
+  for (; run.ticks < max_ticks; ++run.ticks) {
+    Decision d;
+    const Pose2D before = *robot;
+    const HallwayContext at{none, run.travel, nullptr};
+    run.step = nav->follow(h.perceive(*robot, 0.1 * run.ticks), belief(mode), false, at, &d);
+    run.last = d;
+    if (run.step.kind != HallwayStep::Following) break;
+    step(d, robot);
+    run.travel += std::hypot(robot->x - before.x, robot->y - before.y);
+  }
+  return run;
+}
+
+}  // namespace
+
+// Mid-hallway on a new stretch the robot sets off the way it faces and the way behind it is an
+// unexplored opening; it keeps to the hallway's mid-line; across the hallway it turns first.
+TEST(HallwayNavigator, SetsOffAlongTheHallwayAndFollowsItsMidLine) {
+  const Hallway h(false);
+  HallwayNavigator nav = navigator();
+  Pose2D robot{0.0, 0.3, 0.1};
+  nav.faceRobotsBin(h.perceive(robot, 0.0), belief("frontier"));
+  Decision start;
+  EXPECT_FALSE(nav.setOff(h.perceive(robot, 0.0), belief("frontier"), &start));
+  ASSERT_EQ(start.requests.size(), 1u);
+  EXPECT_EQ(start.requests[0].kind, exploration::Request::RecordOpening);
+  EXPECT_NEAR(std::abs(start.requests[0].bearing), kPi, 1e-9);
+
+  const Followed run = followUntilChange(&nav, h, &robot, 100);
+  EXPECT_EQ(run.step.kind, HallwayStep::Following);
+  EXPECT_EQ(run.step.text, "following a new hallway");
+  EXPECT_TRUE(run.last.has_goal);
+  EXPECT_GT(run.last.x, robot.x + 1.0);
+  EXPECT_NEAR(run.last.y, 0.0, 0.05);
+  EXPECT_NEAR(robot.y, 0.0, 0.1);
+  EXPECT_EQ(followUntilChange(&nav, h, &robot, 1, "loop_check").step.text,
+            "following the hallway until the belief is confident");
+
+  HallwayNavigator across = navigator();
+  Pose2D facing_wall{0.0, 0.0, 0.5 * kPi};
+  across.faceRobotsBin(h.perceive(facing_wall, 0.0), belief("frontier"));
+  Decision turn;
+  EXPECT_TRUE(across.setOff(h.perceive(facing_wall, 0.0), belief("frontier"), &turn));
+}
+
+// At the dead end the robot turns round on the spot, and then follows the hallway back.
+TEST(HallwayNavigator, TurnsRoundAtADeadEndAndFollowsTheHallwayBack) {
+  const Hallway h(false);
+  HallwayNavigator nav = navigator();
+  Pose2D robot{14.0, 0.0, 0.0};
+  const Followed run = followUntilChange(&nav, h, &robot, 400);
+  ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
+  EXPECT_EQ(run.step.text.rfind("hallway end: turning round", 0), 0u) << run.step.text;
+  EXPECT_EQ(nav.stats().u_turns, 1);
+  EXPECT_GT(robot.x, 17.0);
+  ASSERT_TRUE(run.last.theta);
+  EXPECT_NEAR(std::abs(*run.last.theta), kPi, 1e-6);
+
+  bool turned = false;
+  for (int i = 0; i < 100 && !turned; ++i) {
+    Decision d;
+    turned = nav.turn(h.perceive(robot, 0.1 * i), false, false, run.travel, &d);
+    EXPECT_NEAR(d.x, robot.x, 1e-12);  // on the spot
+    step(d, &robot);
+  }
+  ASSERT_TRUE(turned);
+  EXPECT_EQ(nav.direction().bin, 2);
+  const TopoGraph none;
+  Decision back;
+  nav.follow(h.perceive(robot, 20.0), belief("frontier"), false, HallwayContext{none, run.travel, nullptr}, &back);
+  ASSERT_TRUE(back.has_goal);
+  EXPECT_LT(back.x, robot.x - 1.0);
+}
+
+// A door passed on a new stretch is stopped for and entered as a new opening; while pomdp_topo
+// checks whether the door's node is a known one, it is passed.
+TEST(HallwayNavigator, StopsForADoorPassedOnANewStretch) {
+  const Hallway h(true);
+  HallwayNavigator nav = navigator();
+  Pose2D robot{0.0, 0.0, 0.0};
+  const Followed run = followUntilChange(&nav, h, &robot, 400);
+  ASSERT_EQ(run.step.kind, HallwayStep::StopForDoor) << run.step.text;
+  EXPECT_TRUE(run.last.stop);
+  EXPECT_EQ(run.step.text.rfind("stopping at a door to enter the room (0.90 m wide", 0), 0u) << run.step.text;
+  EXPECT_NEAR(nav.door().centre_odom.x(), 5.0, 0.1);
+  EXPECT_NEAR(nav.door().centre_odom.y(), 1.0, 0.1);
+  EXPECT_NEAR(nav.door().into_odom, 0.5 * kPi, 0.05);
+  EXPECT_GT(robot.x, 5.0);  // passed
+
+  const TopoGraph none;
+  const HallwayContext at{none, run.travel, nullptr};
+  std::string why;
+  EXPECT_FALSE(nav.enterAfterStop(belief("loop_check"), at, &why));
+  EXPECT_EQ(why, "door passed: pomdp_topo checks whether it is a known one");
+  EXPECT_EQ(nav.stats().doors_passed, 1);
+  const std::optional<EntryOpening> entry = nav.enterAfterStop(belief("frontier"), at, &why);
+  ASSERT_TRUE(entry);
+  EXPECT_EQ(entry->node, -1);  // a new door, at pomdp_topo's current node
+  EXPECT_NEAR(entry->bearing, 0.5 * kPi, 0.05);
+}
+
+// On the known map: with no unexplored opening left the exploration is complete; a mission's door
+// the graph does not reach has no route.
+TEST(HallwayNavigator, SaysWhenNoOpeningIsLeftAndWhenAMissionsDoorHasNoRoute) {
+  const Hallway h(false);
+  TopoGraph g;
+  g.addNode(GraphNode{0, 4, 0.0, 0.0, {}});
+  g.addNode(GraphNode{1, 2, 10.0, 0.0, {}});
+  g.addNode(GraphNode{7, 0, 30.0, 0.0, {GraphOpening{0.5 * kPi, 0.9, true, 3, {0.0, 0.0, 0.0}}}});
+  g.addEdge(GraphEdge{0, 0, 1, 0.0, 10.0});
+  TopoView on_edge = belief("localized");
+  on_edge.position.valid = true;
+  on_edge.position.id = 0;
+  on_edge.position.offset = 2.0;
+  const Pose2D robot{2.0, 0.0, 0.0};
+
+  HallwayNavigator exploring = navigator();
+  Decision d;
+  EXPECT_EQ(exploring.follow(h.perceive(robot, 0.0), on_edge, false, HallwayContext{g, 0.0, nullptr}, &d).kind,
+            HallwayStep::Complete);
+
+  HallwayNavigator mission = navigator();
+  const PlaceDoor door = *g.placeDoor(3);
+  const HallwayStep step = mission.follow(h.perceive(robot, 0.0), on_edge, false, HallwayContext{g, 0.0, &door}, &d);
+  EXPECT_EQ(step.kind, HallwayStep::NoRoute);
+  EXPECT_FALSE(step.route.found);
+}
