@@ -275,6 +275,14 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   if (enterPassedDoor(p, topo, dir_robot, v, d)) return;
   if (turnIntoRouteBranch(p, topo, route, sure, dir_robot, v, d)) return;
 
+  if (follower_.intoOpenArea(p, dir_robot, v, travel_)) {
+    decideInOpenArea(topo);
+    if (state_ == State::Turn) {
+      turnGoal(p, d);
+      return;
+    }
+  }
+
   const std::optional<double> lane = follower_.laneAround(p, dir_robot, v, blocked);
   if (lane) state_text_ = "passing an obstacle in the hallway";
   if ((follower_.atEnd(v) && !lane) || blocked) {
@@ -465,6 +473,30 @@ void Coordinator::decideAtEnd(const Perception& p, const TopoView& topo, const H
   ++stats_.turns;
   startTurn(choice, topo, not_taken);
   state_text_ = "hallway end: turning " + std::string(choice == left ? "left" : "right") + why;
+}
+
+void Coordinator::decideInOpenArea(const TopoView& topo) {
+  // The robot keeps to an open area's walls: the doors and the hallways leaving it are along them,
+  // and its middle is no hallway to follow (the sector ahead sees nothing of them from there). It
+  // turns along the wall the hallway came in by (left first, as at a hallway's end, or the route's
+  // way), the other way along it a way not taken; a route across the area is followed across.
+  const int n = follower_.headingBins().bins, bin = follower_.bin();
+  const int left = (bin + n / 4) % n, right = (bin + 3 * n / 4) % n;
+  int choice = left;
+  if (beliefTrusted(topo) || mission_.active()) {
+    const RouteStep r = route_.plan(graph_, topo.position, missionDoor());
+    if (r.found) {
+      const int near = graph_.nearestNode(topo.position);
+      const int rb = follower_.binOf(near >= 0 && uint32_t(near) == r.next_node ? r.next_heading : r.heading);
+      if (rb != left && rb != right) return;
+      choice = rb;
+    }
+  }
+  std::vector<int> not_taken;
+  if (topo.mode == "frontier" && !mission_.active()) not_taken.push_back(choice == left ? right : left);
+  ++stats_.turns;
+  startTurn(choice, topo, not_taken);
+  state_text_ = std::string("an open area: turning ") + (choice == left ? "left" : "right") + " along its wall";
 }
 
 void Coordinator::turnGoal(const Perception& p, Decision* d) const {

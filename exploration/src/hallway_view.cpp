@@ -205,18 +205,35 @@ std::optional<double> obliqueHallway(const std::vector<Eigen::Vector2d>& points,
   return std::nullopt;
 }
 
-bool mouthBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction, int side,
-                 double clearance, double min_mouth, double depth) {
+namespace {
+
+// How far along `direction` (both ways from `origin`, m) the robot's corridor straight to `side` is
+// free for `depth`: the free stretch of corridor positions, up to `need` (0 where `origin`'s is not).
+double freeStretchBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction,
+                         int side, double clearance, double depth, double need) {
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction));
   const double bearing = direction + (side >= 0 ? 0.5 : -0.5) * kPi;
   const auto free = [&](double along) { return corridorFree(points, origin + along * u, bearing, clearance, depth) >= depth; };
-  if (!free(0.0)) return false;
+  if (!free(0.0)) return 0.0;
   constexpr double kStep = 0.05;  // m
-  const double need = min_mouth - 2.0 * clearance;  // the free stretch of corridor positions
   double ahead = 0.0, behind = 0.0;
   while (ahead + behind < need && free(ahead + kStep)) ahead += kStep;
   while (ahead + behind < need && free(-behind - kStep)) behind += kStep;
-  return ahead + behind >= need - 1e-9;
+  return ahead + behind;
+}
+
+}  // namespace
+
+bool mouthBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction, int side,
+                 double clearance, double min_mouth, double depth) {
+  const double need = min_mouth - 2.0 * clearance;  // the free stretch of corridor positions
+  return freeStretchBeside(points, origin, direction, side, clearance, depth, need) >= need - 1e-9;
+}
+
+bool openAreaBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction,
+                    int side, double clearance, double widest_hallway, double depth) {
+  const double need = widest_hallway - 2.0 * clearance;
+  return freeStretchBeside(points, origin, direction, side, clearance, depth, need + 0.05) > need;
 }
 
 }  // namespace exploration

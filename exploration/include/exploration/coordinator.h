@@ -157,6 +157,8 @@ class Coordinator {
   bool enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v, Decision* d);
   bool turnIntoRouteBranch(const Perception& p, const TopoView& topo, const RouteStep& route, bool sure,
                            double dir_robot, const HallwayView& v, Decision* d);
+  /// The hallway followed opened into an open area (HallwayFollower::intoOpenArea): turn along its wall.
+  void decideInOpenArea(const TopoView& topo);
   void decideAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, Decision* d);
   /// The opening `door` is entered as, if it is (DoorEntry::mayEnter, from the belief now).
   std::optional<EntryOpening> mayEnter(const TopoView& topo, const DoorTrack& door) const;

@@ -125,6 +125,13 @@ double corridorFree(const std::vector<Eigen::Vector2d>& points, const Eigen::Vec
 bool mouthBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction, int side,
                  double clearance, double min_mouth, double depth);
 
+/// Open space beside `origin` (robot frame) on the `side` (+1 left, -1 right) of `direction`, wider
+/// along it than the widest hallway's mouth (`widest_hallway`, m): the robot's corridor straight to
+/// that side is free for `depth` (m) over more than that stretch. A hallway's mouth is no wider: the
+/// side opens onto an open hall or lobby (or the hallways around one), not onto a branch.
+bool openAreaBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction,
+                    int side, double clearance, double widest_hallway, double depth);
+
 /// The nearest scan point's distance within `half_width` (rad) of `bearing` (robot frame).
 double freeDistance(const std::vector<Eigen::Vector2d>& points, double bearing, double half_width,
                     double range_cap, const Eigen::Vector2d& origin = Eigen::Vector2d::Zero());
