@@ -275,7 +275,7 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
   if (enterPassedDoor(p, topo, dir_robot, v, d)) return;
   if (turnIntoRouteBranch(p, topo, route, sure, dir_robot, v, d)) return;
 
-  if (follower_.intoOpenArea(p, dir_robot, v, travel_)) {
+  if (follower_.intoOpenArea(p, dir_robot, v)) {
     decideInOpenArea(topo);
     if (state_ == State::Turn) {
       turnGoal(p, d);

@@ -124,18 +124,18 @@ double HallwayFollower::track(const Perception& p, const TopoView& topo, Hallway
   return dir_robot;
 }
 
-bool HallwayFollower::intoOpenArea(const Perception& p, double dir_robot, const HallwayView& v, double travel) {
+bool HallwayFollower::intoOpenArea(const Perception& p, double dir_robot, const HallwayView& v) {
   if (v.left_wall || v.right_wall) {
-    wall_travel_ = travel;
+    open_area_armed_ = true;
     return false;
   }
-  if (travel - wall_travel_ > params_.end_distance) return false;
+  if (!open_area_armed_) return false;
   const double widest = rules_.hallway_max_width + rules_.width_tolerance;
   const Eigen::Vector2d here = Eigen::Vector2d::Zero();
   if (!openAreaBeside(p.points, here, dir_robot, 1, view_.clearance, widest, view_.side_open_distance) ||
       !openAreaBeside(p.points, here, dir_robot, -1, view_.clearance, widest, view_.side_open_distance))
     return false;
-  wall_travel_ = -1e9;
+  open_area_armed_ = false;
   return true;
 }
 

@@ -94,12 +94,11 @@ class HallwayFollower {
   bool stalled(const Perception& p);
   /// The lane (lateral offset, m, robot frame) past an obstacle ahead in the hallway, if there is one.
   std::optional<double> laneAround(const Perception& p, double dir_robot, const HallwayView& v, bool blocked);
-  /// The hallway followed has just opened into an open area (a hall, a lobby, the hallways around
-  /// one) on both sides: no wall is in `v` on either side, there was one within the last
-  /// end_distance of `travel` (m), and both sides are open wider than the widest hallway (a
-  /// crossing's mouths are no wider). Told once per hallway left: in the area the robot keeps to
-  /// its walls, one at a time.
-  bool intoOpenArea(const Perception& p, double dir_robot, const HallwayView& v, double travel);
+  /// The robot has come into an open area (a hall, a lobby, the hallways around one), or set off
+  /// in one: no wall is in `v` on either side, and both sides are open wider than the widest
+  /// hallway (a crossing's mouths are no wider). Told once, then again only after a wall was in
+  /// view: in the area the robot keeps to its walls, one at a time.
+  bool intoOpenArea(const Perception& p, double dir_robot, const HallwayView& v);
   /// The free distance ahead in `v` is below end_distance.
   bool atEnd(const HallwayView& v) const { return v.free_ahead < params_.end_distance; }
   /// The goal (odometry frame): lookahead metres ahead on the mid-line (past an obstacle, on `lane`
@@ -142,7 +141,7 @@ class HallwayFollower {
   Eigen::Vector2d lane_point_odom_ = Eigen::Vector2d::Zero();  // ... through this point (odometry frame)
   Eigen::Vector2d stall_anchor_ = Eigen::Vector2d::Zero();  // odometry frame: where the stall window began
   double stall_since_ = -1.0;    // s, when (-1: not following)
-  double wall_travel_ = -1e9;    // m, the travel when a hallway's wall was last in view
+  bool open_area_armed_ = true;  // a wall was in view since the last open area was told
 };
 
 }  // namespace exploration
