@@ -66,6 +66,7 @@ CoordinatorStats Coordinator::stats() const {
   CoordinatorStats s = stats_;
   const RouteStats& route = route_.stats();
   s.openings_given_up = route.openings_given_up;
+  s.openings_set_aside = route.openings_set_aside;
   s.belief_jumps = route.belief_jumps;
   s.branch_turns_refused = route.branch_turns_refused;
   return s;
@@ -318,7 +319,17 @@ void Coordinator::recordWaysNotTaken(bool sure, Decision* d) {
 
 bool Coordinator::followRoute(const Perception& p, const TopoView& topo, RouteStep* out, Decision* d) {
   RouteStep& route = *out;
-  if (!mission_.active() && graph_.nodes().size() > 1 && graph_.unexploredCount() == 0 && pending_branches_.empty()) {
+  if (!mission_.active() && graph_.nodes().size() > 1 && route_.openingsLeft(graph_) == 0 && pending_branches_.empty()) {
+    if (const size_t retry = route_.retrySetAside()) {
+      // The openings the route kept missing, once more, from a belief found afresh (a wrong one is
+      // the likeliest reason for a miss).
+      Request reset;
+      reset.kind = Request::ResetBelief;
+      d->requests.push_back(reset);
+      state_text_ = "every other opening explored: trying the " + std::to_string(retry) +
+                    " set aside once more, the belief reset";
+      return true;
+    }
     // Complete only if nothing was given up: an opening given up unreached counts as explored,
     // and rooms behind it may be missing; a room left at its time limit is not all mapped.
     const int given_up = route_.stats().openings_given_up;
@@ -349,6 +360,9 @@ bool Coordinator::actOnRoute(const RouteAction& action, const RouteStep& route, 
     case RouteAction::None:
       if (!action.text.empty()) state_text_ = action.text;
       return false;
+    case RouteAction::SetAside:
+      state_text_ = action.text;
+      return true;
     case RouteAction::GiveUp:
       d->requests.push_back(action.record);
       state_text_ = action.text;
