@@ -164,7 +164,7 @@ std::optional<double> HallwayFollower::laneAround(const Perception& p, double di
     lane_valid_ = false;  // the obstacle is passed
   if (!atEnd(v) || blocked) return std::nullopt;
   const double past = v.free_ahead + params_.end_distance;
-  if (!v.wallsReach(past)) return std::nullopt;
+  if (v.wall_across || !v.wallsReach(past)) return std::nullopt;
   const double clearance = view_.clearance;
   std::optional<double> lane;
   if (lane_valid_) {

@@ -57,6 +57,9 @@ struct HallwayView {
   // m, how far ahead along the direction the walls at left_lateral and right_lateral (every line
   // within wall_same_lateral of them) reach: a hallway goes on where its walls do.
   double left_reach = -1e9, right_reach = -1e9;
+  // A wall crosses the hallway at free_ahead: no lane as wide as the narrowest hallway's mouth is
+  // free past it, and the hallway's walls do not run on beside it (a door in it is no way on).
+  bool wall_across = false;
   double width() const { return left_wall && right_wall ? left_lateral - right_lateral : 0.0; }
   /// A wall of the hallway reaches farther ahead than `distance` (m).
   bool wallsReach(double distance) const {
@@ -114,6 +117,11 @@ std::optional<double> obliqueHallway(const std::vector<Eigen::Vector2d>& points,
 /// free of scan points (m, `range_cap` if no point is in it).
 double corridorFree(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double bearing,
                     double half_width, double range_cap);
+
+/// A wall of `view`'s hallway (a line along `direction`, robot frame, at its left or right wall's
+/// lateral offset) runs unbroken from `from` to `to` m ahead.
+bool wallsSpan(const std::vector<laser_features::LineSegment>& lines, const HallwayView& view, double direction,
+               double from, double to, const HallwayViewParams& params);
 
 /// A hallway's mouth beside `origin` (robot frame) on the `side` (+1 left, -1 right) of `direction`:
 /// the robot's corridor (half-width `clearance`) straight to that side is free for `depth` (m) from
