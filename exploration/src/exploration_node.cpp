@@ -402,7 +402,7 @@ class ExplorationNode {
         << ", \"openings_explored\": " << coordinator_->graph().exploredCount()
         << ", \"openings_unexplored\": " << coordinator_->graph().unexploredCount() << ", \"travel_m\": " << s.travel
         << ", \"sim_time_s\": " << sim << ", \"wall_time_s\": " << wall << ", \"real_time_factor\": " << sim / std::max(wall, 1e-3)
-        << ", \"rooms_left_early\": " << s.rooms_left_early << ", \"openings_given_up\": " << s.openings_given_up << ", \"belief_jumps\": " << s.belief_jumps << ", \"branch_turns_refused\": " << s.branch_turns_refused << ", \"room_free_area_m2\": " << s.room_free_area
+        << ", \"rooms_left_early\": " << s.rooms_left_early << ", \"openings_given_up\": " << s.openings_given_up << ", \"openings_set_aside\": " << s.openings_set_aside << ", \"belief_jumps\": " << s.belief_jumps << ", \"branch_turns_refused\": " << s.branch_turns_refused << ", \"room_free_area_m2\": " << s.room_free_area
         << ", \"peak_room_grid_bytes\": " << s.peak_room_bytes << ", \"text\": \"" << r.text << "\"}\n";
     }
     exit_code_ = r.success ? 0 : 1;

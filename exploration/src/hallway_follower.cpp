@@ -124,6 +124,21 @@ double HallwayFollower::track(const Perception& p, const TopoView& topo, Hallway
   return dir_robot;
 }
 
+bool HallwayFollower::intoOpenArea(const Perception& p, double dir_robot, const HallwayView& v) {
+  if (v.left_wall || v.right_wall) {
+    open_area_armed_ = true;
+    return false;
+  }
+  if (!open_area_armed_) return false;
+  const double widest = rules_.hallway_max_width + rules_.width_tolerance;
+  const Eigen::Vector2d here = Eigen::Vector2d::Zero();
+  if (!openAreaBeside(p.points, here, dir_robot, 1, view_.clearance, widest, view_.side_open_distance) ||
+      !openAreaBeside(p.points, here, dir_robot, -1, view_.clearance, widest, view_.side_open_distance))
+    return false;
+  open_area_armed_ = false;
+  return true;
+}
+
 bool HallwayFollower::stalled(const Perception& p) {
   const Eigen::Vector2d here(p.odom.x, p.odom.y);
   const double diameter = 2.0 * robot_radius_;
@@ -149,7 +164,7 @@ std::optional<double> HallwayFollower::laneAround(const Perception& p, double di
     lane_valid_ = false;  // the obstacle is passed
   if (!atEnd(v) || blocked) return std::nullopt;
   const double past = v.free_ahead + params_.end_distance;
-  if (!v.wallsReach(past)) return std::nullopt;
+  if (v.wall_across || !v.wallsReach(past)) return std::nullopt;
   const double clearance = view_.clearance;
   std::optional<double> lane;
   if (lane_valid_) {

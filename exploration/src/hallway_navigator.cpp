@@ -53,6 +53,10 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
   if (localized && sure && followRoute(p, topo, at, &step, d)) return step;
   if (enterPassedDoor(p, topo, dir_robot, v, at, &step, d)) return step;
   if (turnIntoRouteBranch(p, topo, sure, dir_robot, v, at, &step, d)) return step;
+  if (follower_.intoOpenArea(p, dir_robot, v) && turnInOpenArea(topo, at, &step)) {
+    turnGoal(p, d);
+    return step;
+  }
 
   const std::optional<double> lane = follower_.laneAround(p, dir_robot, v, blocked);
   if (lane) step.text = "passing an obstacle in the hallway";
@@ -88,7 +92,17 @@ void HallwayNavigator::recordWaysNotTaken(bool sure, double travel, Decision* d)
 
 bool HallwayNavigator::followRoute(const Perception& p, const TopoView& topo, const HallwayContext& at,
                                    HallwayStep* step, Decision* d) {
-  if (!at.mission_door && at.graph.nodes().size() > 1 && at.graph.unexploredCount() == 0 && pending_branches_.empty()) {
+  if (!at.mission_door && at.graph.nodes().size() > 1 && route_.openingsLeft(at.graph) == 0 && pending_branches_.empty()) {
+    if (const size_t retry = route_.retrySetAside()) {
+      // The openings the route kept missing, once more, from a belief found afresh (a wrong one is
+      // the likeliest reason for a miss).
+      Request reset;
+      reset.kind = Request::ResetBelief;
+      d->requests.push_back(reset);
+      step->text = "every other opening explored: trying the " + std::to_string(retry) +
+                   " set aside once more, the belief reset";
+      return true;
+    }
     step->kind = HallwayStep::Complete;
     return true;
   }
@@ -107,6 +121,9 @@ bool HallwayNavigator::actOnRoute(const RouteAction& action, const Perception& p
     case RouteAction::None:
       if (!action.text.empty()) step->text = action.text;
       return false;
+    case RouteAction::SetAside:
+      step->text = action.text;
+      return true;
     case RouteAction::GiveUp:
       d->requests.push_back(action.record);
       step->text = action.text;
@@ -218,6 +235,32 @@ void HallwayNavigator::turnAtEnd(const Perception& p, const TopoView& topo, cons
   ++stats_.turns;
   beginTurn(choice, topo, not_taken);
   step->text = "hallway end: turning " + std::string(choice == left ? "left" : "right") + why;
+}
+
+bool HallwayNavigator::turnInOpenArea(const TopoView& topo, const HallwayContext& at, HallwayStep* step) {
+  // The robot keeps to an open area's walls: the doors and the hallways leaving it are along them,
+  // and its middle is no hallway to follow (the sector ahead sees nothing of them from there). It
+  // turns along the wall the hallway came in by (left first, as at a hallway's end, or the route's
+  // way), the other way along it a way not taken; a route across the area is followed across.
+  const int n = follower_.headingBins().bins, bin = follower_.bin();
+  const int left = (bin + n / 4) % n, right = (bin + 3 * n / 4) % n;
+  int choice = left;
+  if (beliefTrusted(topo, at.travel) || at.mission_door) {
+    const RouteStep r = route_.plan(at.graph, topo.position, at.mission_door);
+    if (r.found) {
+      const int near = at.graph.nearestNode(topo.position);
+      const int rb = follower_.binOf(near >= 0 && uint32_t(near) == r.next_node ? r.next_heading : r.heading);
+      if (rb != left && rb != right) return false;
+      choice = rb;
+    }
+  }
+  std::vector<int> not_taken;
+  if (topo.mode == "frontier" && !at.mission_door) not_taken.push_back(choice == left ? right : left);
+  ++stats_.turns;
+  beginTurn(choice, topo, not_taken);
+  step->kind = HallwayStep::Turning;
+  step->text = std::string("an open area: turning ") + (choice == left ? "left" : "right") + " along its wall";
+  return true;
 }
 
 void HallwayNavigator::beginTurn(int bin, const TopoView& topo, std::vector<int> not_taken) {

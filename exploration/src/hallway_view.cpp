@@ -97,14 +97,17 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   } else if (v.right_wall) {
     v.centre_offset = std::max(0.0, v.right_lateral + params.min_wall_clearance);
   }
-  // A hallway goes on only through a mouth as wide as the narrowest hallway's: where no lane is free
-  // that wide and the walls stop there too, a wall crosses the hallway (its end wall, with a door in
-  // it or not). The sector ahead alone sees through a door on the mid-line once nearer than the
-  // door's width over its tangent (3 m for a 1 m door), and the robot fits through the door.
-  if (!v.wallsReach(v.free_ahead + 2.0 * params.clearance)) {
-    const double hallway_free = freestLane(points, direction, v, 0.5 * (params.min_mouth - kLaneStep), range_cap).free;
-    if (hallway_free >= 0.0 && hallway_free < v.free_ahead && !v.wallsReach(hallway_free + 2.0 * params.clearance))
-      v.free_ahead = hallway_free;
+  // A hallway goes on only through a mouth as wide as the narrowest hallway's. Where no lane is free
+  // that wide, either an obstacle stands in it (a pillar, furniture: the hallway's walls run on
+  // beside it unbroken) or a wall crosses it: its end wall, with a door in it or not, or a room's
+  // front wall across a crossing (that room's walls may line up with the hallway's beyond it). The
+  // sector ahead alone sees through a door on the mid-line once nearer than the door's width over
+  // its tangent (3 m for a 1 m door), and the robot fits through the door.
+  const double hallway_free = freestLane(points, direction, v, 0.5 * (params.min_mouth - kLaneStep), range_cap).free;
+  if (hallway_free >= 0.0 && hallway_free < v.free_ahead &&
+      !wallsSpan(lines, v, direction, hallway_free - params.clearance, hallway_free + params.clearance, params)) {
+    v.free_ahead = hallway_free;
+    v.wall_across = true;
   }
   const double half_width = v.left_wall && v.right_wall ? 0.5 * v.width() : 1.0;
   const Eigen::Vector2d centre = std::max(0.0, v.free_ahead - half_width) * u + v.centre_offset * n;
@@ -112,6 +115,21 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   v.end_open_left = open(centre, freeDistance(points, direction + 0.5 * kPi, params.side_sector, range_cap, centre), 1);
   v.end_open_right = open(centre, freeDistance(points, direction - 0.5 * kPi, params.side_sector, range_cap, centre), -1);
   return v;
+}
+
+bool wallsSpan(const std::vector<laser_features::LineSegment>& lines, const HallwayView& view, double direction,
+               double from, double to, const HallwayViewParams& params) {
+  const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
+  for (const auto& l : lines) {
+    const double len = l.length();
+    if (len <= 0.0 || std::abs((l.end - l.start).dot(n)) / len > std::sin(params.wall_parallel_tolerance)) continue;
+    const double lateral = 0.5 * (l.start + l.end).dot(n);
+    const bool at_wall = (view.left_wall && std::abs(lateral - view.left_lateral) < params.wall_same_lateral) ||
+                         (view.right_wall && std::abs(lateral - view.right_lateral) < params.wall_same_lateral);
+    const double a0 = l.start.dot(u), a1 = l.end.dot(u);
+    if (at_wall && std::min(a0, a1) <= from && std::max(a0, a1) >= to) return true;
+  }
+  return false;
 }
 
 HallwayView viewHallwayFrom(const std::vector<Eigen::Vector2d>& points,
@@ -205,18 +223,35 @@ std::optional<double> obliqueHallway(const std::vector<Eigen::Vector2d>& points,
   return std::nullopt;
 }
 
-bool mouthBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction, int side,
-                 double clearance, double min_mouth, double depth) {
+namespace {
+
+// How far along `direction` (both ways from `origin`, m) the robot's corridor straight to `side` is
+// free for `depth`: the free stretch of corridor positions, up to `need` (0 where `origin`'s is not).
+double freeStretchBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction,
+                         int side, double clearance, double depth, double need) {
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction));
   const double bearing = direction + (side >= 0 ? 0.5 : -0.5) * kPi;
   const auto free = [&](double along) { return corridorFree(points, origin + along * u, bearing, clearance, depth) >= depth; };
-  if (!free(0.0)) return false;
+  if (!free(0.0)) return 0.0;
   constexpr double kStep = 0.05;  // m
-  const double need = min_mouth - 2.0 * clearance;  // the free stretch of corridor positions
   double ahead = 0.0, behind = 0.0;
   while (ahead + behind < need && free(ahead + kStep)) ahead += kStep;
   while (ahead + behind < need && free(-behind - kStep)) behind += kStep;
-  return ahead + behind >= need - 1e-9;
+  return ahead + behind;
+}
+
+}  // namespace
+
+bool mouthBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction, int side,
+                 double clearance, double min_mouth, double depth) {
+  const double need = min_mouth - 2.0 * clearance;  // the free stretch of corridor positions
+  return freeStretchBeside(points, origin, direction, side, clearance, depth, need) >= need - 1e-9;
+}
+
+bool openAreaBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction,
+                    int side, double clearance, double widest_hallway, double depth) {
+  const double need = widest_hallway - 2.0 * clearance;
+  return freeStretchBeside(points, origin, direction, side, clearance, depth, need + 0.05) > need;
 }
 
 }  // namespace exploration

@@ -19,7 +19,27 @@ constexpr double kAtNodeDistance = 1.0;
 
 RouteStep RoutePolicy::plan(const TopoGraph& graph, const GraphPosition& pos, const PlaceDoor* mission_door) const {
   if (mission_door) return graph.routeTo(pos, mission_door->node, mission_door->opening, params_.u_turn_cost);
-  return graph.route(pos, params_.u_turn_cost);
+  return graph.route(pos, params_.u_turn_cost,
+                     [this](uint32_t n, const GraphOpening& o) { return named(set_aside_, n, o.bearing); });
+}
+
+size_t RoutePolicy::openingsLeft(const TopoGraph& graph) const {
+  return graph.unexploredCount([this](uint32_t n, const GraphOpening& o) { return named(set_aside_, n, o.bearing); });
+}
+
+size_t RoutePolicy::retrySetAside() {
+  const size_t n = set_aside_.size();
+  retried_.insert(retried_.end(), set_aside_.begin(), set_aside_.end());
+  set_aside_.clear();
+  route_attempts_.clear();
+  branch_turns_.clear();
+  return n;
+}
+
+bool RoutePolicy::named(const std::vector<std::pair<uint32_t, double>>& list, uint32_t node, double bearing) {
+  return std::any_of(list.begin(), list.end(), [&](const std::pair<uint32_t, double>& o) {
+    return o.first == node && std::abs(laser_features::normalizeAngle(o.second - bearing)) < kSameBearing;
+  });
 }
 
 bool RoutePolicy::beliefPlausible(const TopoGraph& graph, const GraphPosition& pos, double travel) {
@@ -66,7 +86,7 @@ RouteAction RoutePolicy::alongRoute(const RouteContext& at, const RouteStep& rou
   // is not seen, or the belief flickers) is given up after max_route_attempts.
   const bool missed = ++route_attempts_[route.goal_node] > params_.max_route_attempts;
   if (missed && at.mission) return RouteAction{RouteAction::MissedDoor, {}, ""};
-  if (missed) return giveUp(route);
+  if (missed) return giveUp(route.goal_node, route.goal_bearing, "missed an opening of node " + std::to_string(route.goal_node));
   RouteAction turn_round{RouteAction::TurnRound, {}, ""};
   turn_round.text = "turning round towards node " + std::to_string(route.goal_node) + " (" +
                     std::to_string(route.distance) + " m, from " + (at.topo.position.at_node ? "node " : "edge ") +
@@ -89,15 +109,9 @@ RouteAction RoutePolicy::passedGoal(const RouteContext& at, const RouteStep& rou
       goal_pass_node_ = near;
       goal_pass_travel_ = at.travel;
     } else if (at.travel - goal_pass_travel_ > params_.goal_pass_distance) {
-      RouteAction give_up{RouteAction::GiveUp, {}, ""};
-      give_up.record.kind = Request::RecordOpening;
-      give_up.record.node = near;
-      give_up.record.bearing = route.goal_bearing;
-      give_up.record.explored = true;
-      ++stats_.openings_given_up;
       goal_pass_node_ = -1;
-      give_up.text = "passed node " + std::to_string(near) + " without finding its opening: given up";
-      return give_up;
+      return giveUp(uint32_t(near), route.goal_bearing,
+                    "passed node " + std::to_string(near) + " without finding its opening");
     }
   } else if (near != goal_pass_node_) {
     goal_pass_node_ = -1;
@@ -137,24 +151,30 @@ RouteAction RoutePolicy::atBranch(const RouteContext& at, const RouteStep& route
   // circle (a belief that moves back as the robot turns, look-alike junctions): the goal's opening
   // is given up after max_route_attempts such turns, as after as many U-turns.
   if (!at.mission && ++branch_turns_[{route.next_node, route.goal_node}] > params_.max_route_attempts)
-    return giveUp(route);
+    return giveUp(route.goal_node, route.goal_bearing, "missed an opening of node " + std::to_string(route.goal_node));
   return RouteAction{RouteAction::TurnIntoBranch, {},
                      "turning into the branch of node " + std::to_string(near) + " towards node " +
                          std::to_string(route.goal_node)};
 }
 
-RouteAction RoutePolicy::giveUp(const RouteStep& route) {
-  RouteAction give_up{RouteAction::GiveUp, {}, ""};
+RouteAction RoutePolicy::giveUp(uint32_t node, double bearing, const std::string& why) {
+  route_attempts_.erase(node);
+  for (auto it = branch_turns_.begin(); it != branch_turns_.end();) {
+    it = it->first.second == node ? branch_turns_.erase(it) : std::next(it);
+  }
+  if (!named(retried_, node, bearing)) {
+    // The first miss: most often a wrong belief, not an opening that is not there. The other
+    // openings first; this one once more when they are all explored.
+    set_aside_.emplace_back(node, bearing);
+    ++stats_.openings_set_aside;
+    return RouteAction{RouteAction::SetAside, {}, why + ": set aside until the others are explored"};
+  }
+  RouteAction give_up{RouteAction::GiveUp, {}, why + ": given up"};
   give_up.record.kind = Request::RecordOpening;
-  give_up.record.node = int(route.goal_node);
-  give_up.record.bearing = route.goal_bearing;
+  give_up.record.node = int(node);
+  give_up.record.bearing = bearing;
   give_up.record.explored = true;
   ++stats_.openings_given_up;
-  route_attempts_.erase(route.goal_node);
-  for (auto it = branch_turns_.begin(); it != branch_turns_.end();) {
-    it = it->first.second == route.goal_node ? branch_turns_.erase(it) : std::next(it);
-  }
-  give_up.text = "gave up an opening of node " + std::to_string(route.goal_node);
   return give_up;
 }
 

@@ -60,6 +60,14 @@ size_t TopoGraph::unexploredCount() const {
   return count;
 }
 
+size_t TopoGraph::unexploredCount(const std::function<bool(uint32_t, const GraphOpening&)>& skip) const {
+  size_t count = 0;
+  for (const auto& entry : nodes_) {
+    for (const GraphOpening& o : unexplored(entry.first)) count += skip(entry.first, o) ? 0 : 1;
+  }
+  return count;
+}
+
 size_t TopoGraph::exploredCount() const {
   size_t count = 0;
   for (const auto& entry : nodes_) {
@@ -131,10 +139,13 @@ double TopoGraph::nearestNodeDistance(const GraphPosition& pos) const {
   return std::clamp(uint32_t(n) == e->target ? e->length - pos.offset : pos.offset, 0.0, e->length);
 }
 
-RouteStep TopoGraph::route(const GraphPosition& pos, double u_turn_cost) const {
-  return search(pos, u_turn_cost, [this](uint32_t n) {
-    const std::vector<GraphOpening> open = unexplored(n);
-    return open.empty() ? std::optional<GraphOpening>() : std::optional<GraphOpening>(open.front());
+RouteStep TopoGraph::route(const GraphPosition& pos, double u_turn_cost,
+                           const std::function<bool(uint32_t, const GraphOpening&)>& skip) const {
+  return search(pos, u_turn_cost, [&](uint32_t n) {
+    for (const GraphOpening& o : unexplored(n)) {
+      if (!skip || !skip(n, o)) return std::optional<GraphOpening>(o);
+    }
+    return std::optional<GraphOpening>();
   });
 }
 

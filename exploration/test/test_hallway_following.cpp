@@ -50,11 +50,21 @@ Perception perceive(const std::vector<Segment>& walls, const Pose2D& pose, doubl
     const double r = castRay(walls, o, u, 15.0);
     if (r < 15.0) p.points.push_back(to_robot * (r * u));
   }
+  // The lines: each wall's part within the line extractor's 8 m horizon.
+  constexpr double kHorizon = 8.0;
   for (const Segment& w : walls) {
+    const Eigen::Vector2d a = to_robot * (w.a - o), e = to_robot * (w.b - o) - a;
+    // a + t e on the horizon's circle: |a + t e|^2 = r^2.
+    const double qa = e.squaredNorm(), qb = 2.0 * a.dot(e), qc = a.squaredNorm() - kHorizon * kHorizon;
+    const double disc = qb * qb - 4.0 * qa * qc;
+    if (disc <= 0.0) continue;
+    const double t0 = std::max(0.0, (-qb - std::sqrt(disc)) / (2.0 * qa));
+    const double t1 = std::min(1.0, (-qb + std::sqrt(disc)) / (2.0 * qa));
+    if (t1 <= t0) continue;
     laser_features::LineSegment l;
-    l.start = to_robot * (w.a - o);
-    l.end = to_robot * (w.b - o);
-    if (std::min(l.start.norm(), l.end.norm()) < 8.0) p.lines.push_back(l);
+    l.start = a + t0 * e;
+    l.end = a + t1 * e;
+    p.lines.push_back(l);
   }
   return p;
 }
@@ -99,12 +109,13 @@ TEST(HallwayFollowing, AWingAtAnAngleIsTakenAtTheHallwaysEndAndFollowedAlongItsW
   for (const double angle : {-0.52, -0.79, -1.04, 0.79}) {
     SCOPED_TRACE(angle);
     const Eigen::Vector2d d(std::cos(angle), std::sin(angle)), n(-d.y(), d.x());
-    // The wing's walls start where the hallway's walls end (the outer one a little beyond).
+    // The wing's walls start where the hallway's walls end (the outer one a little beyond) and run on
+    // past where the robot gets to (an open end would be an open area).
     const double side = angle < 0.0 ? 1.0 : -1.0;  // the hallway's wall on the outside of the bend
     const Eigen::Vector2d inner(0.5, -side), outer = inner + side * 2.0 * n;
-    std::vector<Segment> walls = {{{-12.0, -side}, inner}, {inner, inner + 14.0 * d},
+    std::vector<Segment> walls = {{{-12.0, -side}, inner}, {inner, inner + 40.0 * d},
                                   {{-12.0, side}, {outer.x(), side}}, {{outer.x(), side}, outer},
-                                  {outer, outer + 14.0 * d}, {{-12.0, -1.0}, {-12.0, 1.0}}};
+                                  {outer, outer + 40.0 * d}, {{-12.0, -1.0}, {-12.0, 1.0}}};
     Coordinator c;
     const std::vector<Pose2D> poses = drive(&c, walls, Pose2D{-8.0, 0.0, 0.0}, 1400);
     // 12 m into the wing's mid-line.
@@ -120,4 +131,28 @@ TEST(HallwayFollowing, AWingAtAnAngleIsTakenAtTheHallwaysEndAndFollowedAlongItsW
       EXPECT_LT(std::abs(laser_features::normalizeAngle(p.theta - angle)), 0.25) << "at " << p.x << " " << p.y;
     }
   }
+}
+
+// A hallway opening into an open hall (10 x 10 m, wider than any hallway on both sides): the robot
+// turns along the hall's wall it came in by and keeps to the hall's walls, where its doors and the
+// hallways leaving it are, rather than crossing its middle, where it would see none of them.
+TEST(HallwayFollowing, AnOpenHallIsFollowedAlongItsWallsNotCrossed) {
+  // The 2 m hallway along x ends at x = 0 in the hall's west wall; the hall spans x 0-10, y -5-5,
+  // with a 2 m hallway leaving its north wall at x 6-8.
+  const std::vector<Segment> walls = {
+      {{-12.0, 1.0}, {0.0, 1.0}},   {{-12.0, -1.0}, {0.0, -1.0}}, {{-12.0, -1.0}, {-12.0, 1.0}},
+      {{0.0, 1.0}, {0.0, 5.0}},     {{0.0, -1.0}, {0.0, -5.0}},   {{0.0, -5.0}, {10.0, -5.0}},
+      {{10.0, -5.0}, {10.0, 5.0}},  {{10.0, 5.0}, {8.0, 5.0}},    {{6.0, 5.0}, {0.0, 5.0}},
+      {{8.0, 5.0}, {8.0, 15.0}},    {{6.0, 5.0}, {6.0, 15.0}}};
+  Coordinator c;
+  const std::vector<Pose2D> poses = drive(&c, walls, Pose2D{-8.0, 0.0, 0.0}, 2400);
+  bool in_hall = false;
+  for (const Pose2D& p : poses) {
+    if (p.x < 0.5 || p.y > 5.0) continue;
+    in_hall = true;
+    const double to_wall = std::min({p.x, 10.0 - p.x, p.y + 5.0, 5.0 - p.y});
+    EXPECT_LT(to_wall, 2.0) << "in the hall's middle at " << p.x << " " << p.y << ": " << c.state();
+  }
+  EXPECT_TRUE(in_hall);
+  EXPECT_GE(c.stats().turns, 1);
 }

@@ -270,3 +270,27 @@ TEST(HallwayView, AnEndWallWithADoorOnTheMidLineEndsTheHallway) {
   const auto v = viewHallway(pts, lines, 0.0, HallwayViewParams());
   EXPECT_GT(v.free_ahead, 4.0);
 }
+
+// A room straight across a crossing, as narrow as the hallway that leads to it and in line with it
+// (its side walls at the hallway's walls' offsets), entered by a door in its front wall: the room's
+// walls line up with the hallway's, but they do not run on unbroken past its front wall, so the
+// front wall crosses the hallway and no lane past it is a way on.
+TEST(HallwayView, ARoomInLineAcrossACrossingIsNoWayOn) {
+  for (const double door : {0.8, 1.0, 1.3}) {
+    std::vector<Eigen::Vector2d> pts;
+    std::vector<laser_features::LineSegment> lines;
+    const double wall = 0.775, half = 0.5 * door, mouth = 1.0, front = 2.5;  // the crossing from 1.0 to 2.5 m
+    addWall(&pts, &lines, {-6.0, wall}, {mouth, wall});    // the hallway, ending at the crossing
+    addWall(&pts, &lines, {-6.0, -wall}, {mouth, -wall});
+    addWall(&pts, &lines, {mouth, wall}, {mouth, 8.0});    // the crossing's near walls
+    addWall(&pts, &lines, {mouth, -wall}, {mouth, -8.0});
+    addWall(&pts, &lines, {front, 8.0}, {front, half});    // its far wall, the room's front wall with the door
+    addWall(&pts, &lines, {front, -half}, {front, -8.0});
+    addWall(&pts, &lines, {front, wall}, {front + 5.0, wall});  // the room, in line
+    addWall(&pts, &lines, {front, -wall}, {front + 5.0, -wall});
+    addWall(&pts, &lines, {front + 5.0, -wall}, {front + 5.0, wall});
+    const auto v = viewHallway(pts, lines, 0.0, HallwayViewParams());
+    EXPECT_NEAR(v.free_ahead, front, 0.05) << door << " m door";
+    EXPECT_TRUE(v.wall_across) << door << " m door";
+  }
+}

@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "exploration/route_policy.h"
 #include "exploration/topo_route.h"
 
 using exploration::GraphEdge;
@@ -195,4 +196,52 @@ TEST(TopoRoute, RouteToAMissionsDoorGoesPastNearerUnexploredOpenings) {
   EXPECT_NEAR(g.routeTo(onEdge(0, 1.0, kPi), 4, pd->opening, 2.0).distance, 14.0 + 2.0, 1e-9);
   // An unknown goal node: no route.
   EXPECT_FALSE(g.routeTo(onEdge(0, 1.0, 0.0), 77, pd->opening).found);
+}
+
+// An opening the route keeps missing is set aside the first time (the route goes to the others
+// first: a wrong belief is the likeliest reason for a miss), tried once more when every other
+// opening is explored, and only then given up (marked explored).
+TEST(RoutePolicy, AnOpeningMissedIsSetAsideTriedOnceMoreThenGivenUp) {
+  using exploration::RouteAction;
+  exploration::RoutePolicyParams params;
+  exploration::RoutePolicy policy(params, laser_features::BuildingRules());
+  // Both the door at node 1 and the branch at node 2 unexplored; the robot on edge 1 heading west
+  // (back towards node 1) with the route pointing east would turn round: here it heads east past
+  // node 2 on edge 2, and the route to the branch points back west.
+  const TopoGraph g = hallway(false, false);
+  exploration::TopoView topo;
+  topo.valid = true;
+  topo.mode = "localized";
+  topo.confident = true;
+  topo.position = onEdge(2, 2.0, 0.0);  // 2 m past node 2, towards the end 3
+  double travel = 100.0;
+  // Misses until the route's goal is set aside: turn round max_route_attempts times, then the miss.
+  auto missUntil = [&](RouteAction::Kind kind) {
+    for (int i = 0; i < 200; ++i) {
+      travel += 1.0;  // each tick far from the last turn
+      const exploration::RouteStep r = policy.plan(g, topo.position, nullptr);
+      if (!r.found) return RouteAction::None;
+      const exploration::RouteContext at{g, topo, travel, false};
+      const RouteAction a = policy.alongRoute(at, r, 0.0);
+      if (a.kind == RouteAction::TurnRound) policy.turned(travel - 10.0);  // the turn is long ago
+      if (a.kind == kind || a.kind == RouteAction::GiveUp || a.kind == RouteAction::SetAside) return a.kind;
+    }
+    return RouteAction::None;
+  };
+  const size_t both = policy.openingsLeft(g);
+  EXPECT_EQ(both, 2u);
+  // The nearest opening (the branch at node 2, 2 m back) is missed: set aside, not given up.
+  EXPECT_EQ(missUntil(RouteAction::SetAside), RouteAction::SetAside);
+  EXPECT_EQ(policy.openingsLeft(g), 1u);
+  EXPECT_EQ(policy.plan(g, topo.position, nullptr).goal_node, 1u);  // the door at node 1 next
+  // The door is missed too: set aside; nothing is left to plan for but the two set aside.
+  EXPECT_EQ(missUntil(RouteAction::SetAside), RouteAction::SetAside);
+  EXPECT_EQ(policy.openingsLeft(g), 0u);
+  EXPECT_EQ(policy.stats().openings_given_up, 0);
+  // Tried once more: both planned for again; a second miss gives the opening up for good.
+  EXPECT_EQ(policy.retrySetAside(), 2u);
+  EXPECT_EQ(policy.openingsLeft(g), 2u);
+  EXPECT_EQ(missUntil(RouteAction::GiveUp), RouteAction::GiveUp);
+  EXPECT_EQ(policy.stats().openings_given_up, 1);
+  EXPECT_EQ(policy.stats().openings_set_aside, 2);
 }

@@ -94,6 +94,12 @@ class HallwayFollower {
   bool stalled(const Perception& p);
   /// The lane (lateral offset, m, robot frame) past an obstacle ahead in the hallway, if there is one.
   std::optional<double> laneAround(const Perception& p, double dir_robot, const HallwayView& v, bool blocked);
+  /// The robot has come into an open area (a hall, a lobby, the hallways around one) from a
+  /// hallway: no wall is in `v` on either side, one was since the last time told, and both sides
+  /// are open wider than the widest hallway (a crossing's mouths are no wider). In the area the
+  /// robot keeps to its walls, one at a time. (Set off in one, the robot takes the start's way:
+  /// HallwayFollower::startBin.)
+  bool intoOpenArea(const Perception& p, double dir_robot, const HallwayView& v);
   /// The free distance ahead in `v` is below end_distance.
   bool atEnd(const HallwayView& v) const { return v.free_ahead < params_.end_distance; }
   /// The goal (odometry frame): lookahead metres ahead on the mid-line (past an obstacle, on `lane`
@@ -136,6 +142,7 @@ class HallwayFollower {
   Eigen::Vector2d lane_point_odom_ = Eigen::Vector2d::Zero();  // ... through this point (odometry frame)
   Eigen::Vector2d stall_anchor_ = Eigen::Vector2d::Zero();  // odometry frame: where the stall window began
   double stall_since_ = -1.0;    // s, when (-1: not following)
+  bool open_area_armed_ = false;  // a wall was in view since the last open area was told
 };
 
 }  // namespace exploration

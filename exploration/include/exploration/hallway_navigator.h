@@ -43,7 +43,7 @@ struct HallwayStep {
     Following,    // on along the hallway (its goal set; none the tick an opening is given up)
     Turning,      // a turn on the spot begins (its goal set): turn() until it is done
     StopForDoor,  // a door passed is entered (door()): the robot stops
-    Complete,     // on the known map no unexplored opening is left (no mission runs)
+    Complete,     // on the known map no unexplored opening is left, none set aside (no mission runs)
     NoRoute,      // the mission's door has no route on the topological map
     MissedDoor,   // the mission's door was not found after max_route_attempts turns towards it
   };
@@ -131,6 +131,9 @@ class HallwayNavigator {
   /// The turn at a hallway's end (or where the robot is blocked): into an open way, else a U-turn.
   void turnAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, const HallwayContext& at,
                  HallwayStep* step);
+  /// The hallway followed opened into an open area (HallwayFollower::intoOpenArea): a turn along its
+  /// wall begins, unless a route leads across it (then false).
+  bool turnInOpenArea(const TopoView& topo, const HallwayContext& at, HallwayStep* step);
   /// A turn on the spot onto `bin` begins; `not_taken`: bins to record as unexplored after it.
   void beginTurn(int bin, const TopoView& topo, std::vector<int> not_taken);
   /// The goal of a turn on the spot: where the robot is now, with the turn's heading.

@@ -57,6 +57,9 @@ struct HallwayView {
   // m, how far ahead along the direction the walls at left_lateral and right_lateral (every line
   // within wall_same_lateral of them) reach: a hallway goes on where its walls do.
   double left_reach = -1e9, right_reach = -1e9;
+  // A wall crosses the hallway at free_ahead: no lane as wide as the narrowest hallway's mouth is
+  // free past it, and the hallway's walls do not run on beside it (a door in it is no way on).
+  bool wall_across = false;
   double width() const { return left_wall && right_wall ? left_lateral - right_lateral : 0.0; }
   /// A wall of the hallway reaches farther ahead than `distance` (m).
   bool wallsReach(double distance) const {
@@ -115,6 +118,11 @@ std::optional<double> obliqueHallway(const std::vector<Eigen::Vector2d>& points,
 double corridorFree(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double bearing,
                     double half_width, double range_cap);
 
+/// A wall of `view`'s hallway (a line along `direction`, robot frame, at its left or right wall's
+/// lateral offset) runs unbroken from `from` to `to` m ahead.
+bool wallsSpan(const std::vector<laser_features::LineSegment>& lines, const HallwayView& view, double direction,
+               double from, double to, const HallwayViewParams& params);
+
 /// A hallway's mouth beside `origin` (robot frame) on the `side` (+1 left, -1 right) of `direction`:
 /// the robot's corridor (half-width `clearance`) straight to that side is free for `depth` (m) from
 /// `origin` and from every point along `direction` up to where the mouth's edges stop it, and the
@@ -124,6 +132,13 @@ double corridorFree(const std::vector<Eigen::Vector2d>& points, const Eigen::Vec
 /// branch's edges stay in the sector nearer than side_open_distance.
 bool mouthBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction, int side,
                  double clearance, double min_mouth, double depth);
+
+/// Open space beside `origin` (robot frame) on the `side` (+1 left, -1 right) of `direction`, wider
+/// along it than the widest hallway's mouth (`widest_hallway`, m): the robot's corridor straight to
+/// that side is free for `depth` (m) over more than that stretch. A hallway's mouth is no wider: the
+/// side opens onto an open hall or lobby (or the hallways around one), not onto a branch.
+bool openAreaBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction,
+                    int side, double clearance, double widest_hallway, double depth);
 
 /// The nearest scan point's distance within `half_width` (rad) of `bearing` (robot frame).
 double freeDistance(const std::vector<Eigen::Vector2d>& points, double bearing, double half_width,

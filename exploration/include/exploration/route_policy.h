@@ -1,8 +1,8 @@
 // The route on the known map (Tomatis, Nourbakhsh & Siegwart 2001, section 3.1): the robot travels
 // along the graph to the nearest node with an unexplored opening (or to a mission's door) and takes
 // it. RoutePolicy plans the route and says when the robot acts on it: a turn round towards a goal
-// behind it, a turn into the route's branch beside it, or the goal given up when the robot keeps
-// missing it; and whether a confident belief is trusted (one that jumped along the graph is not acted
+// behind it, a turn into the route's branch beside it, or the goal set aside when the robot keeps
+// missing it (tried once more when every other opening is explored, then given up); and whether a confident belief is trusted (one that jumped along the graph is not acted
 // on for a while).
 //
 // HallwayNavigator turns the robot, the coordinator ends missions; RoutePolicy keeps the counts its
@@ -21,6 +21,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace exploration {
 
@@ -50,6 +51,7 @@ struct RouteAction {
     None,            // nothing for the route: on along the hallway
     TurnRound,       // turn round towards the route's goal
     TurnIntoBranch,  // turn into the route's branch beside the robot (RouteStep::next_heading)
+    SetAside,        // the route's goal opening is set aside unreached until the others are explored
     GiveUp,          // the route's goal opening is given up unreached: `record` marks it explored
     MissedDoor,      // a mission's door was not found after max_route_attempts turns round towards it
   };
@@ -60,7 +62,8 @@ struct RouteAction {
 
 /// The counts of RoutePolicy's rules (in CoordinatorStats).
 struct RouteStats {
-  int openings_given_up = 0;     // openings the route kept missing
+  int openings_given_up = 0;     // openings the route kept missing, also when tried once more
+  int openings_set_aside = 0;    // openings the route kept missing the first time
   int belief_jumps = 0;          // implausible jumps of the belief
   int branch_turns_refused = 0;  // route turns into a branch not made: a door was beside the robot
 };
@@ -102,12 +105,22 @@ class RoutePolicy {
   /// The turns round towards each goal count afresh (a mission starts, its belief is reset).
   void clearAttempts() { route_attempts_.clear(); }
 
+  /// Unexplored openings the route plans for (those set aside are not, until retrySetAside).
+  size_t openingsLeft(const TopoGraph& graph) const;
+  /// The openings set aside are planned for again, each once more (the next miss gives it up);
+  /// returns how many. A miss is most often a wrong belief: the caller resets it first.
+  size_t retrySetAside();
+
  private:
   static constexpr double kTurnRoundGap = 3.0;  // m of travel after a turn before a turn round for the route
   /// The goal's door passed without finding it: given up (RouteAction::GiveUp), else None.
   RouteAction passedGoal(const RouteContext& at, const RouteStep& route, int near);
-  /// The goal's opening given up, its counts of turns towards it forgotten.
-  RouteAction giveUp(const RouteStep& route);
+  /// The goal's opening set aside (the first miss) or given up (a miss after retrySetAside), its
+  /// counts of turns towards it forgotten.
+  RouteAction giveUp(uint32_t node, double bearing, const std::string& why);
+  /// (`node`, `bearing`) names an opening of `list` (same node, bearing within kSameBearing).
+  static bool named(const std::vector<std::pair<uint32_t, double>>& list, uint32_t node, double bearing);
+  static constexpr double kSameBearing = 0.3;  // rad: pomdp_topo's map keeps a node's openings' bearings to the axes
 
   RoutePolicyParams params_;
   laser_features::BuildingRules rules_;
@@ -122,6 +135,8 @@ class RoutePolicy {
   double goal_pass_travel_ = 0.0;  // m, travel when it got there
   std::map<uint32_t, int> route_attempts_;  // U-turns towards each goal node
   std::map<std::pair<uint32_t, uint32_t>, int> branch_turns_;  // turns into (node's branch, towards goal node)
+  std::vector<std::pair<uint32_t, double>> set_aside_;  // (node, bearing) of openings missed once
+  std::vector<std::pair<uint32_t, double>> retried_;    // ... and tried once more
 };
 
 }  // namespace exploration

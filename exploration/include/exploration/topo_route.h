@@ -85,8 +85,9 @@ class TopoGraph {
   bool hasExit(uint32_t node, double heading, double tolerance = 0.5) const;
   /// The unexplored openings of a node (see the file comment).
   std::vector<GraphOpening> unexplored(uint32_t node) const;
-  /// Unexplored openings over the whole graph.
+  /// Unexplored openings over the whole graph (but those `skip` names).
   size_t unexploredCount() const;
+  size_t unexploredCount(const std::function<bool(uint32_t, const GraphOpening&)>& skip) const;
   size_t exploredCount() const;
   /// Places linked to the graph's nodes (distinct place ids).
   size_t placeCount() const { return placeIds().size(); }
@@ -104,8 +105,9 @@ class TopoGraph {
   double nearestNodeDistance(const GraphPosition& pos) const;
 
   /// The route from `pos` to the nearest unexplored opening (distance along the edges; a U-turn on
-  /// an edge costs `u_turn_cost` m).
-  RouteStep route(const GraphPosition& pos, double u_turn_cost = 2.0) const;
+  /// an edge costs `u_turn_cost` m), but those `skip` names.
+  RouteStep route(const GraphPosition& pos, double u_turn_cost = 2.0,
+                  const std::function<bool(uint32_t, const GraphOpening&)>& skip = {}) const;
   /// The route from `pos` to one opening of one node (a mission's door).
   RouteStep routeTo(const GraphPosition& pos, uint32_t goal_node, const GraphOpening& opening,
                     double u_turn_cost = 2.0) const;
