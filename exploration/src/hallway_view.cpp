@@ -103,8 +103,16 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   // front wall across a crossing (that room's walls may line up with the hallway's beyond it). The
   // sector ahead alone sees through a door on the mid-line once nearer than the door's width over
   // its tangent (3 m for a 1 m door), and the robot fits through the door.
-  const double hallway_free = freestLane(points, direction, v, 0.5 * (params.min_mouth - kLaneStep), range_cap).free;
-  if (hallway_free >= 0.0 && hallway_free < v.free_ahead &&
+  // Lanes between the walls seen, and up to half the widest hallway to a side with none (at a
+  // crossing, in a wing's mouth: where the hallway ahead lies is not known). A wall across lies
+  // ahead of the robot, past its own clearance (a corner beside it is none).
+  const double mouth_half = 0.5 * (params.min_mouth - kLaneStep);
+  double hallway_free = -1.0;
+  const double lo = v.right_wall ? v.right_lateral + mouth_half : mouth_half - params.wall_max_lateral;
+  const double hi = v.left_wall ? v.left_lateral - mouth_half : params.wall_max_lateral - mouth_half;
+  for (double lateral = lo; lateral <= hi + 1e-9; lateral += kLaneStep)
+    hallway_free = std::max(hallway_free, corridorFree(points, lateral * n, direction, mouth_half, range_cap));
+  if (hallway_free > params.clearance && hallway_free < v.free_ahead &&
       !wallsSpan(lines, v, direction, hallway_free - params.clearance, hallway_free + params.clearance, params)) {
     v.free_ahead = hallway_free;
     v.wall_across = true;

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "exploration/coordinator.h"
@@ -106,13 +108,14 @@ std::vector<Pose2D> drive(Coordinator* c, const std::vector<Segment>& walls, Pos
 // robot turns into it at the end (a way at an angle whose walls run along it, not a dead end) and
 // follows its mid-line along its walls, not along the axes (which would zig-zag between them).
 TEST(HallwayFollowing, AWingAtAnAngleIsTakenAtTheHallwaysEndAndFollowedAlongItsWalls) {
-  for (const double angle : {-0.52, -0.79, -1.04, 0.79}) {
-    SCOPED_TRACE(angle);
+  for (const auto& [angle, width] : std::vector<std::pair<double, double>>{
+           {-0.52, 2.0}, {-0.79, 2.0}, {-1.04, 2.0}, {0.79, 2.0}, {-0.68, 1.5}, {-0.68, 2.0}, {0.68, 1.5}}) {
+    SCOPED_TRACE(std::to_string(angle) + " rad, " + std::to_string(width) + " m");
     const Eigen::Vector2d d(std::cos(angle), std::sin(angle)), n(-d.y(), d.x());
     // The wing's walls start where the hallway's walls end (the outer one a little beyond) and run on
     // past where the robot gets to (an open end would be an open area).
     const double side = angle < 0.0 ? 1.0 : -1.0;  // the hallway's wall on the outside of the bend
-    const Eigen::Vector2d inner(0.5, -side), outer = inner + side * 2.0 * n;
+    const Eigen::Vector2d inner(0.5, -side), outer = inner + side * width * n;
     std::vector<Segment> walls = {{{-12.0, -side}, inner}, {inner, inner + 40.0 * d},
                                   {{-12.0, side}, {outer.x(), side}}, {{outer.x(), side}, outer},
                                   {outer, outer + 40.0 * d}, {{-12.0, -1.0}, {-12.0, 1.0}}};
