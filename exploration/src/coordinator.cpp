@@ -39,6 +39,7 @@ CoordinatorStats Coordinator::stats() const {
   s.u_turns = hallway.u_turns;
   const RouteStats& route = hallway_.routeStats();
   s.openings_given_up = route.openings_given_up;
+  s.openings_set_aside = route.openings_set_aside;
   s.belief_jumps = route.belief_jumps;
   s.branch_turns_refused = route.branch_turns_refused;
   return s;

@@ -53,7 +53,8 @@ struct CoordinatorStats {
   int rooms_left_early = 0;   // rooms whose exploration hit the time limit
   int doors_entered = 0;
   int doors_passed = 0;       // doors not entered (explored already, or the belief unconfident)
-  int openings_given_up = 0;  // openings the route kept missing (see max_route_attempts)
+  int openings_given_up = 0;  // openings the route kept missing (see max_route_attempts), also when tried once more
+  int openings_set_aside = 0;  // openings the route missed the first time (tried again when the others are explored)
   int belief_jumps = 0;       // implausible jumps of the belief (see jump_tolerance)
   int turns = 0, u_turns = 0;
   int branch_turns_refused = 0;  // route turns into a branch not made: a door was beside the robot
