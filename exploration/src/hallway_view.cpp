@@ -32,17 +32,14 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
                         const HallwayViewParams& params, double range_cap) {
   HallwayView v;
   v.free_ahead = freeDistance(points, direction, params.ahead_sector, range_cap);
-  v.free_left = freeDistance(points, direction + 0.5 * kPi, params.side_sector, range_cap);
-  v.free_right = freeDistance(points, direction - 0.5 * kPi, params.side_sector, range_cap);
-  v.free_back = freeDistance(points, direction + kPi, params.ahead_sector, range_cap);
   // A side is open where a hallway's mouth is, and only there: a door lets a side sector see into
   // the room behind it whenever it is wider than the sector's chord at the wall (a 1.2 m door at
   // 0.75 m, in a 1.5 m hallway, subtends 77 deg), but no door is as wide as the narrowest hallway.
-  const auto open = [&](const Eigen::Vector2d& origin, double /*free_sector*/, int side) {
+  const auto open = [&](const Eigen::Vector2d& origin, int side) {
     return mouthBeside(points, origin, direction, side, params.clearance, params.min_mouth, params.side_open_distance);
   };
-  v.open_left = open(Eigen::Vector2d::Zero(), v.free_left, 1);
-  v.open_right = open(Eigen::Vector2d::Zero(), v.free_right, -1);
+  v.open_left = open(Eigen::Vector2d::Zero(), 1);
+  v.open_right = open(Eigen::Vector2d::Zero(), -1);
 
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction));
   const Eigen::Vector2d n(-u.y(), u.x());  // left
@@ -120,8 +117,8 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   const double half_width = v.left_wall && v.right_wall ? 0.5 * v.width() : 1.0;
   const Eigen::Vector2d centre = std::max(0.0, v.free_ahead - half_width) * u + v.centre_offset * n;
   v.end_centre = centre;
-  v.end_open_left = open(centre, freeDistance(points, direction + 0.5 * kPi, params.side_sector, range_cap, centre), 1);
-  v.end_open_right = open(centre, freeDistance(points, direction - 0.5 * kPi, params.side_sector, range_cap, centre), -1);
+  v.end_open_left = open(centre, 1);
+  v.end_open_right = open(centre, -1);
   return v;
 }
 

@@ -18,9 +18,8 @@ namespace exploration {
 
 struct HallwayViewParams {
   double ahead_sector = 0.17;          // rad (10 deg), half-width of the sector of the free distance ahead
-  double side_sector = 0.44;           // rad (25 deg), half-width of the sectors left and right (a door
-                                       // beside the robot subtends more: it does not open a side)
-  double side_open_distance = 2.0;     // m, a side sector free this far is an open way
+  double side_open_distance = 2.0;     // m, the robot's corridor into a side is free this far at an open way
+                                       // (a branch's mouth, an open area's side)
   // rad (15 deg), lines this close to the direction are walls; m, shorter lines are no hallway walls
   // (the defaults are laser_features::HallwayWallsParams', whose rule finds a wing's walls)
   double wall_parallel_tolerance = laser_features::HallwayWallsParams().parallel_tolerance;
@@ -36,9 +35,6 @@ struct HallwayViewParams {
 
 struct HallwayView {
   double free_ahead = 0.0;       // m, nearest scan point in the ahead sector (range cap if none)
-  double free_left = 0.0;        // m, nearest point in the left sector
-  double free_right = 0.0;       // m
-  double free_back = 0.0;        // m
   bool open_left = false;        // from the robot: the side sector is free, or a hallway's mouth is beside it
   bool open_right = false;
   // At a hallway's end: the sides seen from where the crossing's centre is expected (free_ahead
@@ -127,9 +123,9 @@ bool wallsSpan(const std::vector<laser_features::LineSegment>& lines, const Hall
 /// the robot's corridor (half-width `clearance`) straight to that side is free for `depth` (m) from
 /// `origin` and from every point along `direction` up to where the mouth's edges stop it, and the
 /// mouth (the free stretch and the corridor's width) is at least `min_mouth` (m) wide. A door is
-/// narrower: the narrowest hallway (less the width error) is wider than the widest single door. The
-/// side sector's test misses a narrow branch off a wide hallway: from the hallway's middle, a 1.6 m
-/// branch's edges stay in the sector nearer than side_open_distance.
+/// narrower: the narrowest hallway (less the width error) is wider than the widest single door. (A
+/// sector's free distance is no test: from a narrow hallway's middle a door subtends more than any
+/// sector a narrow branch off a wide hallway opens.)
 bool mouthBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction, int side,
                  double clearance, double min_mouth, double depth);
 
