@@ -1,6 +1,6 @@
 // What the exploration coordinator takes in each tick (Perception, TopoView, MotionFeedback) and gives
 // out (Decision with its Requests): shared by the Coordinator and the classes it delegates to
-// (RoomVisit, MissionRunner).
+// (HallwayNavigator, RoomVisit, MissionRunner).
 //
 // ROS-free: Eigen, laser_features and the standard library only.
 #pragma once

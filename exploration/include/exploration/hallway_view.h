@@ -28,7 +28,7 @@ struct HallwayViewParams {
   double min_wall_clearance = 0.8;     // m, with one wall only the mid-line keeps this far from it
   double wall_same_lateral = 0.3;      // m, lines this close to a wall's lateral offset are that wall
                                        // (its pieces between doors; a wall is 0.1-0.2 m thick)
-  // Derived, not configured (the coordinator sets them from config/robot.yaml and config/building.yaml):
+  // Derived, not configured (HallwayFollower sets them from config/robot.yaml and config/building.yaml):
   double clearance = 0.35;             // m, the robot's radius and safety margin
   double min_mouth = 1.4;              // m, the narrowest hallway's mouth: hallway_min_width - width_tolerance
 };
