@@ -152,7 +152,6 @@ bool HallwayNavigator::enterPassedDoor(const Perception& p, const TopoView& topo
   DoorTrack door;
   if (doors_.passed(p.odom, dir_robot, walls, &door)) {
     if (door_entry_.justLeft(door, at.travel)) {
-      ++stats_.doors_passed;
       step->text = "door passed: the one just left";
     } else if (const std::optional<EntryOpening> entry = mayEnter(topo, at, door)) {
       entering_ = *entry;
