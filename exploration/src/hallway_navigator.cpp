@@ -255,6 +255,9 @@ bool HallwayNavigator::turnInOpenArea(const TopoView& topo, const HallwayContext
   }
   std::vector<int> not_taken;
   if (topo.mode == "frontier" && !at.mission_door) not_taken.push_back(choice == left ? right : left);
+  // No wall of the hallway left is in view: a wing's offset ends with it, the area's walls are
+  // taken along the axes until one is seen (then the tracking sets the offset again).
+  follower_.dropOffset();
   ++stats_.turns;
   beginTurn(choice, topo, not_taken);
   step->kind = HallwayStep::Turning;

@@ -62,6 +62,9 @@ class HallwayFollower {
   void setDirection(const HallwayDirection& direction) { direction_ = direction; }
   /// Turned onto `bin`: the hallway's offset is kept.
   void setBin(int bin) { direction_.bin = bin; }
+  /// Along the building's axes from here on: a wing's offset ends with the wing's walls (in an open
+  /// area, say; a wall in view sets it again).
+  void dropOffset() { direction_.offset = 0.0; }
   /// The heading (odometry frame) of `direction`'s hallway.
   double odomHeading(const HallwayDirection& direction, const TopoView& topo) const {
     return odomHeadingOfBin(direction.bin, topo) + direction.offset;
