@@ -49,7 +49,7 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
   step.text = sure ? (localized ? "following the hallway on the known map" : "following a new hallway")
                    : "following the hallway until the belief is confident";
 
-  recordWaysNotTaken(sure, at.travel, d);
+  recordWaysNotTaken(sure, at.travel, p.stamp, d);
   if (localized && sure && followRoute(p, topo, at, &step, d)) return step;
   if (enterPassedDoor(p, topo, dir_robot, v, at, &step, d)) return step;
   if (turnIntoRouteBranch(p, topo, sure, dir_robot, v, at, &step, d)) return step;
@@ -74,7 +74,7 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
   return step;
 }
 
-void HallwayNavigator::recordWaysNotTaken(bool sure, double travel, Decision* d) {
+void HallwayNavigator::recordWaysNotTaken(bool sure, double travel, double stamp, Decision* d) {
   // The ways not taken at the last turn, once the map builder has the turn's node.
   if (pending_branch_travel_ >= 0.0 && travel - pending_branch_travel_ >= branch_record_distance_) {
     if (sure) {
@@ -83,6 +83,7 @@ void HallwayNavigator::recordWaysNotTaken(bool sure, double travel, Decision* d)
         r.kind = Request::RecordOpening;
         r.bearing = follower_.binHeading(b);
         d->requests.push_back(r);
+        recorded_stamp_ = stamp;
       }
     }
     pending_branches_.clear();
@@ -92,7 +93,10 @@ void HallwayNavigator::recordWaysNotTaken(bool sure, double travel, Decision* d)
 
 bool HallwayNavigator::followRoute(const Perception& p, const TopoView& topo, const HallwayContext& at,
                                    HallwayStep* step, Decision* d) {
-  if (!at.mission_door && at.graph.nodes().size() > 1 && route_.openingsLeft(at.graph) == 0 && pending_branches_.empty()) {
+  // The ways just recorded are in the graph only once pomdp_topo has published it again.
+  const bool records_settled = p.stamp - recorded_stamp_ >= kRecordSettleTime;
+  if (!at.mission_door && at.graph.nodes().size() > 1 && route_.openingsLeft(at.graph) == 0 && pending_branches_.empty() &&
+      records_settled) {
     if (const size_t retry = route_.retrySetAside()) {
       // The openings the route kept missing, once more, from a belief found afresh (a wrong one is
       // the likeliest reason for a miss).

@@ -118,7 +118,7 @@ class HallwayNavigator {
 
  private:
   /// Pieces of follow(); those returning bool end the tick when true (`step` says how).
-  void recordWaysNotTaken(bool sure, double travel, Decision* d);  // the ways not taken at the last turn
+  void recordWaysNotTaken(bool sure, double travel, double stamp, Decision* d);  // the ways not taken at the last turn
   /// On the known map with a sure belief: the route (in `step`), the end of the exploration, a
   /// mission's door unreachable, and a turn round or an opening given up for it.
   bool followRoute(const Perception& p, const TopoView& topo, const HallwayContext& at, HallwayStep* step, Decision* d);
@@ -154,6 +154,10 @@ class HallwayNavigator {
   double turn_odom_heading_ = 0.0;
   std::vector<int> pending_branches_;  // bins to record as unexplored after the turn
   double pending_branch_travel_ = -1.0;
+  // s, when ways not taken were last recorded: no "complete" until pomdp_topo's map has them (it is
+  // published after every scan; kRecordSettleTime is many scans).
+  double recorded_stamp_ = -1e9;
+  static constexpr double kRecordSettleTime = 2.0;
   // The door stopped at, and the opening it is entered as.
   DoorTrack door_;
   EntryOpening entering_;
