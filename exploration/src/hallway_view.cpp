@@ -107,8 +107,16 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   double hallway_free = -1.0;
   const double lo = v.right_wall ? v.right_lateral + mouth_half : mouth_half - params.wall_max_lateral;
   const double hi = v.left_wall ? v.left_lateral - mouth_half : params.wall_max_lateral - mouth_half;
-  for (double lateral = lo; lateral <= hi + 1e-9; lateral += kLaneStep)
-    hallway_free = std::max(hallway_free, corridorFree(points, lateral * n, direction, mouth_half, range_cap));
+  // From the middle lane outwards, stopping at the first as free as the sector ahead (then nothing
+  // is clipped): in a hallway the first lane tried is that one.
+  std::vector<double> laterals;
+  for (double lateral = lo; lateral <= hi + 1e-9; lateral += kLaneStep) laterals.push_back(lateral);
+  const int lanes = int(laterals.size()), mid = lanes / 2;
+  for (int k = 0; k < 2 * lanes && hallway_free < v.free_ahead; ++k) {
+    const int i = mid + ((k % 2) ? (k + 1) / 2 : -(k / 2));
+    if (i < 0 || i >= lanes) continue;
+    hallway_free = std::max(hallway_free, corridorFree(points, laterals[i] * n, direction, mouth_half, range_cap));
+  }
   if (hallway_free > params.clearance && hallway_free < v.free_ahead &&
       !wallsSpan(lines, v, direction, hallway_free - params.clearance, hallway_free + params.clearance, params)) {
     v.free_ahead = hallway_free;
