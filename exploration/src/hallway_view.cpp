@@ -109,7 +109,9 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   const double hi = v.left_wall ? v.left_lateral - mouth_half : params.wall_max_lateral - mouth_half;
   // From the middle lane outwards, stopping at the first as free as the sector ahead (then nothing
   // is clipped): in a hallway the first lane tried is that one.
-  std::vector<double> laterals;
+  // Reused between calls: no allocation per scan once it has grown to the most lanes.
+  thread_local std::vector<double> laterals;
+  laterals.clear();
   for (double lateral = lo; lateral <= hi + 1e-9; lateral += kLaneStep) laterals.push_back(lateral);
   const int lanes = int(laterals.size()), mid = lanes / 2;
   for (int k = 0; k < 2 * lanes && hallway_free < v.free_ahead; ++k) {
