@@ -53,6 +53,10 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
   if (localized && sure && followRoute(p, topo, at, &step, d)) return step;
   if (enterPassedDoor(p, topo, dir_robot, v, at, &step, d)) return step;
   if (turnIntoRouteBranch(p, topo, sure, dir_robot, v, at, &step, d)) return step;
+  if (intoWayAtAngle(p, blocked, d)) {
+    step.text = "into the hallway at an angle";
+    return step;
+  }
   if (follower_.intoOpenArea(p, dir_robot, v) && turnInOpenArea(topo, at, &step)) {
     turnGoal(p, d);
     return step;
@@ -210,6 +214,10 @@ void HallwayNavigator::turnAtEnd(const Perception& p, const TopoView& topo, cons
     if (const std::optional<double> way = follower_.obliqueWayAtEnd(p, topo, v)) {
       ++stats_.turns;
       beginTurn(follower_.takeWay(*way, p, topo), topo, {});
+      // The way's corridor was found free for the widest hallway's width from the crossing's
+      // centre; half of it in, its walls are beside the robot (obliqueHallway's first depth).
+      way_line_ = WayLine{transformPoint(p.odom, v.end_centre), normalizeAngle(p.odom.theta + *way),
+                          0.5 * follower_.widestHallway()};
       char angle[64];
       std::snprintf(angle, sizeof(angle), "hallway end: turning %.0f deg into a hallway at an angle", *way * 180.0 / kPi);
       step->text = angle + std::string(why);
@@ -269,7 +277,23 @@ bool HallwayNavigator::turnInOpenArea(const TopoView& topo, const HallwayContext
   return true;
 }
 
+bool HallwayNavigator::intoWayAtAngle(const Perception& p, bool blocked, Decision* d) {
+  if (!way_line_) return false;
+  const Eigen::Vector2d u(std::cos(way_line_->heading), std::sin(way_line_->heading));
+  const double along = (Eigen::Vector2d(p.odom.x, p.odom.y) - way_line_->origin).dot(u);
+  if (blocked || along >= way_line_->length) {
+    way_line_.reset();
+    return false;
+  }
+  const Eigen::Vector2d goal = way_line_->origin + (std::max(0.0, along) + follower_.lookahead()) * u;
+  d->has_goal = true;
+  d->x = goal.x();
+  d->y = goal.y();
+  return true;
+}
+
 void HallwayNavigator::beginTurn(int bin, const TopoView& topo, std::vector<int> not_taken) {
+  way_line_.reset();
   // Turns keep the hallway's offset from the axes: a wing's crossings and U-turns are square to it.
   turn_bin_ = follower_.headingBins().wrap(bin);
   turn_odom_heading_ = normalizeAngle(follower_.odomHeadingAtOffset(turn_bin_, topo));
@@ -328,6 +352,7 @@ std::optional<EntryOpening> HallwayNavigator::enterAfterStop(const TopoView& top
 }
 
 void HallwayNavigator::backFromRoom(const HallwayDirection& direction, double travel) {
+  way_line_.reset();
   follower_.setDirection(direction);
   follower_.forgetGoal();
   door_entry_.leftBy(door_, travel);

@@ -136,6 +136,9 @@ class HallwayNavigator {
   bool turnInOpenArea(const TopoView& topo, const HallwayContext& at, HallwayStep* step);
   /// A turn on the spot onto `bin` begins; `not_taken`: bins to record as unexplored after it.
   void beginTurn(int bin, const TopoView& topo, std::vector<int> not_taken);
+  /// Into a hallway at an angle just turned into: the goal on the way's line until the robot is in
+  /// it (true; its goal set), or none (false).
+  bool intoWayAtAngle(const Perception& p, bool blocked, Decision* d);
   /// The goal of a turn on the spot: where the robot is now, with the turn's heading.
   void turnGoal(const Perception& p, Decision* d) const;
   /// The opening `door` is entered as, if it is (DoorEntry::mayEnter, from the belief now).
@@ -153,6 +156,15 @@ class HallwayNavigator {
   int turn_bin_ = 0;
   double turn_odom_heading_ = 0.0;
   std::vector<int> pending_branches_;  // bins to record as unexplored after the turn
+  // A hallway at an angle is found from where the crossing's centre is expected, not from where the
+  // robot turns: its line (odometry frame) is followed for `length` m before the hallway is judged
+  // from the robot (the sector from beside its mouth meets the mouth's corner).
+  struct WayLine {
+    Eigen::Vector2d origin;
+    double heading = 0.0;
+    double length = 0.0;
+  };
+  std::optional<WayLine> way_line_;
   double pending_branch_travel_ = -1.0;
   // s, when ways not taken were last recorded: no "complete" until pomdp_topo's map has them (it is
   // published after every scan; kRecordSettleTime is many scans).
