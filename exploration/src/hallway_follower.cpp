@@ -18,6 +18,7 @@ HallwayFollower::HallwayFollower(const HallwayFollowerParams& params, const Hall
   // The hallway view's derived sizes: the robot's footprint and the building's narrowest hallway.
   view_.clearance = robot.robot_radius + robot.safety_margin;
   view_.min_mouth = rules.hallway_min_width - rules.width_tolerance;
+  view_.widest_hallway = rules.hallway_max_width + rules.width_tolerance;
 }
 
 double HallwayFollower::odomHeadingOfBin(int bin, const TopoView& topo) const {

@@ -94,6 +94,17 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   } else if (v.right_wall) {
     v.centre_offset = std::max(0.0, v.right_lateral + params.min_wall_clearance);
   }
+  if (v.left_wall != v.right_wall &&
+      openAreaBeside(points, Eigen::Vector2d::Zero(), direction, v.left_wall ? -1 : 1, params.clearance,
+                     params.widest_hallway, params.widest_hallway)) {
+    // Along an open area's wall (a lobby, a hall, a hallway open on one side to either): the doors
+    // and the hallways leaving the area are along its walls, and from its middle the robot sees
+    // none of them. The robot keeps to the wall it sees as to a hallway's (the one-wall distance)
+    // rather than crossing the area; at the area's corners the open side is the turn.
+    v.centre_offset = v.left_wall ? v.left_lateral - params.min_wall_clearance
+                                  : v.right_lateral + params.min_wall_clearance;
+    v.open_area_beside = true;
+  }
   // A hallway goes on only through a mouth as wide as the narrowest hallway's. Where no lane is free
   // that wide, either an obstacle stands in it (a pillar, furniture: the hallway's walls run on
   // beside it unbroken) or a wall crosses it: its end wall, with a door in it or not, or a room's

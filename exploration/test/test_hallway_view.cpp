@@ -293,3 +293,33 @@ TEST(HallwayView, ARoomInLineAcrossACrossingIsNoWayOn) {
     EXPECT_TRUE(v.wall_across) << door << " m door";
   }
 }
+
+// Along an open area's wall (a lobby: free on the other side deeper than the widest hallway) the
+// mid-line is the one-wall distance from the wall the robot sees, nearer or farther, so that the
+// robot keeps to the wall where the area's doors and hallways are; with the other side a hallway's
+// far wall (up to the widest hallway) it only keeps the one-wall distance, as before.
+TEST(HallwayView, AlongAnOpenAreasWallTheMidLineKeepsTheOneWallDistance) {
+  const HallwayViewParams params;
+  for (const double to_wall : {0.6, 1.2, 1.8}) {
+    for (const int side : {1, -1}) {
+      SCOPED_TRACE(std::to_string(to_wall) + " m, side " + std::to_string(side));
+      // An open area: its wall on `side`, nothing on the other within 10 m.
+      std::vector<Eigen::Vector2d> pts;
+      std::vector<laser_features::LineSegment> lines;
+      addWall(&pts, &lines, {-6.0, side * to_wall}, {6.0, side * to_wall});
+      addWall(&pts, &lines, {-6.0, -side * 10.0}, {6.0, -side * 10.0});
+      const auto open = viewHallway(pts, lines, 0.0, params);
+      EXPECT_TRUE(open.open_area_beside);
+      EXPECT_NEAR(open.centre_offset, side * (to_wall - params.min_wall_clearance), 1e-9);
+      // A 3.8 m hallway (the widest is 4 m): its far wall is seen in the scan, not as a wall beside.
+      std::vector<Eigen::Vector2d> hall_pts;
+      std::vector<laser_features::LineSegment> hall_lines;
+      addWall(&hall_pts, &hall_lines, {-6.0, side * to_wall}, {6.0, side * to_wall});
+      addWall(&hall_pts, &hall_lines, {-6.0, side * (to_wall - 3.8)}, {6.0, side * (to_wall - 3.8)});
+      const auto hall = viewHallway(hall_pts, hall_lines, 0.0, params);
+      EXPECT_FALSE(hall.open_area_beside);
+      if (!hall.left_wall || !hall.right_wall)
+        EXPECT_NEAR(hall.centre_offset, side * std::min(0.0, to_wall - params.min_wall_clearance), 1e-9);
+    }
+  }
+}

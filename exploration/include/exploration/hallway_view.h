@@ -25,12 +25,14 @@ struct HallwayViewParams {
   double wall_parallel_tolerance = laser_features::HallwayWallsParams().parallel_tolerance;
   double wall_min_length = laser_features::HallwayWallsParams().min_length;
   double wall_max_lateral = 2.0;       // m, walls farther to the side are not this hallway's
-  double min_wall_clearance = 0.8;     // m, with one wall only the mid-line keeps this far from it
+  double min_wall_clearance = 0.8;     // m, with one wall only the mid-line keeps at least this far from
+                                       // it; along an open area's wall exactly this far
   double wall_same_lateral = 0.3;      // m, lines this close to a wall's lateral offset are that wall
                                        // (its pieces between doors; a wall is 0.1-0.2 m thick)
   // Derived, not configured (HallwayFollower sets them from config/robot.yaml and config/building.yaml):
   double clearance = 0.35;             // m, the robot's radius and safety margin
   double min_mouth = 1.4;              // m, the narrowest hallway's mouth: hallway_min_width - width_tolerance
+  double widest_hallway = 4.3;         // m, hallway_max_width + width_tolerance
 };
 
 struct HallwayView {
@@ -50,6 +52,9 @@ struct HallwayView {
   double wall_direction = 0.0;   // rad, robot frame: the walls' direction (the travel direction refined)
   bool wall_direction_valid = false;
   double centre_offset = 0.0;    // m, lateral offset of the mid-line from the robot (+ left)
+  // One wall seen, and beyond the robot on the other side an open area (free deeper than the widest
+  // hallway): the mid-line is min_wall_clearance from that wall.
+  bool open_area_beside = false;
   // m, how far ahead along the direction the walls at left_lateral and right_lateral (every line
   // within wall_same_lateral of them) reach: a hallway goes on where its walls do.
   double left_reach = -1e9, right_reach = -1e9;
