@@ -41,8 +41,19 @@ double HallwayFollower::freeAlong(int bin, const Perception& p, const TopoView& 
   return freeDistance(p.points, normalizeAngle(odomHeadingOfBin(bin, topo) - p.odom.theta), view_.ahead_sector, 15.0);
 }
 
-bool HallwayFollower::openBehind(int bin, const Perception& p, const TopoView& topo) const {
-  return freeAlong(bin + bins_.bins / 2, p, topo) > params_.end_distance + 1.0;
+std::vector<int> HallwayFollower::waysAtStart(int bin, const Perception& p, const TopoView& topo) const {
+  const double beyond_end = params_.end_distance + 1.0;
+  std::vector<int> ways;
+  if (freeAlong(bin + bins_.bins / 2, p, topo) > beyond_end) ways.push_back(bins_.wrap(bin + bins_.bins / 2));
+  const double dir = normalizeAngle(odomHeadingOfBin(bin, topo) - p.odom.theta);  // robot frame
+  for (int side : {1, -1}) {
+    const int side_bin = bins_.wrap(bin + side * bins_.bins / 4);
+    if (freeAlong(side_bin, p, topo) > beyond_end &&
+        mouthBeside(p.points, Eigen::Vector2d::Zero(), dir, side, view_.clearance, view_.min_mouth,
+                    view_.side_open_distance))
+      ways.push_back(side_bin);
+  }
+  return ways;
 }
 
 std::optional<int> HallwayFollower::startHallwayAxis(const Perception& p, const TopoView& topo) const {

@@ -25,12 +25,15 @@ HallwayNavigator::HallwayNavigator(const HallwayFollowerParams& follow, const Ha
 
 bool HallwayNavigator::setOff(const Perception& p, const TopoView& topo, Decision* d) {
   const int along = follower_.startBin(p, topo);
-  if (topo.mode == "frontier" && follower_.openBehind(along, p, topo)) {
-    // The robot starts mid-hallway: the way behind it is an unexplored opening of the start node.
-    Request r;
-    r.kind = Request::RecordOpening;
-    r.bearing = follower_.binHeading(along + follower_.headingBins().bins / 2);
-    d->requests.push_back(r);
+  if (topo.mode == "frontier") {
+    // The robot starts mid-hallway, at a crossing or at an open area's edge: the other ways are
+    // unexplored openings of the start node.
+    for (int way : follower_.waysAtStart(along, p, topo)) {
+      Request r;
+      r.kind = Request::RecordOpening;
+      r.bearing = follower_.binHeading(way);
+      d->requests.push_back(r);
+    }
   }
   if (along == follower_.bin()) return false;
   beginTurn(along, topo, {});

@@ -4,6 +4,7 @@
 // says: no unexplored opening left, a mission's door with no route.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -169,6 +170,53 @@ TEST(HallwayNavigator, SetsOffAlongTheHallwayAndFollowsItsMidLine) {
   across.faceRobotsBin(h.perceive(facing_wall, 0.0), belief("frontier"));
   Decision turn;
   EXPECT_TRUE(across.setOff(h.perceive(facing_wall, 0.0), belief("frontier"), &turn));
+}
+
+// Starting at a crossing, the ways to both sides are unexplored openings of the start node as well as
+// the way behind; starting beside a door, the door is none (a door never opens a side).
+TEST(HallwayNavigator, TheWaysAtTheStartAreTheOpeningsOfTheStartNode) {
+  Hallway crossing(false);
+  crossing.walls.clear();
+  crossing.wall(-10.0, 1.0, -1.0, 1.0);
+  crossing.wall(-1.0, 1.0, -1.0, 10.0);
+  crossing.wall(1.0, 1.0, 20.0, 1.0);
+  crossing.wall(1.0, 1.0, 1.0, 10.0);
+  crossing.wall(-10.0, -1.0, -1.0, -1.0);
+  crossing.wall(-1.0, -1.0, -1.0, -10.0);
+  crossing.wall(1.0, -1.0, 20.0, -1.0);
+  crossing.wall(1.0, -1.0, 1.0, -10.0);
+  crossing.wall(-10.0, -1.0, -10.0, 1.0);
+  crossing.wall(20.0, -1.0, 20.0, 1.0);
+  crossing.wall(-1.0, 10.0, 1.0, 10.0);
+  crossing.wall(-1.0, -10.0, 1.0, -10.0);
+  // The bearings of the openings recorded, sorted (pi for -pi).
+  const auto recorded = [](const Hallway& h, const Pose2D& robot, bool* turns) {
+    HallwayNavigator nav = navigator();
+    nav.faceRobotsBin(h.perceive(robot, 0.0), belief("frontier"));
+    Decision d;
+    *turns = nav.setOff(h.perceive(robot, 0.0), belief("frontier"), &d);
+    std::vector<double> b;
+    for (const exploration::Request& r : d.requests) {
+      EXPECT_EQ(r.kind, exploration::Request::RecordOpening);
+      b.push_back(std::abs(r.bearing) > kPi - 1e-6 ? kPi : r.bearing);
+    }
+    std::sort(b.begin(), b.end());
+    return b;
+  };
+  // In the crossing: three of the four ways (the fourth is set off along), none twice.
+  bool turns = false;
+  const std::vector<double> at_crossing = recorded(crossing, Pose2D{0.0, 0.0, 0.0}, &turns);
+  ASSERT_EQ(at_crossing.size(), 3u);
+  for (size_t k = 0; k < at_crossing.size(); ++k) {
+    const double quarter = at_crossing[k] / (0.5 * kPi);
+    EXPECT_NEAR(quarter, std::round(quarter), 1e-6);
+    if (k > 0) EXPECT_GT(at_crossing[k] - at_crossing[k - 1], 1.0);
+  }
+  // Beside a door, mid-hallway: along the hallway the robot faces; the way behind only.
+  const std::vector<double> at_door = recorded(Hallway(true), Pose2D{5.0, 0.0, 0.0}, &turns);
+  EXPECT_FALSE(turns);
+  ASSERT_EQ(at_door.size(), 1u);
+  EXPECT_NEAR(at_door[0], kPi, 1e-6);
 }
 
 // At the dead end the robot turns round on the spot, and then follows the hallway back.

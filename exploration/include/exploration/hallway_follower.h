@@ -89,8 +89,10 @@ class HallwayFollower {
   /// The bin to set off along: the hallway the robot stands in (along the robot's own bin if that
   /// is one of the two), else the bin whose way is free the farthest.
   int startBin(const Perception& p, const TopoView& topo) const;
-  /// The way back along `bin` is free a metre past a hallway's end: the robot stands mid-hallway.
-  bool openBehind(int bin, const Perception& p, const TopoView& topo) const;
+  /// The ways other than `bin` the robot can leave its start by (bins): back, where that way is
+  /// free a metre past a hallway's end (the robot stands mid-hallway), and to a side where a
+  /// hallway's mouth is beside the robot (a crossing, an open area's edge; a door never is one).
+  std::vector<int> waysAtStart(int bin, const Perception& p, const TopoView& topo) const;
 
   // Following, each tick.
   /// The hallway's direction (robot frame) from its walls: along the direction followed, else the
