@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace exploration {
 
@@ -13,6 +14,25 @@ using laser_features::normalizeAngle;
 namespace {
 // m, the spacing of the lanes freestLane tries: a mouth is found by a corridor this much narrower.
 constexpr double kLaneStep = 0.1;
+// The lateral offset (m, + left) of the nearest wall line along `direction` beside the robot within
+// `max_lateral`, if any: the rule viewHallway takes a hallway's walls by, farther out.
+std::optional<double> nearestWallBeside(const std::vector<laser_features::LineSegment>& lines, double direction,
+                                        const HallwayViewParams& params, double max_lateral) {
+  const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
+  std::optional<double> best;
+  for (const auto& l : lines) {
+    const double len = l.length();
+    if (len < params.wall_min_length) continue;
+    if (std::abs((l.end - l.start).dot(n)) / len > std::sin(params.wall_parallel_tolerance)) continue;
+    const double a0 = l.start.dot(u), a1 = l.end.dot(u);
+    if (std::max(a0, a1) < -1.0 || std::min(a0, a1) > 2.5) continue;
+    const double lateral = 0.5 * (l.start + l.end).dot(n);
+    if (std::abs(lateral) > max_lateral || std::abs(lateral) < 0.2) continue;
+    if (!best || std::abs(lateral) < std::abs(*best)) best = lateral;
+  }
+  return best;
+}
+
 }  // namespace
 
 double freeDistance(const std::vector<Eigen::Vector2d>& points, double bearing, double half_width,
@@ -94,15 +114,17 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   } else if (v.right_wall) {
     v.centre_offset = std::max(0.0, v.right_lateral + params.min_wall_clearance);
   }
-  if (v.left_wall != v.right_wall &&
-      openAreaBeside(points, Eigen::Vector2d::Zero(), direction, v.left_wall ? -1 : 1, params.clearance,
-                     params.widest_hallway, params.widest_hallway)) {
-    // Along an open area's wall (a lobby, a hall, a hallway open on one side to either): the doors
-    // and the hallways leaving the area are along its walls, and from its middle the robot sees
-    // none of them. The robot keeps to the wall it sees as to a hallway's (the one-wall distance)
-    // rather than crossing the area; at the area's corners the open side is the turn.
-    v.centre_offset = v.left_wall ? v.left_lateral - params.min_wall_clearance
-                                  : v.right_lateral + params.min_wall_clearance;
+  // Along an open area's wall (a lobby, a hall, a hallway open on one side to either): the doors and
+  // the hallways leaving the area are along its walls, and from its middle the robot sees none of
+  // them. The robot keeps to the wall it sees as to a hallway's (the one-wall distance) rather than
+  // crossing the area; at the area's corners the open side is the turn. With no wall within
+  // wall_max_lateral, the nearest within the widest hallway is the one it makes for.
+  std::optional<double> wall;
+  if (v.left_wall != v.right_wall) wall = v.left_wall ? v.left_lateral : v.right_lateral;
+  if (!v.left_wall && !v.right_wall) wall = nearestWallBeside(lines, direction, params, params.widest_hallway);
+  if (wall && openAreaBeside(points, Eigen::Vector2d::Zero(), direction, *wall > 0.0 ? -1 : 1, params.clearance,
+                             params.widest_hallway, params.widest_hallway)) {
+    v.centre_offset = *wall > 0.0 ? *wall - params.min_wall_clearance : *wall + params.min_wall_clearance;
     v.open_area_beside = true;
   }
   // A hallway goes on only through a mouth as wide as the narrowest hallway's. Where no lane is free

@@ -296,11 +296,12 @@ TEST(HallwayView, ARoomInLineAcrossACrossingIsNoWayOn) {
 
 // Along an open area's wall (a lobby: free on the other side deeper than the widest hallway) the
 // mid-line is the one-wall distance from the wall the robot sees, nearer or farther, so that the
-// robot keeps to the wall where the area's doors and hallways are; with the other side a hallway's
-// far wall (up to the widest hallway) it only keeps the one-wall distance, as before.
+// robot keeps to the wall where the area's doors and hallways are (a wall farther than a hallway's
+// walls are, up to the widest hallway, is made for); with the other side a hallway's far wall (up
+// to the widest hallway) it only keeps the one-wall distance, as before.
 TEST(HallwayView, AlongAnOpenAreasWallTheMidLineKeepsTheOneWallDistance) {
   const HallwayViewParams params;
-  for (const double to_wall : {0.6, 1.2, 1.8}) {
+  for (const double to_wall : {0.6, 1.2, 1.8, 3.0}) {
     for (const int side : {1, -1}) {
       SCOPED_TRACE(std::to_string(to_wall) + " m, side " + std::to_string(side));
       // An open area: its wall on `side`, nothing on the other within 10 m.
@@ -311,6 +312,7 @@ TEST(HallwayView, AlongAnOpenAreasWallTheMidLineKeepsTheOneWallDistance) {
       const auto open = viewHallway(pts, lines, 0.0, params);
       EXPECT_TRUE(open.open_area_beside);
       EXPECT_NEAR(open.centre_offset, side * (to_wall - params.min_wall_clearance), 1e-9);
+      if (to_wall > params.wall_max_lateral) continue;
       // A 3.8 m hallway (the widest is 4 m): its far wall is seen in the scan, not as a wall beside.
       std::vector<Eigen::Vector2d> hall_pts;
       std::vector<laser_features::LineSegment> hall_lines;

@@ -52,8 +52,9 @@ struct HallwayView {
   double wall_direction = 0.0;   // rad, robot frame: the walls' direction (the travel direction refined)
   bool wall_direction_valid = false;
   double centre_offset = 0.0;    // m, lateral offset of the mid-line from the robot (+ left)
-  // One wall seen, and beyond the robot on the other side an open area (free deeper than the widest
-  // hallway): the mid-line is min_wall_clearance from that wall.
+  // One wall seen (or, none within wall_max_lateral, the nearest within the widest hallway), and
+  // beyond the robot on the other side an open area (free deeper than the widest hallway): the
+  // mid-line is min_wall_clearance from that wall.
   bool open_area_beside = false;
   // m, how far ahead along the direction the walls at left_lateral and right_lateral (every line
   // within wall_same_lateral of them) reach: a hallway goes on where its walls do.
