@@ -14,21 +14,37 @@ using laser_features::normalizeAngle;
 namespace {
 // m, the spacing of the lanes freestLane tries: a mouth is found by a corridor this much narrower.
 constexpr double kLaneStep = 0.1;
-// The lateral offset (m, + left) of the nearest wall line along `direction` beside the robot within
-// `max_lateral`, if any: the rule viewHallway takes a hallway's walls by, farther out.
+// A wall of the hallway along `direction` (unit `u`, left normal `n`): a line at least
+// wall_min_length long, parallel to the direction within wall_parallel_tolerance (modulo pi: a wall
+// has no orientation), running beside the robot (not only far ahead or behind), between 0.2 m and
+// `max_lateral` to a side. Its direction difference (rad, robot frame) and lateral offset (m, + left).
+struct WallBeside {
+  double diff, lateral;
+};
+std::optional<WallBeside> wallBeside(const laser_features::LineSegment& l, double direction, const Eigen::Vector2d& u,
+                                     const Eigen::Vector2d& n, const HallwayViewParams& params, double max_lateral) {
+  const double len = l.length();
+  if (len < params.wall_min_length) return std::nullopt;
+  const Eigen::Vector2d d = (l.end - l.start) / len;
+  double diff = normalizeAngle(std::atan2(d.y(), d.x()) - direction);
+  if (diff > 0.5 * kPi) diff -= kPi;
+  if (diff < -0.5 * kPi) diff += kPi;
+  if (std::abs(diff) > params.wall_parallel_tolerance) return std::nullopt;
+  const double a0 = l.start.dot(u), a1 = l.end.dot(u);
+  if (std::max(a0, a1) < -1.0 || std::min(a0, a1) > 2.5) return std::nullopt;
+  const double lateral = 0.5 * (l.start + l.end).dot(n);
+  if (std::abs(lateral) > max_lateral || std::abs(lateral) < 0.2) return std::nullopt;
+  return WallBeside{diff, lateral};
+}
+
+// The lateral offset (m, + left) of the nearest wall beside the robot within `max_lateral`, if any.
 std::optional<double> nearestWallBeside(const std::vector<laser_features::LineSegment>& lines, double direction,
                                         const HallwayViewParams& params, double max_lateral) {
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
   std::optional<double> best;
   for (const auto& l : lines) {
-    const double len = l.length();
-    if (len < params.wall_min_length) continue;
-    if (std::abs((l.end - l.start).dot(n)) / len > std::sin(params.wall_parallel_tolerance)) continue;
-    const double a0 = l.start.dot(u), a1 = l.end.dot(u);
-    if (std::max(a0, a1) < -1.0 || std::min(a0, a1) > 2.5) continue;
-    const double lateral = 0.5 * (l.start + l.end).dot(n);
-    if (std::abs(lateral) > max_lateral || std::abs(lateral) < 0.2) continue;
-    if (!best || std::abs(lateral) < std::abs(*best)) best = lateral;
+    const std::optional<WallBeside> w = wallBeside(l, direction, u, n, params, max_lateral);
+    if (w && (!best || std::abs(w->lateral) < std::abs(*best))) best = w->lateral;
   }
   return best;
 }
@@ -65,19 +81,9 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   const Eigen::Vector2d n(-u.y(), u.x());  // left
   double weight = 0.0, sin_sum = 0.0, cos_sum = 0.0;
   for (const auto& l : lines) {
-    const double len = l.length();
-    if (len < params.wall_min_length) continue;
-    const Eigen::Vector2d d = (l.end - l.start) / len;
-    // Direction difference modulo pi (a wall has no orientation).
-    double diff = normalizeAngle(std::atan2(d.y(), d.x()) - direction);
-    if (diff > 0.5 * kPi) diff -= kPi;
-    if (diff < -0.5 * kPi) diff += kPi;
-    if (std::abs(diff) > params.wall_parallel_tolerance) continue;
-    // The wall must run beside the robot (not only far ahead or behind).
-    const double a0 = l.start.dot(u), a1 = l.end.dot(u);
-    if (std::max(a0, a1) < -1.0 || std::min(a0, a1) > 2.5) continue;
-    const double lateral = 0.5 * (l.start + l.end).dot(n);
-    if (std::abs(lateral) > params.wall_max_lateral || std::abs(lateral) < 0.2) continue;
+    const std::optional<WallBeside> w = wallBeside(l, direction, u, n, params, params.wall_max_lateral);
+    if (!w) continue;
+    const double len = l.length(), diff = w->diff, lateral = w->lateral;
     if (lateral > 0.0 && (!v.left_wall || lateral < v.left_lateral)) {
       v.left_wall = true;
       v.left_lateral = lateral;
