@@ -81,7 +81,7 @@ std::optional<int> HallwayFollower::startHallwayAxis(const Perception& p, const 
       const double offset = n.dot(0.5 * (l.start + l.end));
       (offset > 0.0 ? left : right) = std::min(offset > 0.0 ? left : right, std::abs(offset));
     }
-    if (left + right <= rules_.hallway_max_width + rules_.width_tolerance && left + right < best_width) {
+    if (left + right <= view_.widest_hallway && left + right < best_width) {
       best_width = left + right;
       best = axis;
     }
@@ -117,7 +117,7 @@ double HallwayFollower::track(const Perception& p, const TopoView& topo, Hallway
     laser_features::HallwayWallsParams walls;
     walls.min_length = view_.wall_min_length;
     walls.parallel_tolerance = view_.wall_parallel_tolerance;
-    walls.max_width = rules_.hallway_max_width + rules_.width_tolerance;
+    walls.max_width = view_.widest_hallway;
     if (const std::optional<double> around = laser_features::hallwayWallsDirection(p.lines, dir_robot, half_bin + walls.parallel_tolerance, walls))
       *v = viewHallway(p.points, p.lines, *around, view_);
   }
@@ -142,7 +142,7 @@ bool HallwayFollower::intoOpenArea(const Perception& p, double dir_robot, const 
     return false;
   }
   if (!open_area_armed_) return false;
-  const double widest = rules_.hallway_max_width + rules_.width_tolerance;
+  const double widest = view_.widest_hallway;
   const Eigen::Vector2d here = Eigen::Vector2d::Zero();
   if (!openAreaBeside(p.points, here, dir_robot, 1, view_.clearance, widest, view_.side_open_distance) ||
       !openAreaBeside(p.points, here, dir_robot, -1, view_.clearance, widest, view_.side_open_distance))
@@ -211,7 +211,7 @@ std::optional<double> HallwayFollower::obliqueWayAtEnd(const Perception& p, cons
   // width make it a hallway.
   const double dir_robot = normalizeAngle(odomHeading(direction_, topo) - p.odom.theta);
   return obliqueHallway(p.points, p.lines, v, dir_robot, view_, rules_.hallway_max_width,
-                        rules_.hallway_max_width + rules_.width_tolerance);
+                        view_.widest_hallway);
 }
 
 int HallwayFollower::takeWay(double way_robot, const Perception& p, const TopoView& topo) {

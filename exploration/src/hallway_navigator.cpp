@@ -220,7 +220,7 @@ void HallwayNavigator::turnAtEnd(const Perception& p, const TopoView& topo, cons
       // The way's corridor was found free for the widest hallway's width from the crossing's
       // centre; half of it in, its walls are beside the robot (obliqueHallway's first depth).
       way_line_ = WayLine{transformPoint(p.odom, v.end_centre), normalizeAngle(p.odom.theta + *way),
-                          0.5 * follower_.widestHallway()};
+                          0.5 * follower_.hallwayMaxWidth()};
       char angle[64];
       std::snprintf(angle, sizeof(angle), "hallway end: turning %.0f deg into a hallway at an angle", *way * 180.0 / kPi);
       step->text = angle + std::string(why);

@@ -51,8 +51,8 @@ class HallwayFollower {
   const HallwayViewParams& viewParams() const { return view_; }
   /// m, how far ahead the goal lies on the mid-line.
   double lookahead() const { return params_.lookahead; }
-  /// m, the widest hallway (config/building.yaml).
-  double widestHallway() const { return rules_.hallway_max_width; }
+  /// m, building/hallway_max_width: how far a way at an angle is found free (obliqueWayAtEnd).
+  double hallwayMaxWidth() const { return rules_.hallway_max_width; }
 
   /// The building's axes (pomdp_topo's building_axes): the discrete headings of the hallways.
   void setHeadingBins(const laser_features::HeadingBins& bins) { bins_ = bins; }
