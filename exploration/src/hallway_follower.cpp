@@ -205,19 +205,22 @@ Eigen::Vector2d HallwayFollower::goal(const Perception& p, double dir_robot, con
   return last_goal_;
 }
 
-std::optional<double> HallwayFollower::obliqueWayAtEnd(const Perception& p, const TopoView& topo,
-                                                       const HallwayView& v) const {
+std::vector<ObliqueWay> HallwayFollower::obliqueWaysAtEnd(const Perception& p, const TopoView& topo,
+                                                          const HallwayView& v) const {
   // The robot's corridor free for a hallway's width is a way out; its walls within a hallway's
   // width make it a hallway.
   const double dir_robot = normalizeAngle(odomHeading(direction_, topo) - p.odom.theta);
-  return obliqueHallway(p.points, p.lines, v, dir_robot, view_, rules_.hallway_max_width,
-                        view_.widest_hallway);
+  return obliqueHallways(p.points, p.lines, v, dir_robot, view_, rules_.hallway_max_width, view_.widest_hallway);
+}
+
+int HallwayFollower::wayBin(double way_robot, const Perception& p, const TopoView& topo) const {
+  return binOf(mapHeading(way_robot, p, topo));
 }
 
 int HallwayFollower::takeWay(double way_robot, const Perception& p, const TopoView& topo) {
   // A wing: its heading is the hallway's from here on, as bin and offset.
   const double map_heading = mapHeading(way_robot, p, topo);
-  const int way_bin = binOf(map_heading);
+  const int way_bin = wayBin(way_robot, p, topo);
   direction_.offset = normalizeAngle(map_heading - binHeading(way_bin));
   return way_bin;
 }

@@ -205,50 +205,59 @@ void HallwayNavigator::turnAtEnd(const Perception& p, const TopoView& topo, cons
   step->kind = HallwayStep::Turning;
   const int n = follower_.headingBins().bins, bin = follower_.bin();
   const int left = (bin + n / 4) % n, right = (bin + 3 * n / 4) % n, back = (bin + n / 2) % n;
-  std::vector<int> open;
-  if (v.end_open_left) open.push_back(left);
-  if (v.end_open_right) open.push_back(right);
+  // The ways out: the sides open along the axes, left first, then the hallways at an angle (wings),
+  // left first. A wing's bin is the one pomdp_topo gives the branch once the robot has turned into
+  // it; a side open along the axes is that bin's way where both are.
+  std::vector<EndWay> ways;
+  if (v.end_open_left) ways.push_back({left, std::nullopt});
+  if (v.end_open_right) ways.push_back({right, std::nullopt});
+  for (const ObliqueWay& way : follower_.obliqueWaysAtEnd(p, topo, v)) {
+    const int way_bin = follower_.wayBin(way.direction, p, topo);
+    const bool known = std::any_of(ways.begin(), ways.end(), [&](const EndWay& w) { return w.bin == way_bin; });
+    if (way_bin != back && !known) ways.push_back({way_bin, way});
+  }
   char why[160];
   std::snprintf(why, sizeof(why), " (free ahead %.2f m, left %s, right %s, at %.2f %.2f odom)", v.free_ahead,
                 v.end_open_left ? "open" : "closed", v.end_open_right ? "open" : "closed", p.odom.x, p.odom.y);
-  const bool localized = topo.mode == "localized";
-  const bool sure = topo.mode == "frontier" || (localized && topo.confident);
-  if (open.empty()) {
-    if (const std::optional<double> way = follower_.obliqueWayAtEnd(p, topo, v)) {
-      ++stats_.turns;
-      beginTurn(follower_.takeWay(*way, p, topo), topo, {});
-      // The way's corridor was found free for the widest hallway's width from the crossing's
-      // centre; half of it in, its walls are beside the robot (obliqueHallway's first depth).
-      way_line_ = WayLine{transformPoint(p.odom, v.end_centre), normalizeAngle(p.odom.theta + *way),
-                          0.5 * follower_.hallwayMaxWidth()};
-      char angle[64];
-      std::snprintf(angle, sizeof(angle), "hallway end: turning %.0f deg into a hallway at an angle", *way * 180.0 / kPi);
-      step->text = angle + std::string(why);
-      return;
-    }
+  if (ways.empty()) {
     ++stats_.u_turns;
     beginTurn(back, topo, {});
     step->text = "hallway end: turning round" + std::string(why);
     return;
   }
-  int choice = open.front();  // left first (depth-first, one fixed order)
+  EndWay choice = ways.front();  // depth-first, one fixed order
   if (beliefTrusted(topo, at.travel)) {
     const RouteStep r = route_.plan(at.graph, topo.position, at.mission_door);
     if (r.found) {
       const int near = at.graph.nearestNode(topo.position);
       const int rb = follower_.binOf(near >= 0 && uint32_t(near) == r.next_node ? r.next_heading : r.heading);
-      if (std::find(open.begin(), open.end(), rb) != open.end()) choice = rb;
+      const auto routed = std::find_if(ways.begin(), ways.end(), [&](const EndWay& w) { return w.bin == rb; });
+      if (routed != ways.end()) choice = *routed;
     }
   }
+  // The other ways are the turn's node's unexplored openings, on a new stretch.
   std::vector<int> not_taken;
-  if (sure && topo.mode == "frontier" && !at.mission_door) {
-    for (int b : open) {
-      if (b != choice) not_taken.push_back(b);
+  if (topo.mode == "frontier" && !at.mission_door) {
+    for (const EndWay& w : ways) {
+      if (w.bin != choice.bin) not_taken.push_back(w.bin);
     }
   }
   ++stats_.turns;
-  beginTurn(choice, topo, not_taken);
-  step->text = "hallway end: turning " + std::string(choice == left ? "left" : "right") + why;
+  if (!choice.oblique) {
+    beginTurn(choice.bin, topo, not_taken);
+    step->text = "hallway end: turning " + std::string(choice.bin == left ? "left" : "right") + why;
+    return;
+  }
+  const ObliqueWay& way = *choice.oblique;
+  beginTurn(follower_.takeWay(way.direction, p, topo), topo, not_taken);
+  // The way's corridor was found free for the widest hallway's width from its origin in the
+  // crossing; half of it in, its walls are beside the robot (obliqueHallways' first depth).
+  way_line_ = WayLine{transformPoint(p.odom, way.origin), normalizeAngle(p.odom.theta + way.direction),
+                      0.5 * follower_.hallwayMaxWidth()};
+  char angle[64];
+  std::snprintf(angle, sizeof(angle), "hallway end: turning %.0f deg into a hallway at an angle",
+                way.direction * 180.0 / kPi);
+  step->text = angle + std::string(why);
 }
 
 bool HallwayNavigator::turnInOpenArea(const TopoView& topo, const HallwayContext& at, HallwayStep* step) {

@@ -254,27 +254,47 @@ std::vector<double> obliqueWays(const std::vector<Eigen::Vector2d>& points, cons
   return ways;
 }
 
-std::optional<double> obliqueHallway(const std::vector<Eigen::Vector2d>& points,
-                                     const std::vector<laser_features::LineSegment>& lines, const HallwayView& view,
-                                     double direction, const HallwayViewParams& params, double min_free,
-                                     double max_width) {
+std::vector<ObliqueWay> obliqueHallways(const std::vector<Eigen::Vector2d>& points,
+                                        const std::vector<laser_features::LineSegment>& lines, const HallwayView& view,
+                                        double direction, const HallwayViewParams& params, double min_free,
+                                        double max_width) {
   // Directions every 5 deg: a 1.5 m hallway's mouth subtends more than twice that from min_free.
   constexpr double kStep = 0.0873;
-  const std::vector<double> ways = obliqueWays(points, view.end_centre, direction, params.clearance, min_free, 0.75 * kPi,
-                                               params.wall_parallel_tolerance, kStep);
-  for (double way : ways) {
-    for (double depth : {0.5 * min_free, 0.75 * min_free}) {
-      const Eigen::Vector2d inside = view.end_centre + depth * Eigen::Vector2d(std::cos(way), std::sin(way));
-      const HallwayView w = viewHallwayFrom(points, lines, inside, way, params);
-      // Its walls themselves at an angle to the axes (a room's walls seen past a door are not).
-      const double rel = normalizeAngle(w.wall_direction - direction);
-      const double off_axis = std::abs(rel - std::round(rel / (0.5 * kPi)) * 0.5 * kPi);
-      if (w.left_wall && w.right_wall && w.wall_direction_valid && w.width() <= max_width &&
-          off_axis >= params.wall_parallel_tolerance)
-        return w.wall_direction;
+  // A wing's mouth need not face the crossing's centre (its wall may start at the corner, beside the
+  // hallway's end): the ways are looked for from the centre and from across the crossing, wherever
+  // the robot fits (half the hallway's width less the clearance to either side, and as far back).
+  const double half = std::max(0.0, (view.width() > 0.0 ? 0.5 * view.width() : 0.5 * params.min_mouth) - params.clearance);
+  const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
+  std::vector<ObliqueWay> hallways;
+  for (const double back : {0.0, half}) {
+    for (const double lateral : {0.0, half, -half}) {
+      const Eigen::Vector2d origin = view.end_centre - back * u + lateral * n;
+      const std::vector<double> ways = obliqueWays(points, origin, direction, params.clearance, min_free, 0.75 * kPi,
+                                                   params.wall_parallel_tolerance, kStep);
+      for (double way : ways) {
+        for (double depth : {0.5 * min_free, 0.75 * min_free}) {
+          const Eigen::Vector2d inside = origin + depth * Eigen::Vector2d(std::cos(way), std::sin(way));
+          const HallwayView w = viewHallwayFrom(points, lines, inside, way, params);
+          // Its walls themselves at an angle to the axes (a room's walls seen past a door are not).
+          const double rel = normalizeAngle(w.wall_direction - direction);
+          const double off_axis = std::abs(rel - std::round(rel / (0.5 * kPi)) * 0.5 * kPi);
+          if (!(w.left_wall && w.right_wall && w.wall_direction_valid && w.width() <= max_width &&
+                off_axis >= params.wall_parallel_tolerance))
+            continue;
+          // One wing seen from several origins: its walls' direction within the wall tolerance.
+          const bool seen = std::any_of(hallways.begin(), hallways.end(), [&](const ObliqueWay& h) {
+            return std::abs(normalizeAngle(h.direction - w.wall_direction)) < params.wall_parallel_tolerance;
+          });
+          if (!seen) hallways.push_back({w.wall_direction, origin});
+          break;
+        }
+      }
     }
   }
-  return std::nullopt;
+  std::sort(hallways.begin(), hallways.end(), [&](const ObliqueWay& a, const ObliqueWay& b) {
+    return normalizeAngle(a.direction - direction) > normalizeAngle(b.direction - direction);  // left first
+  });
+  return hallways;
 }
 
 namespace {

@@ -301,3 +301,64 @@ TEST(HallwayNavigator, SaysWhenNoOpeningIsLeftAndWhenAMissionsDoorHasNoRoute) {
   EXPECT_EQ(step.kind, HallwayStep::NoRoute);
   EXPECT_FALSE(step.route.found);
 }
+
+namespace {
+
+// A 2 m hallway along +x (y in [-1, 1]) whose end at x = 10 turns right into a hallway along -y
+// (x in [8, 10]), with a wing leaving at `angle` (rad) from the corner: its right wall starts at
+// (10, 1), where the end wall meets the left wall.
+Hallway cornerWithWing(double angle) {
+  Hallway h(false);
+  h.walls.clear();
+  const Eigen::Vector2d d(std::cos(angle), std::sin(angle)), n(-d.y(), d.x());
+  const Eigen::Vector2d right0(10.0, 1.0), left0 = right0 + 2.0 * n;  // the wing's walls' first points
+  h.wall(-10.0, -1.0, -10.0, 1.0);
+  h.wall(-10.0, 1.0, left0.x(), 1.0);
+  h.wall(left0.x(), 1.0, left0.x(), left0.y());
+  h.wall(left0.x(), left0.y(), left0.x() + 9.0 * d.x(), left0.y() + 9.0 * d.y());
+  h.wall(right0.x(), right0.y(), right0.x() + 9.0 * d.x(), right0.y() + 9.0 * d.y());
+  h.wall(10.0, 1.0, 10.0, -12.0);
+  h.wall(-10.0, -1.0, 8.0, -1.0);
+  h.wall(8.0, -1.0, 8.0, -12.0);
+  return h;
+}
+
+}  // namespace
+
+// At a hallway's end the wings leaving it at an angle are ways out as the sides open along the axes
+// are: on a new stretch those not taken are recorded as the turn's node's unexplored openings, in
+// the bin pomdp_topo gives the branch once the robot turns into it.
+TEST(HallwayNavigator, AWingNotTakenAtAHallwaysEndIsAnUnexploredOpening) {
+  for (const double angle : {0.6, 0.7, 0.8}) {  // 34-46 deg: the left side stays closed
+    const Hallway h = cornerWithWing(angle);
+    HallwayNavigator nav = navigator();
+    Pose2D robot{0.0, 0.0, 0.0};
+    Followed run = followUntilChange(&nav, h, &robot, 400);
+    ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
+    EXPECT_EQ(run.step.text.rfind("hallway end: turning right (free ahead", 0), 0u) << run.step.text;
+    EXPECT_NE(run.step.text.find("left closed, right open"), std::string::npos) << run.step.text;
+    bool turned = false;
+    for (int i = 0; i < 100 && !turned; ++i) {
+      Decision d;
+      turned = nav.turn(h.perceive(robot, 0.1 * i), false, false, run.travel, &d);
+      step(d, &robot);
+    }
+    ASSERT_TRUE(turned);
+    // Along the new stretch until the ways not taken are recorded.
+    std::vector<double> recorded;
+    const TopoGraph none;
+    double travel = run.travel;
+    for (int i = 0; i < 200 && recorded.empty(); ++i) {
+      Decision d;
+      const Pose2D before = robot;
+      nav.follow(h.perceive(robot, 10.0 + 0.1 * i), belief("frontier"), false, HallwayContext{none, travel, nullptr}, &d);
+      for (const exploration::Request& r : d.requests) {
+        if (r.kind == exploration::Request::RecordOpening) recorded.push_back(r.bearing);
+      }
+      step(d, &robot);
+      travel += std::hypot(robot.x - before.x, robot.y - before.y);
+    }
+    ASSERT_EQ(recorded.size(), 1u) << angle;
+    EXPECT_NEAR(recorded[0], 0.5 * kPi * std::round(angle / (0.5 * kPi)), 1e-6) << angle;  // the wing's bin
+  }
+}

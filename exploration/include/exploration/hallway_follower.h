@@ -51,7 +51,7 @@ class HallwayFollower {
   const HallwayViewParams& viewParams() const { return view_; }
   /// m, how far ahead the goal lies on the mid-line.
   double lookahead() const { return params_.lookahead; }
-  /// m, building/hallway_max_width: how far a way at an angle is found free (obliqueWayAtEnd).
+  /// m, building/hallway_max_width: how far a way at an angle is found free (obliqueWaysAtEnd).
   double hallwayMaxWidth() const { return rules_.hallway_max_width; }
 
   /// The building's axes (pomdp_topo's building_axes): the discrete headings of the hallways.
@@ -123,9 +123,12 @@ class HallwayFollower {
   }
 
   // A hallway's end.
-  /// At a hallway's end with no way open along the axes: a hallway leaving at an angle (a wing),
-  /// its direction in the robot frame.
-  std::optional<double> obliqueWayAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v) const;
+  /// At a hallway's end: the hallways leaving it at an angle (wings), their directions in the robot
+  /// frame, left first.
+  std::vector<ObliqueWay> obliqueWaysAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v) const;
+  /// The bin of the way `way_robot` (robot frame): the bin pomdp_topo's map gives the opening, and
+  /// the branch once the robot has turned into it (its turns are whole bins).
+  int wayBin(double way_robot, const Perception& p, const TopoView& topo) const;
   /// The way `way_robot` (robot frame) is the hallway's from here on: its offset is kept, its bin
   /// returned (to turn to).
   int takeWay(double way_robot, const Perception& p, const TopoView& topo);

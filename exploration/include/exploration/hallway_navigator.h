@@ -156,6 +156,11 @@ class HallwayNavigator {
   int turn_bin_ = 0;
   double turn_odom_heading_ = 0.0;
   std::vector<int> pending_branches_;  // bins to record as unexplored after the turn
+  // A way out of a hallway's end: its bin, and for a hallway at an angle its way.
+  struct EndWay {
+    int bin = 0;
+    std::optional<ObliqueWay> oblique;
+  };
   // A hallway at an angle is found from where the crossing's centre is expected, not from where the
   // robot turns: its line (odometry frame) is followed for `length` m before the hallway is judged
   // from the robot (the sector from beside its mouth meets the mouth's corner).

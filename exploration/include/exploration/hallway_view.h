@@ -104,16 +104,24 @@ std::vector<double> obliqueWays(const std::vector<Eigen::Vector2d>& points, cons
                                 double direction, double half_width, double min_free, double max_turn,
                                 double off_axis, double step);
 
-/// A hallway leaving the end of the hallway seen in `view` (along `direction`, robot frame) at an
-/// angle to the axes: a wing of the building at 30-60 degrees. A way out (obliqueWays, from the
-/// expected crossing's centre, up to three eighths of a turn to either side, the robot's corridor
-/// (params.clearance) free for `min_free`) that is a hallway, not a door seen at a slant: seen from a point
-/// inside it, walls on both sides run along it within `max_width` of each other. Its direction (the
-/// walls', robot frame), the leftmost of several.
-std::optional<double> obliqueHallway(const std::vector<Eigen::Vector2d>& points,
-                                     const std::vector<laser_features::LineSegment>& lines, const HallwayView& view,
-                                     double direction, const HallwayViewParams& params, double min_free,
-                                     double max_width);
+/// A hallway at an angle to the axes leaving a hallway's end: its walls' direction (rad, robot
+/// frame) and the point (robot frame) from which its way was found free.
+struct ObliqueWay {
+  double direction = 0.0;
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero();
+};
+
+/// The hallways leaving the end of the hallway seen in `view` (along `direction`, robot frame) at an
+/// angle to the axes: wings of the building at 30-60 degrees. A way out (obliqueWays, up to three
+/// eighths of a turn to either side, the robot's corridor (params.clearance) free for `min_free`)
+/// from the expected crossing's centre or a point across the crossing that the robot fits in (its
+/// mouth may be beside the hallway's end), that is a hallway, not a door seen at a slant: seen from
+/// a point inside it, walls on both sides run along it within `max_width` of each other. Left
+/// first; none where there is none.
+std::vector<ObliqueWay> obliqueHallways(const std::vector<Eigen::Vector2d>& points,
+                                        const std::vector<laser_features::LineSegment>& lines, const HallwayView& view,
+                                        double direction, const HallwayViewParams& params, double min_free,
+                                        double max_width);
 
 /// How far a corridor of half-width `half_width` (m) from `origin` along `bearing` (robot frame) is
 /// free of scan points (m, `range_cap` if no point is in it).
