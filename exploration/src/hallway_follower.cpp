@@ -18,7 +18,7 @@ HallwayFollower::HallwayFollower(const HallwayFollowerParams& params, const Hall
   // The hallway view's derived sizes: the robot's footprint and the building's narrowest hallway.
   view_.clearance = robot.robot_radius + robot.safety_margin;
   view_.min_mouth = rules.hallway_min_width - rules.width_tolerance;
-  view_.widest_hallway = rules.hallway_max_width + rules.width_tolerance;
+  view_.widest_hallway = rules.widestHallway();
 }
 
 double HallwayFollower::odomHeadingOfBin(int bin, const TopoView& topo) const {
@@ -123,16 +123,11 @@ double HallwayFollower::track(const Perception& p, const TopoView& topo, Hallway
   }
   if (!v->wall_direction_valid) return dir_robot;
   dir_robot = v->wall_direction;
-  const double map_heading = mapHeading(dir_robot, p, topo);
-  direction_.offset = normalizeAngle(map_heading - binHeading(direction_.bin));
-  // Walls within the wall tolerance of the bin are the building's axis (the heading filter's
-  // residue): no offset is kept, the direction is refined from them tick by tick. Past half a bin
-  // (and the tolerance, against flicker at exactly half) the nearer bin is the hallway's.
-  if (std::abs(direction_.offset) <= view_.wall_parallel_tolerance) direction_.offset = 0.0;
-  if (std::abs(direction_.offset) > half_bin + 0.5 * view_.wall_parallel_tolerance) {
-    direction_.bin = binOf(map_heading);
-    direction_.offset = normalizeAngle(map_heading - binHeading(direction_.bin));
-  }
+  // Walls along the axes leave no offset (the direction is refined from them tick by tick); a wing's
+  // keep theirs; past half a bin the nearer bin is the hallway's.
+  const laser_features::BinnedDirection d = laser_features::followWalls(
+      bins_, {direction_.bin, direction_.offset}, mapHeading(dir_robot, p, topo), view_.wall_parallel_tolerance);
+  direction_ = HallwayDirection{d.bin, d.offset};
   return dir_robot;
 }
 

@@ -90,4 +90,14 @@ std::optional<double> hallwayWallsDirection(const std::vector<LineSegment>& line
   return best;
 }
 
+BinnedDirection followWalls(const HeadingBins& bins, const BinnedDirection& current, double walls, double tolerance) {
+  BinnedDirection d{current.bin, normalizeAngle(walls - bins.heading(current.bin))};
+  if (std::abs(d.offset) <= tolerance) d.offset = 0.0;
+  if (std::abs(d.offset) > 0.5 * bins.width() + 0.5 * tolerance) {
+    d.bin = bins.bin(walls);
+    d.offset = normalizeAngle(walls - bins.heading(d.bin));
+  }
+  return d;
+}
+
 }  // namespace laser_features

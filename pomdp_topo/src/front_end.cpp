@@ -18,6 +18,7 @@ void FrontEnd::reset(const Pose2D& odom, double theta, double variance) {
   // drove off before pomdp_topo started maps where it is, not at the origin.
   pose_ = Pose2D{odom.x, odom.y, heading_.theta()};
   bin_ = headingBins().bin(theta);
+  wing_offset_ = 0.0;
   travel_ = 0.0;
   pending_ = 0.0;
   turning_ = false;
@@ -30,12 +31,14 @@ void FrontEnd::shiftHeading(int bins) {
   heading_.shift(bins * 4 / params_.heading_bins);  // the estimator shifts by quarter turns
   pose_.theta = heading_.theta();
   bin_ = headingBins().wrap(bin_ + bins);
+  wing_offset_ = 0.0;
   // Tracks are kept in the corrected frame, which has just rotated: they no longer line up.
   tracks_.clear();
 }
 
-void FrontEnd::setHeadingBin(int bin, double pending) {
+void FrontEnd::setHeadingBin(int bin, double pending, double wing_offset) {
   bin_ = headingBins().wrap(bin);
+  wing_offset_ = std::isfinite(wing_offset) ? wing_offset : 0.0;
   turning_ = false;
   pending_ = std::isfinite(pending) ? pending : 0.0;
 }
@@ -102,6 +105,7 @@ bool FrontEnd::process(const Pose2D& odom, const std::vector<laser_features::Lin
       }
     }
   }
+  followWalls(lines, delta.theta, actions);
 
   // Tracks in the corrected frame (not while turning fast).
   const bool steady = std::abs(delta.theta) <= params_.track_max_rotation;
@@ -165,6 +169,30 @@ void FrontEnd::track(LandmarkType type, const Eigen::Vector2d& p_robot, double t
 
 bool FrontEnd::confirmed(const Track& t) const {
   return t.sightings >= params_.min_sightings && t.confidence() >= params_.min_confidence;
+}
+
+void FrontEnd::followWalls(const std::vector<laser_features::LineSegment>& lines, double rotation,
+                           std::vector<Action>* actions) {
+  // A wing's walls run 30-60 deg off the building's axes: travel, turns and the travel frame (its
+  // doors are side openings, +-90 deg of it) follow the walls of the hallway the robot drives
+  // along (a pair beside it within the walls' parallel tolerance of its heading: the robot keeps
+  // to a hallway's mid-line), by the exploration's rule (laser_features::followWalls). Not while
+  // turning: the heading lags.
+  if (turning_ || std::abs(rotation) > params_.track_max_rotation) return;
+  laser_features::HallwayWallsParams walls;
+  walls.max_width = params_.rules.widestHallway();
+  const std::optional<double> along = laser_features::hallwayWallsDirection(lines, 0.0, walls.parallel_tolerance, walls);
+  if (!along) return;
+  const laser_features::HeadingBins bins = headingBins();
+  const laser_features::BinnedDirection d = laser_features::followWalls(
+      bins, {bin_, wing_offset_}, normalizeAngle(heading_.theta() + *along), walls.parallel_tolerance);
+  wing_offset_ = d.offset;
+  const int k = int(std::lround(normalizeAngle(bins.heading(d.bin) - bins.heading(bin_)) / bins.width()));
+  if (k != 0) {
+    actions->push_back({Action::Turn, 0.0, k});
+    bin_ = d.bin;
+    pending_ = 0.0;
+  }
 }
 
 ObservedLandmark FrontEnd::toTravelFrame(const Track& t) const {

@@ -130,12 +130,13 @@ class TopoNodeRos {
       paused_travel_ = front_end_.travel();
       paused_bin_ = front_end_.headingBin();
       paused_pending_ = front_end_.pendingTravel();
+      paused_wing_offset_ = front_end_.wingOffset();
     }
     if (!paused && paused_) {
       builder_.skipTravel(front_end_.travel() - paused_travel_);
       // The turns and travel in the room are not the hallway's; the hallway travel not yet emitted
       // as an action when the robot left is (else each room visit loses up to a cell).
-      front_end_.setHeadingBin(paused_bin_, paused_pending_);
+      front_end_.setHeadingBin(paused_bin_, paused_pending_, paused_wing_offset_);
     }
     paused_ = paused;
   }
@@ -469,6 +470,7 @@ class TopoNodeRos {
   double paused_travel_ = 0.0;  // m, FrontEnd::travel() when the map was paused
   int paused_bin_ = 0;          // FrontEnd::headingBin() then
   double paused_pending_ = 0.0; // m, FrontEnd::pendingTravel() then
+  double paused_wing_offset_ = 0.0;  // rad, FrontEnd::wingOffset() then
   uint64_t lost_resets_ = 0;
   std::vector<laser_features::LineSegment> lines_;
   std::vector<laser_features::Corner> corners_;

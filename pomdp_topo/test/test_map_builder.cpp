@@ -728,6 +728,48 @@ TEST(FrontEnd, OneTurnActionPerUTurnAndTravelInResolutionSteps) {
 }
 
 
+// A wing's walls run 30-60 deg off the building's axes: once the robot follows them, travel is
+// measured along them (not their projection on a bin) and the travel frame turns with them; a wing
+// past half a bin off the robot's bin is a turn into the nearer bin. Along the axes nothing changes.
+TEST(FrontEnd, TravelAndTurnsFollowAWingsWalls) {
+  for (const double wing : {0.0, 0.6, 0.98, -0.98}) {
+    FrontEnd fe;
+    std::vector<Action> actions;
+    std::vector<laser_features::Corner> corners;
+    std::vector<laser_features::Opening> openings;
+    // The robot stands in the wing, facing along it: its walls 1 m to either side (robot frame).
+    std::vector<laser_features::LineSegment> lines(2);
+    lines[0].start = {-2.0, 1.0};
+    lines[0].end = {6.0, 1.0};
+    lines[1].start = {-2.0, -1.0};
+    lines[1].end = {6.0, -1.0};
+    Pose2D pose{0.0, 0.0, 0.0};
+    fe.reset(pose, 0.0, 1e-6);
+    // Turn on the spot to the wing's heading, slowly, with no walls in view.
+    for (int i = 1; i <= 20; ++i) {
+      pose.theta = wing * i / 20.0;
+      ASSERT_TRUE(fe.process(pose, {}, corners, openings, &actions));
+    }
+    // Then drive 4 m along the wing, its walls in view.
+    for (int i = 1; i <= 80; ++i) {
+      pose.x += 0.05 * std::cos(wing);
+      pose.y += 0.05 * std::sin(wing);
+      ASSERT_TRUE(fe.process(pose, lines, corners, openings, &actions));
+    }
+    double travel = 0.0;
+    int turns = 0;
+    for (const Action& a : actions) {
+      if (a.kind == Action::Travel) travel += a.distance;
+      if (a.kind == Action::Turn) turns += a.turn_bins;
+    }
+    const int expected_turn = int(std::lround(wing / (0.5 * kPi)));
+    EXPECT_EQ(turns, expected_turn) << wing;
+    EXPECT_EQ(fe.headingBin(), (expected_turn + 4) % 4) << wing;
+    EXPECT_NEAR(fe.travelHeading(), wing, 0.02) << wing;
+    EXPECT_NEAR(travel, 4.0, 0.5 + 1e-9) << wing;  // within a cell: sub-cell travel is dropped at a turn
+  }
+}
+
 // An odometry jump (kidnapping) while a frontier is mapped: the frontier's way is left as an
 // unexplored opening of the node it started from, and the belief is uniform (unconfident, so the
 // map does not change until the robot is localized again); on the known graph, just the belief.

@@ -37,6 +37,19 @@ struct HeadingBins {
   int bin(double heading) const { return wrap(int(std::lround(normalizeAngle(heading - axis) / width()))); }
 };
 
+/// The direction a hallway is followed in: a heading bin of the building's axes, and the hallway's
+/// offset from the bin's heading (a wing at 30-60 deg to the axes; 0 along them).
+struct BinnedDirection {
+  int bin = 0;
+  double offset = 0.0;  // rad
+};
+
+/// The hallway followed along `current` whose walls were seen at `walls` (rad, the bins' frame): its
+/// offset from current's bin, none within `tolerance` (rad, the walls' parallel tolerance: the axis
+/// itself, as the heading filter leaves it); past half a bin and half the tolerance (against flicker
+/// at exactly half) the nearer bin with its offset.
+BinnedDirection followWalls(const HeadingBins& bins, const BinnedDirection& current, double walls, double tolerance);
+
 /// Parameters of BuildingAxisEstimator (each with its unit and default).
 struct BuildingAxisParams {
   double min_line_length = 1.0;   // m, shorter lines are not used (furniture more often than walls)

@@ -30,6 +30,8 @@ struct BuildingRules {
   double hallway_max_width = 4.0;  // m, widest hallway (an open hall or lobby is wider)
   double width_tolerance = 0.1;    // m, a measured opening's width may be this much off the true one
 
+  /// m, the widest hallway as measured: no hallway's walls are farther apart (an open area's are).
+  double widestHallway() const { return hallway_max_width + width_tolerance; }
   /// No hallway's mouth is this narrow: an opening of this width is a door by its width alone
   /// (or too narrow to pass: see door_min_width).
   bool doorByWidth(double width) const { return width < hallway_min_width - width_tolerance; }

@@ -78,7 +78,11 @@ class FrontEnd {
   /// The discrete headings along the building's axes (the one conversion, laser_features).
   laser_features::HeadingBins headingBins() const { return {params_.axis_angle, params_.heading_bins}; }
   double binHeading(int bin) const { return headingBins().heading(bin); }
-  double travelHeading() const { return binHeading(bin_); }
+  /// The heading travel is measured along and the travel frame's: the bin's, turned by the wing's
+  /// offset where the robot follows a hallway at an angle to the axes.
+  double travelHeading() const { return laser_features::normalizeAngle(binHeading(bin_) + wing_offset_); }
+  /// rad, the offset from the bin's heading of the hallway the robot follows (0 along the axes).
+  double wingOffset() const { return wing_offset_; }
   /// The building's axis (rad, map frame), once it is known (before the first scan is processed:
   /// the heading bins of everything mapped are along it).
   void setAxis(double axis_angle) {
@@ -93,7 +97,7 @@ class FrontEnd {
   /// Sets the travel heading bin and the travel not yet emitted without a Turn action (after a pause
   /// of the topological map: the robot is back where and how it left the hallway, whatever it
   /// turned and travelled meanwhile; `pending` is pendingTravel() from when it left).
-  void setHeadingBin(int bin, double pending = 0.0);
+  void setHeadingBin(int bin, double pending = 0.0, double wing_offset = 0.0);
   /// Re-aligns the heading by whole bins (after a kidnapping, when the topological belief says so).
   void shiftHeading(int bins);
   /// Forgets every tracked feature and unreported passed landmark (after an odometry jump: their
@@ -132,6 +136,9 @@ class FrontEnd {
   bool confirmed(const Track& t) const;
   ObservedLandmark toTravelFrame(const Track& t) const;
   void checkPassed();
+  /// The hallway's walls around the robot set the travel heading: a wing's offset from the bin, or
+  /// none along the axes; a Turn where they put the robot in another bin (appended to `actions`).
+  void followWalls(const std::vector<laser_features::LineSegment>& lines, double rotation, std::vector<Action>* actions);
 
   FrontEndParams params_;
   HeadingEstimator heading_;
@@ -139,6 +146,7 @@ class FrontEnd {
   Pose2D last_odom_;
   Pose2D pose_;
   int bin_ = 0;
+  double wing_offset_ = 0.0;  // rad, travelHeading()'s offset from the bin's heading
   double travel_ = 0.0;
   double pending_ = 0.0;
   bool turning_ = false;
