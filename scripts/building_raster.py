@@ -38,6 +38,12 @@ class WorldRaster:
         self.world, self.radius, self.res = world, radius, resolution
         pts = [p for w in world.get('walls', []) for p in w['points']]
         pts += [p for r in world.get('regions', []) for p in r['polygon']]
+        for b in world.get('boxes', []):  # a world made of boxes alone (scripts/world_from_map)
+            reach = math.hypot(*b['size']) / 2.0
+            pts += [(b['center'][0] - reach, b['center'][1] - reach), (b['center'][0] + reach, b['center'][1] + reach)]
+        for c in world.get('cylinders', []):
+            pts += [(c['center'][0] - c['radius'], c['center'][1] - c['radius']),
+                    (c['center'][0] + c['radius'], c['center'][1] + c['radius'])]
         xs, ys = [p[0] for p in pts], [p[1] for p in pts]
         self.x0, self.y0 = min(xs) - 1.0, min(ys) - 1.0
         self.w = int(math.ceil((max(xs) + 1.0 - self.x0) / resolution))
