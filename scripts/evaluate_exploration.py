@@ -12,6 +12,9 @@ nodes, travel, times, map file sizes and bytes per square metre of floor; <outpu
 the topological map's nodes and edges at their display poses (for pictures). Next to it,
 <output>.trace.csv holds where the robot truly was (region and pose) at each change of the
 coordinator's state and every 5 s of sim time, written as it goes: what went wrong where.
+It also compares, once a second of sim time, the stack's own pose of the robot in `map` (tf map ->
+base_link, which ekf_local_map publishes) with the true pose in the start frame: map_pose_error_m;
+odom_pose_error_m is the same for odometry alone (odom -> base_link), dead reckoning's drift.
 """
 import collections
 import json
@@ -20,6 +23,7 @@ import os
 import threading
 
 import rospy
+import tf2_ros
 import yaml
 from hybrid_slam_msgs.msg import ExplorationStatus, TopologicalMap
 from nav_msgs.msg import Odometry
@@ -110,6 +114,10 @@ class ExplorationEvaluator:
         if self.output:
             self.trace = open(self.output + '.trace.csv', 'w', buffering=1)  # line-buffered: nothing lost on a crash
             self.trace.write('t,true_x,true_y,true_yaw,region,mode,place,node,state\n')
+        self.pose_errors = {'map': [], 'odom': []}  # (m) map -> base_link, odom -> base_link against the truth, once a second
+        self.last_pose_check = -1e9
+        self.tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(30.0))
+        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         rospy.Subscriber('ground_truth', Odometry, self.on_truth, queue_size=200)
         rospy.Subscriber('exploration_status', ExplorationStatus, self.on_status, queue_size=50)
         rospy.Subscriber('topological_map', TopologicalMap, self.on_map, queue_size=2)
@@ -150,6 +158,7 @@ class ExplorationEvaluator:
         self.truth = (p.x, p.y)
         self.truth_yaw = yaw_of(msg.pose.pose.orientation)
         self.trace_row(msg.header.stamp.to_sec())
+        self.check_map_pose(msg.header.stamp, p.x, p.y)
         if self.t0 is None:
             self.t0 = msg.header.stamp.to_sec()
         if self.status is not None and self.status.mode == METRIC and self.status.current_place >= 0:
@@ -157,6 +166,18 @@ class ExplorationEvaluator:
             r = self.region_at(p.x, p.y)
             if r is not None and self.kinds[r] == 'room':
                 self.place_regions[self.status.current_place][r] += 1
+
+    def check_map_pose(self, stamp, x, y):
+        if stamp.to_sec() - self.last_pose_check < 1.0:
+            return
+        try:
+            poses = {f: self.tf_buffer.lookup_transform(f, 'base_link', stamp).transform.translation for f in ('map', 'odom')}
+        except (tf2_ros.LookupException, tf2_ros.ConnectivityException, tf2_ros.ExtrapolationException):
+            return  # not yet published for this stamp: the next second's check
+        self.last_pose_check = stamp.to_sec()
+        mx, my = self.to_map(x, y)
+        for f, t in poses.items():
+            self.pose_errors[f].append(math.hypot(t.x - mx, t.y - my))
 
     def on_status(self, msg):
         self.status = msg
@@ -234,6 +255,10 @@ class ExplorationEvaluator:
             'floor_m2': round(floor, 1), 'map_bytes': total,
             'bytes_per_m2': round(total / floor, 1) if floor > 0 and total else None,
         }
+        for f, errors in self.pose_errors.items():
+            e = sorted(errors)
+            out[f + '_pose_error_m'] = {'checks': len(e), 'median': round(e[len(e) // 2], 3),
+                                        'p95': round(e[int(0.95 * (len(e) - 1))], 3), 'max': round(e[-1], 3)} if e else None
         out.update(sizes)
         return out
 

@@ -10,7 +10,7 @@ import os
 import time
 import unittest
 
-from exploration_result import read_result
+from exploration_result import GroundTruthGuard, read_result
 from lockstep import Participant
 import rosnode
 import rospy
@@ -35,6 +35,7 @@ class ExploreSmallLoop(unittest.TestCase):
 
         # In lockstep this script takes part (explore_restart.test names it): the kill comes at the
         # simulator's first step from kill_at on, the same step every run.
+        guard = GroundTruthGuard()
         participant = Participant() if kill_at > 0 else None
         lockstep = participant is not None and participant.enabled
         if lockstep:
@@ -44,6 +45,9 @@ class ExploreSmallLoop(unittest.TestCase):
                 kill(rospy.Time.now())
             result = read_result(path)
             time.sleep(1.0)
+        # no ground truth on the stack's side: map -> odom is ekf_local_map's estimate alone
+        self.assertEqual(guard.ground_truth_readers(), [], 'stack nodes read ground_truth')
+        self.assertEqual(guard.map_to_odom, {'/ekf_local_map'}, 'map -> odom published by %s' % sorted(guard.map_to_odom))
         self.assertEqual(state['failed'], [], 'could not kill the coordinator')
         killed = state['killed']
         self.assertIsNotNone(result, 'no evaluation written: the exploration did not end')

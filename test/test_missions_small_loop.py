@@ -7,6 +7,7 @@ import os
 import time
 import unittest
 
+from exploration_result import GroundTruthGuard
 import rospy
 import rostest
 
@@ -18,6 +19,7 @@ class MissionsSmallLoop(unittest.TestCase):
             os.remove(path)
         deadline = time.time() + 560.0
         result = None
+        guard = GroundTruthGuard()
         while time.time() < deadline and not rospy.is_shutdown() and result is None:
             if os.path.exists(path):
                 time.sleep(0.5)
@@ -25,6 +27,8 @@ class MissionsSmallLoop(unittest.TestCase):
                     result = json.load(f)
             time.sleep(1.0)
         self.assertIsNotNone(result, 'no missions report written')
+        self.assertEqual(guard.ground_truth_readers(), [], 'stack nodes read ground_truth')
+        self.assertEqual(guard.map_to_odom, {'/ekf_local_map'}, 'map -> odom published by %s' % sorted(guard.map_to_odom))
         print(json.dumps({k: v for k, v in result.items() if k != 'entropy'}))
         self.assertEqual(result['missions'], 3)
         for row in result['rows']:

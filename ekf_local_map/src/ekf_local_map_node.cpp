@@ -133,7 +133,10 @@ class LocalMapNode {
     }
     last_odom_ = odom;
     last_stamp_ = msg->header.stamp;
-    if (!map) return;
+    if (!map) {
+      sendMapToOdom(msg->header.stamp);  // between places: the last place's correction, held
+      return;
+    }
 
     toObservations(*msg, &observations_);
     map->update(observations_, sensor_in_robot, &report_);  // eqs. 13-17, new lines eqs. 9-11
@@ -179,17 +182,24 @@ class LocalMapNode {
       toMarkers(map, header, &markers_);
       markers_pub_.publish(markers_);
     }
-    if (publish_tf_) {
-      // map -> odom = (map -> place) (+) (place -> robot) (+) (odom -> robot)^-1, post-dated (REP 105).
-      const Pose2D map_robot = laser_features::compose(maps_.place(id)->display_pose, map.robotPose());
-      const Pose2D map_odom = laser_features::compose(map_robot, laser_features::inverse(odom));
-      geometry_msgs::TransformStamped t;
-      t.header.stamp = stamp + ros::Duration(transform_tolerance_);
-      t.header.frame_id = map_frame_;
-      t.child_frame_id = odom_frame_;
-      t.transform = toTransform(map_odom);
-      tf_.sendTransform(t);
-    }
+    // map -> odom = (map -> place) (+) (place -> robot) (+) (odom -> robot)^-1: the EKF's estimate.
+    const Pose2D map_robot = laser_features::compose(maps_.place(id)->display_pose, map.robotPose());
+    map_odom_ = laser_features::compose(map_robot, laser_features::inverse(odom));
+    sendMapToOdom(stamp);
+  }
+
+  /// The stack's own map -> odom (with publish_tf), post-dated (REP 105): in a place, from the
+  /// place's display pose and the EKF's robot pose; between places the last place's correction is
+  /// held, so the robot's pose in `map` is dead reckoning since it left the place. Before the first
+  /// place, map is the odometry frame at the start.
+  void sendMapToOdom(const ros::Time& stamp) {
+    if (!publish_tf_) return;
+    geometry_msgs::TransformStamped t;
+    t.header.stamp = stamp + ros::Duration(transform_tolerance_);
+    t.header.frame_id = map_frame_;
+    t.child_frame_id = odom_frame_;
+    t.transform = toTransform(map_odom_);
+    tf_.sendTransform(t);
   }
 
   /// Every place's lines in its own frame (latched): the hybrid map's metric part, e.g. for a saved
@@ -231,9 +241,14 @@ class LocalMapNode {
   bool onCreate(hybrid_slam_msgs::CreatePlace::Request& req, hybrid_slam_msgs::CreatePlace::Response& res) {
     Pose2D display = toPose(req.display_pose);
     if (!req.use_display_pose) {
+      // The robot's pose in `map`: this node's own estimate when it publishes map -> odom, else
+      // whatever localizer does (a replayed bag's), else odometry.
       std::string why;
-      if (!lookup(map_frame_, base_frame_, ros::Time(0), &display, &why) &&
-          !lookup(odom_frame_, base_frame_, ros::Time(0), &display, &why))
+      Pose2D odom;
+      if (publish_tf_ && lookup(odom_frame_, base_frame_, ros::Time(0), &odom, &why))
+        display = laser_features::compose(map_odom_, odom);
+      else if (!lookup(map_frame_, base_frame_, ros::Time(0), &display, &why) &&
+               !lookup(odom_frame_, base_frame_, ros::Time(0), &display, &why))
         display = Pose2D{};
     }
     res.place_id = static_cast<int>(maps_.createPlace(display));
@@ -332,6 +347,7 @@ class LocalMapNode {
   PlacesSaveOptions save_options_;
   bool publish_tf_ = true;
   double transform_tolerance_ = 0.1, transform_timeout_ = 0.1;
+  Pose2D map_odom_{};  // the stack's map -> odom (see sendMapToOdom)
   std::optional<Pose2D> last_odom_;
   std::optional<ros::Time> last_stamp_;
   std::optional<ros::Time> origin_stamp_;  // the latest place's origin: features before it are skipped quietly
