@@ -98,6 +98,7 @@ class ExplorationNode {
     pose_sub_ = lockstep_.subscribe(nh_, "local_pose", 10, &ExplorationNode::onLocalPose, this);
     bumper_sub_ = lockstep_.subscribe(control_nh_, "bumper", 10, &ExplorationNode::onBumper, this);
     relocation_sub_ = lockstep_.subscribe(nh_, "relocation", 10, &ExplorationNode::onRelocation, this);
+    pause_srv_ = pnh_.advertiseService("pause", &ExplorationNode::onPause, this);
     if (serve_missions_) {
       mission_server_ = std::make_unique<MissionServer>(nh_, "go_to_place", false);
       mission_server_->registerGoalCallback([this] { onMissionGoal(); });
@@ -180,6 +181,11 @@ class ExplorationNode {
       }
     }
     std::unique_lock<std::mutex> lock(mutex_);
+    if (paused_) {
+      lock.unlock();
+      if ((msg->header.stamp - last_status_).toSec() > 1.0) publishStatus(msg->header.stamp);
+      return;
+    }
     const bool reached = motion_->status() == MotionStatus::Reached;
     const bool blocked = motion_->status() == MotionStatus::Blocked;
     lock.unlock();
@@ -440,6 +446,10 @@ class ExplorationNode {
     const double dt = last_control_ > 0.0 ? now - last_control_ : 0.0;
     last_control_ = now;
     std::lock_guard<std::mutex> lock(mutex_);
+    if (paused_) {
+      cmd_pub_.publish(geometry_msgs::Twist());
+      return;
+    }
     const Command c = motion_->update(pose, now, dt, bumper_);
     geometry_msgs::Twist t;
     t.linear.x = c.v;
@@ -502,6 +512,18 @@ class ExplorationNode {
     last_local_stamp_ = msg->header.stamp;
     last_local_msg_ = *msg;
   }
+  /// ~pause (SetBool): true stops the robot and the coordinator's decisions where they are (the
+  /// maps keep their state); false goes on. Paused sim time counts towards the time limits.
+  bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    res.success = paused_ != req.data;
+    res.message = req.data ? (res.success ? "exploration paused" : "already paused")
+                           : (res.success ? "exploration resumed" : "not paused");
+    paused_ = req.data;
+    ROS_INFO("exploration: %s", res.message.c_str());
+    return true;
+  }
+
   void onBumper(const std_msgs::Bool::ConstPtr& msg) {
     std::lock_guard<std::mutex> lock(mutex_);
     bumper_ = msg->data;
@@ -521,7 +543,7 @@ class ExplorationNode {
     s.travel_distance = coordinator_->stats().travel;
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
     s.real_time_factor = (stamp - sim_start_).toSec() / std::max(wall, 1e-3);
-    s.state = coordinator_->state();
+    s.state = paused_ ? "paused: " + coordinator_->state() : coordinator_->state();
     status_pub_.publish(s);
   }
 
@@ -553,6 +575,8 @@ class ExplorationNode {
   double control_rate_ = 20.0, progress_period_ = 30.0;
   bool shutdown_when_done_ = true;
   bool serve_missions_ = false;
+  std::atomic<bool> paused_{false};  // ~pause: no decisions, no motion
+  ros::ServiceServer pause_srv_;
   bool freeze_map_for_missions_ = true;  // pomdp_topo's mapping off from the first mission on
   bool map_frozen_ = false;
   double relocation_sigma_xy_ = 0.05, relocation_sigma_theta_ = 0.05;
