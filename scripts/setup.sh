@@ -19,7 +19,7 @@ DEB_PACKAGES=(
   python3-tf2-msgs python3-rosgraph-msgs python3-std-srvs python3-actionlib-msgs
   libbullet-dev liburdfdom-dev libopencv-dev libopencv-contrib-dev libeigen3-dev libyaml-cpp-dev
   libgtest-dev libbenchmark-dev clang-14 libclang-rt-14-dev
-  rviz xvfb x11-apps imagemagick python3-yaml python3-numpy python3-matplotlib python3-scipy python3-opencv
+  rviz librviz-dev xvfb x11-apps xdotool imagemagick python3-yaml python3-numpy python3-matplotlib python3-scipy python3-opencv
   python3-setuptools python3-catkin-pkg
 )
 
