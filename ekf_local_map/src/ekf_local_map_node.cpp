@@ -73,6 +73,9 @@ class LocalMapNode {
     pose_pub_ = lockstep_.advertise<geometry_msgs::PoseWithCovarianceStamped>(nh_, "local_pose", 10);
     map_pub_ = lockstep_.advertise<hybrid_slam_msgs::LocalMap>(nh_, "local_map", 2, true);
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("local_map_markers", 2);
+    // The same estimate as map -> odom, as a topic: for nodes that cannot take it from tf (a replay,
+    // where publish_tf is off because a recorded bag may hold a map -> odom of its own).
+    map_odom_pub_ = nh_.advertise<geometry_msgs::TransformStamped>("map_odom", 10);
     places_markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("places_markers", 1, true);
     relocation_pub_ = lockstep_.advertise<hybrid_slam_msgs::RelocationResult>(nh_, "relocation", 10);
     // In lockstep, the features of a step wait for laser_features' acknowledgement of it.
@@ -193,12 +196,14 @@ class LocalMapNode {
   /// held, so the robot's pose in `map` is dead reckoning since it left the place. Before the first
   /// place, map is the odometry frame at the start.
   void sendMapToOdom(const ros::Time& stamp) {
-    if (!publish_tf_) return;
     geometry_msgs::TransformStamped t;
-    t.header.stamp = stamp + ros::Duration(transform_tolerance_);
+    t.header.stamp = stamp;
     t.header.frame_id = map_frame_;
     t.child_frame_id = odom_frame_;
     t.transform = toTransform(map_odom_);
+    map_odom_pub_.publish(t);
+    if (!publish_tf_) return;
+    t.header.stamp = stamp + ros::Duration(transform_tolerance_);
     tf_.sendTransform(t);
   }
 
@@ -242,14 +247,15 @@ class LocalMapNode {
     Pose2D display = toPose(req.display_pose);
     if (!req.use_display_pose) {
       // The robot's pose in `map`: this node's own estimate when it publishes map -> odom, else
-      // whatever localizer does (a replayed bag's), else odometry.
+      // whatever localizer does (a replayed bag's), else this node's estimate all the same (a bag
+      // with no map frame), else nothing.
       std::string why;
       Pose2D odom;
-      if (publish_tf_ && lookup(odom_frame_, base_frame_, ros::Time(0), &odom, &why))
+      const bool have_odom = lookup(odom_frame_, base_frame_, ros::Time(0), &odom, &why);
+      if (publish_tf_ && have_odom)
         display = laser_features::compose(map_odom_, odom);
-      else if (!lookup(map_frame_, base_frame_, ros::Time(0), &display, &why) &&
-               !lookup(odom_frame_, base_frame_, ros::Time(0), &display, &why))
-        display = Pose2D{};
+      else if (!lookup(map_frame_, base_frame_, ros::Time(0), &display, &why))
+        display = have_odom ? laser_features::compose(map_odom_, odom) : Pose2D{};
     }
     res.place_id = static_cast<int>(maps_.createPlace(display));
     // The origin is the robot's pose at its latest odometry: predictions continue from there.
@@ -361,7 +367,7 @@ class LocalMapNode {
   tf2_ros::StaticTransformBroadcaster static_tf_;
   lockstep::Participant lockstep_{nh_, {"laser_features"}};
   lockstep::Publisher pose_pub_, map_pub_, relocation_pub_;
-  ros::Publisher markers_pub_, places_markers_pub_;
+  ros::Publisher map_odom_pub_, markers_pub_, places_markers_pub_;
   ros::Subscriber features_sub_;
   std::vector<ros::ServiceServer> services_;
 };
