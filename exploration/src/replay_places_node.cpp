@@ -7,11 +7,13 @@
 // down (it is the launch's required node).
 // With ~bag_check/mode features_only (the bag has no odometry) it builds nothing and only waits
 // for the bag's end.
+#include <geometry_msgs/TransformStamped.h>
 #include <hybrid_slam_msgs/AddDoor.h>
 #include <hybrid_slam_msgs/CreatePlace.h>
 #include <hybrid_slam_msgs/ExplorationStatus.h>
 #include <hybrid_slam_msgs/LaserFeatures.h>
 #include <hybrid_slam_msgs/LocalMap.h>
+#include <hybrid_slam_msgs/OpeningFeature.h>
 #include <hybrid_slam_msgs/RelocateAtDoor.h>
 #include <hybrid_slam_msgs/RelocationResult.h>
 #include <hybrid_slam_msgs/SaveMap.h>
@@ -30,6 +32,7 @@
 #include <set>
 
 #include "laser_features/tf_lookup.h"
+#include "exploration/door_crossings.h"
 #include "exploration/passive_places.h"
 #include "ros_conversions.h"
 
@@ -40,6 +43,7 @@ struct RosParamReader {
   const ros::NodeHandle& nh;
   void operator()(const char* name, double* value) const { nh.param(name, *value, *value); }
   void operator()(const char* name, int* value) const { nh.param(name, *value, *value); }
+  void operator()(const char* name, bool* value) const { nh.param(name, *value, *value); }
 };
 
 ScanPlace toScanPlace(uint8_t type) {
@@ -55,6 +59,9 @@ class ReplayPlacesNode {
     std::string why;
     if (!PassivePlaces::validate(params_, &why)) throw std::runtime_error("bad parameter: " + why);
     places_ = PassivePlaces(params_);
+    visitDoorCrossingsParams(&crossing_params_, RosParamReader{pnh});
+    if (!DoorCrossings::validate(crossing_params_, &why)) throw std::runtime_error("bad parameter: " + why);
+    crossings_ = DoorCrossings(crossing_params_);
     pnh.param<std::string>("topo_node", topo_node_, "pomdp_topo");
     pnh.param<std::string>("local_map_node", local_map_node_, "ekf_local_map");
     pnh.param<std::string>("odom_frame", odom_frame_, "odom");
@@ -81,6 +88,7 @@ class ReplayPlacesNode {
       heading_sub_ = nh_.subscribe("topo_heading", 20, &ReplayPlacesNode::onHeading, this);
       local_map_sub_ = nh_.subscribe("local_map", 5, &ReplayPlacesNode::onLocalMap, this);
       relocation_sub_ = nh_.subscribe("relocation", 10, &ReplayPlacesNode::onRelocation, this);
+      map_odom_sub_ = nh_.subscribe("map_odom", 10, &ReplayPlacesNode::onMapOdom, this);
     } else {
       ROS_WARN("replay_places: the bag has no odometry (no odom topic, no tf %s -> %s): only laser_features runs; "
                "no topological map and no places are built", odom_frame_.c_str(), base_frame_.c_str());
@@ -114,11 +122,32 @@ class ReplayPlacesNode {
 
   void onHeading(const std_msgs::Float64& msg) { heading_map_ = msg.data; }
 
+  // ekf_local_map's map -> odom (its topic: publish_tf is off in a replay).
+  void onMapOdom(const geometry_msgs::TransformStamped& msg) {
+    map_odom_ = Pose2D{msg.transform.translation.x, msg.transform.translation.y, tf2::getYaw(msg.transform.rotation)};
+  }
+
   void onLocalMap(const hybrid_slam_msgs::LocalMap& msg) { lines_per_place_[msg.place_id] = msg.lines.size(); }
 
   void onRelocation(const hybrid_slam_msgs::RelocationResult& msg) {
     if (msg.success) ++relocations_ok_;
     else ++relocations_failed_;
+    if (msg.place_id != awaiting_verdict_) return;
+    if (!msg.success && places_.travel() - reentry_travel_ < params_.relocation_distance) return;  // not yet
+    awaiting_verdict_ = -1;
+    if (msg.success || finished_) return;
+    // The place behind this door did not match the scans (a look-alike door, odometry's drift): the
+    // robot is in a room not mapped yet.
+    Pose2D odom;
+    if (!lookupOdom(msg.header.stamp, &odom)) return;
+    const PlaceAction a = places_.reentryRefused(odom);
+    if (a.kind != PlaceAction::Enter) return;
+    ROS_WARN("replay_places: place %d not recognized behind door %d (%s): a new place instead", msg.place_id,
+             a.door_id, msg.verdict.c_str());
+    ++reentries_refused_;
+    --reentries_;
+    leave();
+    enter(a);
   }
 
   void onFeatures(const hybrid_slam_msgs::LaserFeatures& msg) {
@@ -130,7 +159,15 @@ class ReplayPlacesNode {
     o.confidence = msg.place_type_confidence;
     o.door_node = door_node_;
     o.heading_map = heading_map_;
+    o.map_odom = map_odom_;
+    std::vector<DoorSighting> doors;
+    for (const auto& op : msg.openings) {
+      if (op.kind == hybrid_slam_msgs::OpeningFeature::DOOR) doors.push_back({op.left.x, op.left.y, op.right.x, op.right.y});
+    }
+    o.crossing = crossings_.update(o.odom, doors);
+    if (o.crossing) ++crossings_seen_;
     const PlaceAction a = places_.update(o);
+    if (a.kind == PlaceAction::Enter && a.leave_first) leave();
     if (a.kind == PlaceAction::Enter) enter(a);
     if (a.kind == PlaceAction::Leave) leave();
     if (places_.inPlace() != last_in_place_ || (msg.header.stamp - last_status_).toSec() >= 1.0)
@@ -158,9 +195,12 @@ class ReplayPlacesNode {
 
   void enter(const PlaceAction& a) {
     if (a.known_place >= 0 && relocate(a)) {
-      places_.entered(a.known_place, a.door_node);
+      places_.entered(a.known_place, a.door_id);
+      awaiting_verdict_ = a.known_place;
+      reentry_travel_ = places_.travel();
       ++reentries_;
-      ROS_INFO("replay_places: back in place %d through door node %d", a.known_place, a.door_node);
+      ROS_INFO("replay_places: back in place %d through door %d%s", a.known_place, a.door_id,
+               a.door_node >= 0 ? " (a door node)" : " (crossed by the path)");
       return;
     }
     hybrid_slam_msgs::CreatePlace create;
@@ -170,38 +210,49 @@ class ReplayPlacesNode {
       return;
     }
     const int id = create.response.place_id;
-    places_.entered(id, a.door_node);
+    places_.entered(id, a.door_id);
     ++created_;
     ROS_INFO("replay_places: room entered: place %d created%s", id,
-             a.door_node >= 0 ? (" behind door node " + std::to_string(a.door_node)).c_str() : " (no door node passed)");
+             a.door_node >= 0 ? (" behind door node " + std::to_string(a.door_node)).c_str()
+                              : a.door_id >= 0 ? (" behind crossed door " + std::to_string(a.door_id)).c_str()
+                                               : " (no door node passed)");
+    if (a.door_id >= 0) storeDoor(a, id);
     if (a.door_node >= 0) linkDoor(a, id);
   }
 
   bool relocate(const PlaceAction& a) {
     hybrid_slam_msgs::RelocateAtDoor srv;
-    srv.request = relocateRequest(a.known_place, a.door_node, a.robot_from_door, params_.relocation_sigma_xy,
+    srv.request = relocateRequest(a.known_place, a.door_id, a.robot_from_door, params_.relocation_sigma_xy,
                                   params_.relocation_sigma_theta);
     if (call(local_map_node_ + "/relocate_at_door", &srv) && srv.response.success) return true;
     ROS_WARN("replay_places: cannot re-enter place %d at door %d (%s): a new place instead", a.known_place,
-             a.door_node, srv.response.message.c_str());
+             a.door_id, srv.response.message.c_str());
     return false;
   }
 
-  // The door in the new place (its origin is the robot now) and the door node's link to it.
-  void linkDoor(const PlaceAction& a, int place_id) {
+  // The door in the new place (its origin is the robot now).
+  void storeDoor(const PlaceAction& a, int place_id) {
     hybrid_slam_msgs::AddDoor door;
-    door.request.door_id = a.door_node;
+    door.request.door_id = a.door_id;
     door.request.door_in_robot.x = a.door_in_robot.x;
     door.request.door_in_robot.y = a.door_in_robot.y;
     door.request.door_in_robot.theta = a.door_in_robot.theta;
     if (call(local_map_node_ + "/add_door", &door) && !door.response.success)
       ROS_WARN("replay_places: door not stored in place %d: %s", place_id, door.response.message.c_str());
+    else
+      ++doors_stored_;
+  }
+
+  // The door node's link to the place.
+  void linkDoor(const PlaceAction& a, int place_id) {
     hybrid_slam_msgs::UpdateOpening link;
     link.request.node = a.door_node;
     link.request.bearing = a.door_bearing_map;
     link.request.explored = true;
     link.request.place_id = place_id;
-    link.request.door_in_place = door.request.door_in_robot;
+    link.request.door_in_place.x = a.door_in_robot.x;
+    link.request.door_in_place.y = a.door_in_robot.y;
+    link.request.door_in_place.theta = a.door_in_robot.theta;
     if (!call(topo_node_ + "/update_opening", &link)) return;  // call() said why
     if (!link.response.success) {
       ROS_WARN("replay_places: door node %d not linked to place %d: %s", a.door_node, place_id,
@@ -279,6 +330,7 @@ class ReplayPlacesNode {
     f << "{\"mapping\": " << (mapping_ ? "true" : "false") << ", \"places\": " << created_
       << ", \"reentries\": " << reentries_ << ", \"relocations_ok\": " << relocations_ok_
       << ", \"relocations_failed\": " << relocations_failed_ << ", \"doors_linked\": " << doors_linked_
+      << ", \"reentries_refused\": " << reentries_refused_ << ", \"doors_stored\": " << doors_stored_ << ", \"door_crossings\": " << crossings_seen_
       << ", \"nodes\": " << nodes_ << ", \"edges\": " << edges_ << ", \"lines_per_place\": {";
     bool first = true;
     for (const auto& [id, n] : lines_per_place_) {
@@ -293,20 +345,24 @@ class ReplayPlacesNode {
   ros::NodeHandle nh_;
   PassivePlacesParams params_;
   PassivePlaces places_;
+  DoorCrossingsParams crossing_params_;
+  DoorCrossings crossings_;
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   std::string topo_node_, local_map_node_, odom_frame_, base_frame_, summary_file_;
   bool mapping_ = true, finished_ = false, last_in_place_ = false;
   double bag_end_time_ = 0.0, bag_duration_ = 0.0, end_tolerance_ = 1.0, end_grace_ = 2.0, end_idle_timeout_ = 10.0, service_timeout_ = 5.0;
   ros::Publisher status_pub_;
-  ros::Subscriber features_sub_, map_sub_, belief_sub_, heading_sub_, local_map_sub_, relocation_sub_;
+  ros::Subscriber features_sub_, map_sub_, belief_sub_, heading_sub_, local_map_sub_, relocation_sub_, map_odom_sub_;
   ros::WallTimer end_timer_;
   ros::WallTime wall_start_, last_clock_wall_, end_seen_;
   ros::Time last_clock_, last_status_;
   std::set<int> door_nodes_;
   std::map<int, size_t> lines_per_place_;
-  int door_node_ = -1, created_ = 0, reentries_ = 0, doors_linked_ = 0, relocations_ok_ = 0, relocations_failed_ = 0;
+  int door_node_ = -1, created_ = 0, reentries_ = 0, doors_linked_ = 0, doors_stored_ = 0, crossings_seen_ = 0, reentries_refused_ = 0, awaiting_verdict_ = -1, relocations_ok_ = 0, relocations_failed_ = 0;
   double heading_map_ = 0.0;
+  Pose2D map_odom_;
+  double reentry_travel_ = 0.0;  // m, places_.travel() at the last re-entry
   size_t nodes_ = 0, edges_ = 0, features_ = 0;
 };
 

@@ -221,6 +221,12 @@ TEST(PassivePlacesConfig, YamlDefaultsEqualTheCodeDefaults) {
     using T = std::remove_pointer_t<decltype(value)>;
     EXPECT_NEAR(static_cast<double>(node.as<T>()), static_cast<double>(*value), 1e-12) << name;
   });
+  DoorCrossingsParams crossing;
+  visitDoorCrossingsParams(&crossing, [&](const char* name, double* value) {
+    visited.insert(name);
+    ASSERT_TRUE(root[name].IsDefined()) << name << " is not documented in " << REPLAY_PLACES_CONFIG_FILE;
+    EXPECT_NEAR(root[name].as<double>(), *value, 1e-12) << name;
+  });
   // The node's own parameters (replay_places_node.cpp, same defaults).
   const std::set<std::string> node_keys = {"topo_node", "local_map_node", "odom_frame", "base_frame",
                                            "mapping", "bag_end_time", "end_tolerance", "end_grace", "end_idle_timeout",
