@@ -7,6 +7,8 @@ Params: ~world_file, ~room (region name), ~inside_margin (m), ~max_sim_time (s),
 ~max_final_error (m), ~report (optional path: a Markdown row is appended).
 """
 import math
+import os
+import sys
 import time
 import unittest
 
@@ -18,10 +20,9 @@ from nav_msgs.msg import Odometry
 from std_srvs.srv import Trigger
 from hybrid_slam_msgs.srv import CreatePlace
 from lockstep import Participant
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'scripts'))
+from world_geometry import yaw_of  # noqa: E402
 
-
-def yaw_of(q):
-    return math.atan2(2 * (q.w * q.z + q.x * q.y), 1 - 2 * (q.y * q.y + q.z * q.z))
 
 
 def pose_of(msg_pose):

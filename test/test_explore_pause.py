@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """rostest: the exploration's ~pause service (see the .test)."""
 import math
+import sys
 import os
 import time
 import unittest
@@ -11,13 +12,12 @@ import rostest
 from hybrid_slam_msgs.msg import ExplorationStatus
 from nav_msgs.msg import Odometry
 from std_srvs.srv import SetBool
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'scripts'))
+from world_geometry import yaw_of  # noqa: E402
 
 PAUSE_AT = 20.0  # s of sim time: the robot is driving down the first hallway
 STILL = 10.0  # s of sim time it must stand still once stopped
 
-
-def yaw_of(q):
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
 class ExplorePause(unittest.TestCase):
