@@ -106,6 +106,16 @@ PlaceObservation crossingAt(double x, double y, double theta, double door_x, dou
   return o;
 }
 
+// From the hallway through the door at (1, 0.8) (facing +y) into `place`, and back out.
+void visitRoomAtDoor(PassivePlaces* places, int place) {
+  const int door = PassivePlacesParams().path_door_id_base;
+  places->update(scanAt(0.0, 0.0, 0.0, ScanPlace::Hallway));
+  places->update(crossingAt(1.0, 1.5, M_PI / 2, 1.0, 0.8, M_PI / 2));
+  places->entered(place, door);
+  places->update(crossingAt(1.0, 0.2, -M_PI / 2, 1.0, 0.8, -M_PI / 2, ScanPlace::Hallway));
+  places->left();
+}
+
 TEST(PassivePlacesCrossings, ADoorCrossingEntersAtOnceWithTheDoorWhereItWasCrossed) {
   PassivePlaces places;
   places.update(scanAt(0.0, 0.0, 0.0, ScanPlace::Hallway));
@@ -147,11 +157,7 @@ TEST(PassivePlacesCrossings, ACrossingFromOnePlaceIntoAnotherLeavesFirst) {
 TEST(PassivePlacesCrossings, ACrossingAtAKnownPlacesDoorReentersIt) {
   PassivePlaces places;
   const int door = PassivePlacesParams().path_door_id_base;
-  places.update(scanAt(0.0, 0.0, 0.0, ScanPlace::Hallway));
-  places.update(crossingAt(1.0, 1.5, M_PI / 2, 1.0, 0.8, M_PI / 2));
-  places.entered(4, door);
-  places.update(crossingAt(1.0, 0.2, -M_PI / 2, 1.0, 0.8, -M_PI / 2, ScanPlace::Hallway));
-  places.left();
+  visitRoomAtDoor(&places, 4);
   places.update(scanAt(5.0, 0.0, 0.0, ScanPlace::Hallway));
   places.update(scanAt(1.5, 0.0, M_PI, ScanPlace::Hallway));
   // The same door 0.4 m off in odometry (drift), entered the same way: place 4 again.
@@ -172,11 +178,7 @@ TEST(PassivePlacesCrossings, ACrossingAtAKnownPlacesDoorReentersIt) {
 TEST(PassivePlacesCrossings, AKnownDoorIsFoundInMapNotInOdometry) {
   PassivePlaces places;
   const int door = PassivePlacesParams().path_door_id_base;
-  places.update(scanAt(0.0, 0.0, 0.0, ScanPlace::Hallway));
-  places.update(crossingAt(1.0, 1.5, M_PI / 2, 1.0, 0.8, M_PI / 2));
-  places.entered(2, door);
-  places.update(crossingAt(1.0, 0.2, -M_PI / 2, 1.0, 0.8, -M_PI / 2, ScanPlace::Hallway));
-  places.left();
+  visitRoomAtDoor(&places, 2);
   // Odometry has drifted 3 m along x since; ekf_local_map's map -> odom takes it back.
   PlaceObservation o = crossingAt(4.0, 1.5, M_PI / 2, 4.0, 0.8, M_PI / 2);
   o.map_odom = Pose2D{-3.0, 0.0, 0.0};
