@@ -308,6 +308,14 @@ class LocalMapNode {
                   maps_.relocateAtDoor(static_cast<uint32_t>(req.place_id), static_cast<uint32_t>(req.door_id),
                                        toPose(req.robot_from_door), cov);
     res.message = res.success ? "relocating; the verdict follows on 'relocation'" : "unknown place or door";
+    // The pose holds at req.stamp: predictions go on from the odometry then (a replay's scans run ahead
+    // of its service calls; a robot turning into a door turns on meanwhile).
+    Pose2D odom;
+    std::string why;
+    if (res.success && !req.stamp.isZero() && lookup(odom_frame_, base_frame_, req.stamp, &odom, &why)) {
+      last_odom_ = odom;
+      last_stamp_ = req.stamp;
+    }
     return true;
   }
 

@@ -24,6 +24,12 @@ double side(double ox, double oy, double qx, double qy, double px, double py) {
 }
 }  // namespace
 
+DoorSighting inRobotFrame(const Pose2D& sensor, const DoorSighting& d) {
+  const Eigen::Vector2d l = laser_features::transformPoint(sensor, Eigen::Vector2d(d.left_x, d.left_y));
+  const Eigen::Vector2d r = laser_features::transformPoint(sensor, Eigen::Vector2d(d.right_x, d.right_y));
+  return {l.x(), l.y(), r.x(), r.y()};
+}
+
 std::optional<DoorCrossing> DoorCrossings::update(const Pose2D& odom, const std::vector<DoorSighting>& doors) {
   if (!std::isfinite(odom.x) || !std::isfinite(odom.y) || !std::isfinite(odom.theta)) return std::nullopt;
   std::optional<DoorCrossing> out;

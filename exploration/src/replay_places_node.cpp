@@ -142,6 +142,7 @@ class ReplayPlacesNode {
     if (!lookupOdom(msg.header.stamp, &odom)) return;
     const PlaceAction a = places_.reentryRefused(odom);
     if (a.kind != PlaceAction::Enter) return;
+    decision_stamp_ = msg.header.stamp;
     ROS_WARN("replay_places: place %d not recognized behind door %d (%s): a new place instead", msg.place_id,
              a.door_id, msg.verdict.c_str());
     ++reentries_refused_;
@@ -160,13 +161,23 @@ class ReplayPlacesNode {
     o.door_node = door_node_;
     o.heading_map = heading_map_;
     o.map_odom = map_odom_;
+    // The features are in the scan's frame: the doors go to the robot's (a scanner off its centre).
+    Pose2D sensor;
+    std::string why;
+    if (!laser_features::lookupPose2D(tf_buffer_, base_frame_, msg.header.frame_id, msg.header.stamp, 0.1, &sensor, &why)) {
+      ROS_WARN_THROTTLE(10.0, "replay_places: no transform %s -> %s: %s", base_frame_.c_str(), msg.header.frame_id.c_str(),
+                        why.c_str());
+      return;
+    }
     std::vector<DoorSighting> doors;
     for (const auto& op : msg.openings) {
-      if (op.kind == hybrid_slam_msgs::OpeningFeature::DOOR) doors.push_back({op.left.x, op.left.y, op.right.x, op.right.y});
+      if (op.kind != hybrid_slam_msgs::OpeningFeature::DOOR) continue;
+      doors.push_back(inRobotFrame(sensor, {op.left.x, op.left.y, op.right.x, op.right.y}));
     }
     o.crossing = crossings_.update(o.odom, doors);
     if (o.crossing) ++crossings_seen_;
     const PlaceAction a = places_.update(o);
+    decision_stamp_ = msg.header.stamp;
     if (a.kind == PlaceAction::Enter && a.leave_first) leave();
     if (a.kind == PlaceAction::Enter) enter(a);
     if (a.kind == PlaceAction::Leave) leave();
@@ -216,14 +227,23 @@ class ReplayPlacesNode {
              a.door_node >= 0 ? (" behind door node " + std::to_string(a.door_node)).c_str()
                               : a.door_id >= 0 ? (" behind crossed door " + std::to_string(a.door_id)).c_str()
                                                : " (no door node passed)");
-    if (a.door_id >= 0) storeDoor(a, id);
-    if (a.door_node >= 0) linkDoor(a, id);
+    // The place's origin is the robot at its latest odometry (origin_stamp), not at the scan that
+    // decided: a robot turning into the door has turned on meanwhile. The door goes in that frame.
+    PlaceAction at_origin = a;
+    Pose2D origin;
+    if (lookupOdom(create.response.origin_stamp, &origin)) {
+      at_origin.door_in_robot = laser_features::compose(laser_features::inverse(origin), a.door_odom);
+      at_origin.door_in_robot.theta = laser_features::normalizeAngle(at_origin.door_in_robot.theta);
+    }
+    if (a.door_id >= 0) storeDoor(at_origin, id);
+    if (a.door_node >= 0) linkDoor(at_origin, id);
   }
 
   bool relocate(const PlaceAction& a) {
     hybrid_slam_msgs::RelocateAtDoor srv;
     srv.request = relocateRequest(a.known_place, a.door_id, a.robot_from_door, params_.relocation_sigma_xy,
                                   params_.relocation_sigma_theta);
+    srv.request.stamp = decision_stamp_;
     if (call(local_map_node_ + "/relocate_at_door", &srv) && srv.response.success) return true;
     ROS_WARN("replay_places: cannot re-enter place %d at door %d (%s): a new place instead", a.known_place,
              a.door_id, srv.response.message.c_str());
@@ -363,6 +383,7 @@ class ReplayPlacesNode {
   double heading_map_ = 0.0;
   Pose2D map_odom_;
   double reentry_travel_ = 0.0;  // m, places_.travel() at the last re-entry
+  ros::Time decision_stamp_;     // the stamp of the scan (or verdict) the current action was decided at
   size_t nodes_ = 0, edges_ = 0, features_ = 0;
 };
 

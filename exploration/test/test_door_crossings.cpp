@@ -71,6 +71,15 @@ TEST(DoorCrossings, CrossingBackNeedsTheDoorSeenAgainAndPointsBack) {
   EXPECT_NEAR(std::abs(x->door_odom.theta), M_PI, 1e-9);
 }
 
+TEST(DoorCrossings, ASightingMovesFromTheSensorsFrameToTheRobots) {
+  // A scanner 0.2 m ahead of the robot's centre, turned 90 deg to the left.
+  const DoorSighting d = inRobotFrame({0.2, 0.0, M_PI / 2}, {2.0, 0.45, 2.0, -0.45});
+  EXPECT_NEAR(d.left_x, -0.25, 1e-9);
+  EXPECT_NEAR(d.left_y, 2.0, 1e-9);
+  EXPECT_NEAR(d.right_x, 0.65, 1e-9);
+  EXPECT_NEAR(d.right_y, 2.0, 1e-9);
+}
+
 TEST(DoorCrossings, BadParametersAndPosesAreRefused) {
   std::string why;
   EXPECT_TRUE(DoorCrossings::validate(DoorCrossingsParams(), &why)) << why;

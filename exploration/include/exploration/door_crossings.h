@@ -40,6 +40,10 @@ struct DoorSighting {
   double right_x = 0.0, right_y = 0.0;  // m, the other
 };
 
+/// A sighting in the sensor's frame carried into the robot's (`sensor`: the sensor's pose on the robot).
+DoorSighting inRobotFrame(const Pose2D& sensor, const DoorSighting& d);
+
+
 /// A door the path went through: its centre in the odometry frame, theta the direction the robot
 /// crossed it in (into the side it went to), and its width (mean of the sightings crossed).
 struct DoorCrossing {
