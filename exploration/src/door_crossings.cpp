@@ -17,13 +17,6 @@ bool DoorCrossings::validate(const Params& p, std::string* why) {
   return true;
 }
 
-namespace {
-// z of (q - o) x (p - o): which side of the line o -> q the point p lies on.
-double side(double ox, double oy, double qx, double qy, double px, double py) {
-  return (qx - ox) * (py - oy) - (qy - oy) * (px - ox);
-}
-}  // namespace
-
 DoorSighting inRobotFrame(const Pose2D& sensor, const DoorSighting& d) {
   const Eigen::Vector2d l = laser_features::transformPoint(sensor, Eigen::Vector2d(d.left_x, d.left_y));
   const Eigen::Vector2d r = laser_features::transformPoint(sensor, Eigen::Vector2d(d.right_x, d.right_y));
@@ -34,43 +27,36 @@ std::optional<DoorCrossing> DoorCrossings::update(const Pose2D& odom, const std:
   if (!std::isfinite(odom.x) || !std::isfinite(odom.y) || !std::isfinite(odom.theta)) return std::nullopt;
   std::optional<DoorCrossing> out;
   if (have_pose_) {
-    const double ax = last_.x, ay = last_.y, bx = odom.x, by = odom.y;
-    travel_ += std::hypot(bx - ax, by - ay);
-    double cx = 0.0, cy = 0.0, width = 0.0, nx = 0.0, ny = 0.0;
+    const Eigen::Vector2d a(last_.x, last_.y), b(odom.x, odom.y), step = b - a;
+    travel_ += step.norm();
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero(), normal = Eigen::Vector2d::Zero();
+    double width = 0.0;
     int n = 0;
-    std::vector<Seen> kept;
-    kept.reserve(seen_.size());
-    for (const Seen& s : seen_) {
-      const double w = std::hypot(s.rx - s.lx, s.ry - s.ly);
-      const double da = side(s.lx, s.ly, s.rx, s.ry, ax, ay), db = side(s.lx, s.ly, s.rx, s.ry, bx, by);
-      bool crossed = false;
+    // Sightings of the crossed door are used up; others are kept for `memory` metres (in place: no
+    // allocation per scan).
+    seen_.erase(std::remove_if(seen_.begin(), seen_.end(), [&](const Seen& s) {
+      const Eigen::Vector2d edge = s.right - s.left;
+      const double w = edge.norm();
+      const double da = laser_features::cross2(edge, a - s.left), db = laser_features::cross2(edge, b - s.left);
       if (w > 0.0 && da * db < 0.0) {
-        // Where the step meets the door's line, as a fraction along the door from one edge.
-        const double f = da / (da - db);
-        const double ix = ax + f * (bx - ax), iy = ay + f * (by - ay);
-        const double u = ((ix - s.lx) * (s.rx - s.lx) + (iy - s.ly) * (s.ry - s.ly)) / (w * w);
-        const double margin = params_.edge_margin / w;
-        crossed = u >= -margin && u <= 1.0 + margin;
-        if (crossed) {
-          cx += 0.5 * (s.lx + s.rx);
-          cy += 0.5 * (s.ly + s.ry);
+        // Where the step meets the door's line, as a fraction along the door from its left edge.
+        const Eigen::Vector2d meet = a + da / (da - db) * step;
+        const double u = (meet - s.left).dot(edge) / (w * w), margin = params_.edge_margin / w;
+        if (u >= -margin && u <= 1.0 + margin) {
+          centre += 0.5 * (s.left + s.right);
           width += w;
           // The door's normal, turned to point the way the robot went.
-          double ux = -(s.ry - s.ly) / w, uy = (s.rx - s.lx) / w;
-          if (ux * (bx - ax) + uy * (by - ay) < 0.0) ux = -ux, uy = -uy;
-          nx += ux;
-          ny += uy;
+          const Eigen::Vector2d across(-edge.y() / w, edge.x() / w);
+          normal += across.dot(step) < 0.0 ? -across : across;
           ++n;
+          return true;
         }
       }
-      if (!crossed && travel_ - s.travel <= params_.memory) kept.push_back(s);
-    }
-    seen_.swap(kept);
+      return travel_ - s.travel > params_.memory;
+    }), seen_.end());
     if (n > 0) {
       DoorCrossing c;
-      c.door_odom.x = cx / n;
-      c.door_odom.y = cy / n;
-      c.door_odom.theta = std::atan2(ny, nx);
+      c.door_odom = Pose2D{centre.x() / n, centre.y() / n, std::atan2(normal.y(), normal.x())};
       c.width = width / n;
       c.sightings = n;
       out = c;
@@ -82,7 +68,7 @@ std::optional<DoorCrossing> DoorCrossings::update(const Pose2D& odom, const std:
     const Eigen::Vector2d l = laser_features::transformPoint(odom, Eigen::Vector2d(d.left_x, d.left_y));
     const Eigen::Vector2d r = laser_features::transformPoint(odom, Eigen::Vector2d(d.right_x, d.right_y));
     if (!l.allFinite() || !r.allFinite()) continue;
-    seen_.push_back({l.x(), l.y(), r.x(), r.y(), travel_});
+    seen_.push_back({l, r, travel_});
   }
   return out;
 }

@@ -43,7 +43,6 @@ struct DoorSighting {
 /// A sighting in the sensor's frame carried into the robot's (`sensor`: the sensor's pose on the robot).
 DoorSighting inRobotFrame(const Pose2D& sensor, const DoorSighting& d);
 
-
 /// A door the path went through: its centre in the odometry frame, theta the direction the robot
 /// crossed it in (into the side it went to), and its width (mean of the sightings crossed).
 struct DoorCrossing {
@@ -67,8 +66,8 @@ class DoorCrossings {
 
  private:
   struct Seen {
-    double lx, ly, rx, ry;  // m, edges in the odometry frame
-    double travel;          // m, travel when seen
+    Eigen::Vector2d left, right;  // m, edges in the odometry frame
+    double travel;                // m, travel when seen
   };
   Params params_;
   bool have_pose_ = false;
