@@ -16,13 +16,12 @@ void DoorEntry::observe(const TopoView& topo, double travel) {
   }
 }
 
-void DoorEntry::leftBy(const DoorTrack& door, double travel) {
-  left_doors_.erase(std::remove_if(left_doors_.begin(), left_doors_.end(),
-                                   [&](const std::pair<DoorTrack, double>& left) {
-                                     return travel - left.second > kLeftDoorsTravel;
-                                   }),
-                    left_doors_.end());
+void DoorEntry::leftBy(const DoorTrack& door, const std::vector<DoorTrack>& others, double travel) {
+  const auto old = [&](const std::pair<DoorTrack, double>& left) { return travel - left.second > kLeftDoorsTravel; };
+  left_doors_.erase(std::remove_if(left_doors_.begin(), left_doors_.end(), old), left_doors_.end());
+  other_doors_.erase(std::remove_if(other_doors_.begin(), other_doors_.end(), old), other_doors_.end());
   left_doors_.emplace_back(door, travel);
+  for (const DoorTrack& o : others) other_doors_.emplace_back(o, travel);
 }
 
 bool DoorEntry::justLeft(const DoorTrack& door, double travel) const {
@@ -32,6 +31,17 @@ bool DoorEntry::justLeft(const DoorTrack& door, double travel) const {
     return travel - left.second <= kLeftDoorsTravel &&
            (door.centre_odom - left.first.centre_odom).norm() < 2.0 * doors_.same_distance &&
            std::abs(normalizeAngle(door.into_odom - left.first.into_odom)) < 0.5;
+  });
+}
+
+bool DoorEntry::otherDoorOfRoomLeft(const DoorTrack& door, double travel) const {
+  // Seen from inside the room (the EKF's place) and tracked from the hallway, one door lies well
+  // within half the span that tells two doors apart; within kLeftDoorsTravel the odometry has not
+  // drifted by it. Its direction into the room is the same seen from either side.
+  return std::any_of(other_doors_.begin(), other_doors_.end(), [&](const std::pair<DoorTrack, double>& other) {
+    return travel - other.second <= kLeftDoorsTravel &&
+           (door.centre_odom - other.first.centre_odom).norm() < 0.5 * HallwayDoors::kSameDoorSpan &&
+           std::abs(normalizeAngle(door.into_odom - other.first.into_odom)) < 0.5;
   });
 }
 

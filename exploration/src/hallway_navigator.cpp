@@ -164,6 +164,15 @@ bool HallwayNavigator::enterPassedDoor(const Perception& p, const TopoView& topo
   if (doors_.passed(p.odom, dir_robot, walls, &door)) {
     if (door_entry_.justLeft(door, at.travel)) {
       step->text = "door passed: the one just left";
+    } else if (!at.mission_door && door_entry_.otherDoorOfRoomLeft(door, at.travel)) {
+      // The room's other door is an explored way into it: recorded so, not entered as a new room.
+      Request rec;
+      rec.kind = Request::RecordOpening;
+      rec.bearing = follower_.topoBearing(door.into_odom, topo);
+      rec.width = door.width;
+      rec.explored = true;
+      d->requests.push_back(rec);
+      step->text = "door passed: another door of the room just left";
     } else if (const std::optional<EntryOpening> entry = mayEnter(topo, at, door)) {
       entering_ = *entry;
       door_ = door;
@@ -363,11 +372,12 @@ std::optional<EntryOpening> HallwayNavigator::enterAfterStop(const TopoView& top
   return entering_;
 }
 
-void HallwayNavigator::backFromRoom(const HallwayDirection& direction, double travel) {
+void HallwayNavigator::backFromRoom(const HallwayDirection& direction, const std::vector<DoorTrack>& other_doors,
+                                    double travel) {
   way_line_.reset();
   follower_.setDirection(direction);
   follower_.forgetGoal();
-  door_entry_.leftBy(door_, travel);
+  door_entry_.leftBy(door_, other_doors, travel);
   route_.backOnHallway(travel);
 }
 

@@ -8,6 +8,7 @@ namespace exploration {
 
 using laser_features::compose;
 using laser_features::inverse;
+using laser_features::kPi;
 using laser_features::normalizeAngle;
 using laser_features::Pose2D;
 using laser_features::transformPoint;
@@ -46,6 +47,7 @@ void RoomVisit::beginNewRoom(const Pose2D& robot_odom, const DoorTrack& door, do
   door_tracked_in_place_ = c;
   door_seen_sum_ = Eigen::Vector2d::Zero();
   door_seen_count_ = 0;
+  other_doors_.clear();
 }
 
 void RoomVisit::beginKnownRoom(const Perception& p, const Pose2D& hallway_stop_odom, double hallway_heading_odom,
@@ -57,6 +59,7 @@ void RoomVisit::beginKnownRoom(const Perception& p, const Pose2D& hallway_stop_o
   hallway_in_place_ = Eigen::Vector2d(stop.x, stop.y);
   exit_theta_place_ = normalizeAngle(p.room_pose.theta + hallway_heading_odom - p.odom.theta);
   place_origin_odom_ = compose(p.odom, inverse(p.room_pose));  // stands in for missing EKF poses (see inPlace())
+  other_doors_.clear();
   door_in_place_ = Pose2D{door.door_in_place[0], door.door_in_place[1], door.door_in_place[2]};
   explorer_.start(door_in_place_, door.width > 0.0 ? door.width : door_width);
 }
@@ -141,6 +144,8 @@ RoomVisit::Coverage RoomVisit::coverRoom(const Perception& q, double now, double
     const Eigen::Vector2d l = transformPoint(q.room_pose, o.left), r = transformPoint(q.room_pose, o.right);
     if ((0.5 * (l + r) - door).norm() < 0.8) continue;
     explorer_.blockOpening(l, r);
+    // The opening's normal points away from the sensor, which is inside the room.
+    seeOtherDoor(0.5 * (l + r), normalizeAngle(q.room_pose.theta + o.theta + kPi), o.width);
   }
   if (now - last_plan_ >= params_.replan_period || !goal_) {
     last_plan_ = now;
@@ -152,6 +157,33 @@ RoomVisit::Coverage RoomVisit::coverRoom(const Perception& q, double now, double
   if (goal_) goalInPlace(q, *goal_, std::nullopt, d);
   else d->stop = true;
   return Coverage::Covering;
+}
+
+void RoomVisit::seeOtherDoor(const Eigen::Vector2d& centre, double into, double width) {
+  // Sightings of one door lie within half the span the hallway's tracker tells two doors apart by.
+  const double same = 0.5 * HallwayDoors::kSameDoorSpan;
+  for (SeenDoor& s : other_doors_) {
+    if ((s.centre() - centre).norm() >= same) continue;
+    s.centre_sum += centre;
+    s.into_sum += unitVector(into);
+    s.width_sum += width;
+    ++s.count;
+    return;
+  }
+  other_doors_.push_back(SeenDoor{centre, unitVector(into), width, 1});
+}
+
+std::vector<DoorTrack> RoomVisit::otherDoorsOdom() const {
+  std::vector<DoorTrack> doors;
+  for (const SeenDoor& s : other_doors_) {
+    DoorTrack t;
+    t.centre_odom = transformPoint(place_origin_odom_, s.centre());
+    t.into_odom = normalizeAngle(place_origin_odom_.theta + std::atan2(s.into_sum.y(), s.into_sum.x()));
+    t.width = s.width_sum / s.count;
+    t.sightings = s.count;
+    doors.push_back(t);
+  }
+  return doors;
 }
 
 void RoomVisit::beginExit() {

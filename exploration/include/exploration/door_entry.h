@@ -1,7 +1,8 @@
 // Whether a door the robot has passed on the hallway is entered (Tomatis, Nourbakhsh & Siegwart
 // 2001, section 3.2: a door passed that is new, or known but not explored, while the belief is
 // confident), and as which opening of the topological map:
-//  - never a door the robot came out of a moment ago;
+//  - never a door the robot came out of a moment ago, nor another door of that room (seen from
+//    inside it): the room is one place, explored already;
 //  - on a new stretch (pomdp_topo's frontier) a door is new, unless the node pomdp_topo stands at
 //    has it already, explored;
 //  - on the known map, an unexplored opening of the node a trusted belief puts the robot at;
@@ -36,10 +37,14 @@ class DoorEntry {
 
   /// Each tick: the node pomdp_topo's frontier stands at, and the travel (m) since when.
   void observe(const TopoView& topo, double travel);
-  /// The robot came out of a room through `door` at `travel` (m).
-  void leftBy(const DoorTrack& door, double travel);
+  /// The robot came out of a room through `door` at `travel` (m); `others`: the room's other doors
+  /// as seen from inside it (RoomVisit::otherDoorsOdom).
+  void leftBy(const DoorTrack& door, const std::vector<DoorTrack>& others, double travel);
   /// `door` is one the robot came out of within the last kLeftDoorsTravel (10 m) of travel.
   bool justLeft(const DoorTrack& door, double travel) const;
+  /// `door` is another door of a room the robot came out of within the last kLeftDoorsTravel of
+  /// travel: within half HallwayDoors::kSameDoorSpan of one seen from inside, facing the same way.
+  bool otherDoorOfRoomLeft(const DoorTrack& door, double travel) const;
 
   /// The opening `door` is entered as, if it is entered. `bearing`: the door's bearing into the room
   /// as the topological map has it (map frame); `belief_trusted`: the belief is localized and
@@ -61,6 +66,7 @@ class DoorEntry {
   // none is entered again from just outside it (two doors facing the robot in turn at a hallway's
   // end would otherwise be entered again and again).
   std::vector<std::pair<DoorTrack, double>> left_doors_;
+  std::vector<std::pair<DoorTrack, double>> other_doors_;  // the other doors of the rooms left, and the travel then
   static constexpr double kLeftDoorsTravel = 10.0;  // m
   // The node pomdp_topo's frontier was last at, and the travel when it became so.
   int frontier_node_ = -1;

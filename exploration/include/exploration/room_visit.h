@@ -100,6 +100,10 @@ class RoomVisit {
 
   /// The door in the place: its centre and the direction into the room.
   const laser_features::Pose2D& doorInPlace() const { return door_in_place_; }
+  /// The room's other doors as seen from inside it while covering it (each the mean of its
+  /// sightings), in the odometry frame as the EKF last placed the place: centre, direction into the
+  /// room, width.
+  std::vector<DoorTrack> otherDoorsOdom() const;
   /// A goal `g` (and heading `theta`) in the place as an odometry goal for the robot of `q`.
   void goalInPlace(const Perception& q, const Eigen::Vector2d& g, std::optional<double> theta, Decision* d) const;
   /// A grid path in the room as seen so far (RoomExplorer::pathTo).
@@ -113,6 +117,8 @@ class RoomVisit {
   bool refineDoor(const Perception& q);
   /// A grid path from the robot's last position to the door (the exit attempts are kept).
   void planExit();
+  /// One sighting from inside of a door other than the entry (place frame): into its mean.
+  void seeOtherDoor(const Eigen::Vector2d& centre, double into, double width);
 
   RoomVisitParams params_;
   laser_features::BuildingRules rules_;
@@ -135,6 +141,14 @@ class RoomVisit {
   int exit_step_ = 0;               // through the door: 0 inside the door, 1 outside, 2 back on the hallway
   double exit_step_since_ = 0.0;    // s
   int exit_attempts_ = 0;           // ways out of the room tried that ended still inside it
+  struct SeenDoor {                 // another door of the room, place frame: sums of its sightings
+    Eigen::Vector2d centre_sum = Eigen::Vector2d::Zero();
+    Eigen::Vector2d into_sum = Eigen::Vector2d::Zero();  // unit vectors into the room
+    double width_sum = 0.0;
+    int count = 0;
+    Eigen::Vector2d centre() const { return centre_sum / count; }
+  };
+  std::vector<SeenDoor> other_doors_;
 };
 
 }  // namespace exploration

@@ -1,0 +1,98 @@
+// Which doors passed on the hallway are entered: never the one just come out of, nor another door
+// of that room (one room with two doors is one place). RoomVisit gives the room's other doors as
+// seen from inside it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "exploration/door_entry.h"
+#include "exploration/room_visit.h"
+
+using exploration::DoorEntry;
+using exploration::DoorTrack;
+using exploration::HallwayDoorParams;
+using exploration::HallwayDoors;
+using laser_features::BuildingRules;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+DoorTrack door(double x, double y, double into, double width = 0.9) {
+  DoorTrack t;
+  t.centre_odom = Eigen::Vector2d(x, y);
+  t.into_odom = into;
+  t.width = width;
+  t.sightings = 10;
+  return t;
+}
+
+}  // namespace
+
+// A room with two doors on the hallway's wall (y = 1, the room above): out by the first, the second
+// one 3 m on is the room's, explored; a door of the next room 1.3 m beyond it (the closest two doors
+// the hallway's tracker tells apart) is not.
+TEST(DoorEntry, AnotherDoorOfTheRoomJustLeftIsNotANewRoom) {
+  DoorEntry entry{HallwayDoorParams(), BuildingRules()};
+  const DoorTrack first = door(0.0, 1.0, 0.5 * kPi), second = door(3.0, 1.0, 0.5 * kPi);
+  // Seen from inside, 0.2 m off (the EKF's place against the hallway's track), 0.1 rad turned.
+  const DoorTrack second_seen = door(3.15, 1.1, 0.5 * kPi + 0.1);
+  entry.leftBy(first, {second_seen}, 100.0);
+  EXPECT_TRUE(entry.justLeft(first, 101.0));
+  EXPECT_FALSE(entry.otherDoorOfRoomLeft(first, 101.0)) << "the door left by is no other door";
+  EXPECT_TRUE(entry.otherDoorOfRoomLeft(second, 103.0));
+  EXPECT_FALSE(entry.justLeft(second, 103.0));
+  const DoorTrack next_room = door(3.0 + HallwayDoors::kSameDoorSpan, 1.0, 0.5 * kPi);
+  EXPECT_FALSE(entry.otherDoorOfRoomLeft(next_room, 104.0));
+  // A door facing the other way at the same place is a door of the room across the hallway.
+  EXPECT_FALSE(entry.otherDoorOfRoomLeft(door(3.0, 1.0, -0.5 * kPi), 103.0));
+  // Beyond kLeftDoorsTravel of travel the odometry may have drifted by a door's spacing.
+  EXPECT_FALSE(entry.otherDoorOfRoomLeft(second, 111.0));
+}
+
+// The next room left replaces nothing: the other doors of each room left within the travel window
+// are kept, and dropped once it has passed.
+TEST(DoorEntry, TheOtherDoorsOfEachRoomLeftAreKeptForTheWindowOnly) {
+  DoorEntry entry{HallwayDoorParams(), BuildingRules()};
+  entry.leftBy(door(0.0, 1.0, 0.5 * kPi), {door(3.0, 1.0, 0.5 * kPi)}, 0.0);
+  entry.leftBy(door(5.0, -1.0, -0.5 * kPi), {door(8.0, -1.0, -0.5 * kPi)}, 4.0);
+  EXPECT_TRUE(entry.otherDoorOfRoomLeft(door(3.0, 1.0, 0.5 * kPi), 6.0));
+  EXPECT_TRUE(entry.otherDoorOfRoomLeft(door(8.0, -1.0, -0.5 * kPi), 6.0));
+  entry.leftBy(door(20.0, 1.0, 0.5 * kPi), {}, 12.0);
+  EXPECT_FALSE(entry.otherDoorOfRoomLeft(door(3.0, 1.0, 0.5 * kPi), 12.0));
+  EXPECT_TRUE(entry.otherDoorOfRoomLeft(door(8.0, -1.0, -0.5 * kPi), 12.0));
+}
+
+// Covering a room, the doors seen from inside other than the entry are kept, each the mean of its
+// sightings, in the odometry frame with the direction into the room (the opening's normal points
+// away from the sensor, out of the room).
+TEST(RoomVisit, TheOtherDoorsSeenFromInsideAreGivenInTheOdometryFrame) {
+  exploration::RoomVisit visit{exploration::RoomVisitParams(), exploration::RoomExplorerParams(), BuildingRules(),
+                               HallwayDoorParams()};
+  const laser_features::Pose2D origin{2.0, 1.0, 0.5};  // the robot at the place's creation, odometry frame
+  const Eigen::Vector2d entry = laser_features::transformPoint(origin, Eigen::Vector2d(1.0, 0.0));
+  visit.beginNewRoom(origin, door(entry.x(), entry.y(), 0.5), 0.5 + 0.5 * kPi);
+  exploration::Perception q;
+  q.room_pose_valid = true;
+  exploration::Decision d;
+  for (const double noise : {-0.04, 0.0, 0.04}) {  // three sightings of one door
+    q.room_pose = laser_features::Pose2D{3.0, 0.0, 0.0};
+    q.odom = laser_features::compose(origin, q.room_pose);
+    laser_features::Opening o;
+    o.left = Eigen::Vector2d(-0.45 + noise, 2.0);
+    o.right = Eigen::Vector2d(0.45 + noise, 2.0);
+    o.center = 0.5 * (o.left + o.right);
+    o.theta = 0.5 * kPi;
+    o.width = 0.9;
+    o.confidence = 1.0;
+    q.openings = {o};
+    visit.coverRoom(visit.inPlace(q), 1.0, 1.0, &d);
+  }
+  const std::vector<DoorTrack> others = visit.otherDoorsOdom();
+  ASSERT_EQ(others.size(), 1u);
+  const Eigen::Vector2d expected = laser_features::transformPoint(origin, Eigen::Vector2d(3.0, 2.0));
+  EXPECT_NEAR((others[0].centre_odom - expected).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(laser_features::normalizeAngle(others[0].into_odom - (0.5 - 0.5 * kPi)), 0.0, 1e-9);
+  EXPECT_NEAR(others[0].width, 0.9, 1e-9);
+  EXPECT_EQ(others[0].sightings, 3);
+}
