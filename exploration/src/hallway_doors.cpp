@@ -126,4 +126,32 @@ bool HallwayDoors::passed(const Pose2D& odom, double dir_robot, const Walls& wal
   return false;
 }
 
+std::optional<DoorTrack> HallwayDoors::inEndWall(const Pose2D& odom, const std::vector<laser_features::Opening>& openings,
+                                                double dir_robot, const HallwayView& v) const {
+  const Eigen::Vector2d u = unitVector(dir_robot), nrm = unitVector(dir_robot + 0.5 * kPi);
+  // Half the hallway's width from its mid-line; half the widest hallway where a wall is not seen.
+  const double half = v.left_wall && v.right_wall ? 0.5 * v.width() : 0.5 * rules_.widestHallway();
+  // The end wall is free_ahead away; a sector that sees through the door makes free_ahead the
+  // wall's (HallwayView's wall_across), the door's centre lies within the wall's thickness of it.
+  constexpr double kWallDepth = 0.5;  // m
+  std::optional<DoorTrack> best;
+  double best_lateral = 0.0;
+  for (const auto& o : openings) {
+    if (!rules_.isDoor(o.width, o.room_behind) || o.confidence < params_.min_confidence) continue;
+    const double ahead = o.center.dot(u), lateral = std::abs(o.center.dot(nrm) - v.centre_offset);
+    if (ahead <= 0.0 || ahead > v.free_ahead + kWallDepth || lateral > half) continue;
+    if (std::abs(normalizeAngle(o.theta - dir_robot)) > params_.side_angle) continue;
+    if (best && lateral >= best_lateral) continue;
+    DoorTrack t;
+    t.centre_odom = transformPoint(odom, o.center);
+    t.into_odom = normalizeAngle(odom.theta + o.theta);  // the normal points away from the sensor: into the room
+    t.width = o.width;
+    t.sightings = 1;
+    t.room_sightings = o.room_behind ? 1 : 0;
+    best = t;
+    best_lateral = lateral;
+  }
+  return best;
+}
+
 }  // namespace exploration

@@ -67,6 +67,7 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
 
   const std::optional<double> lane = follower_.laneAround(p, dir_robot, v, blocked);
   if (lane) step.text = "passing an obstacle in the hallway";
+  if (follower_.atEnd(v) && !lane && !blocked && enterEndWallDoor(p, topo, dir_robot, v, at, &step, d)) return step;
   if ((follower_.atEnd(v) && !lane) || blocked) {
     turnAtEnd(p, topo, v, at, &step);
     if (blocked) step.text = "motion blocked: " + step.text;
@@ -191,6 +192,29 @@ bool HallwayNavigator::enterPassedDoor(const Perception& p, const TopoView& topo
     ++stats_.doors_passed;
   }
   return false;
+}
+
+bool HallwayNavigator::enterEndWallDoor(const Perception& p, const TopoView& topo, double dir_robot,
+                                        const HallwayView& v, const HallwayContext& at, HallwayStep* step,
+                                        Decision* d) {
+  // A room at a hallway's end has its door in the end wall: no door passes beside the robot there.
+  // At a dead end (a side open is a way on, and a door in the far wall of a crossing is passed on
+  // it) the door ahead is entered as a door passed would be, unless the robot came out of it.
+  if (v.end_open_left || v.end_open_right || at.mission_door) return false;
+  const std::optional<DoorTrack> door = doors_.inEndWall(p.odom, p.openings, dir_robot, v);
+  if (!door || door_entry_.justLeft(*door, at.travel) || door_entry_.otherDoorOfRoomLeft(*door, at.travel)) return false;
+  const std::optional<EntryOpening> entry = mayEnter(topo, at, *door);
+  if (!entry) return false;
+  entering_ = *entry;
+  door_ = *door;
+  const Eigen::Vector2d rel = transformPoint(inverse(p.odom), door->centre_odom);
+  char text[160];
+  std::snprintf(text, sizeof(text), "stopping at a door in the hallway's end wall to enter the room (%.2f m wide, %.2f m ahead, %.2f m left)",
+                door->width, rel.x(), rel.y());
+  step->kind = HallwayStep::StopForDoor;
+  step->text = text;
+  d->stop = true;
+  return true;
 }
 
 bool HallwayNavigator::turnIntoRouteBranch(const Perception& p, const TopoView& topo, bool sure, double dir_robot,

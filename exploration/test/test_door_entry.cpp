@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "exploration/door_entry.h"
+#include "exploration/hallway_doors.h"
 #include "exploration/room_visit.h"
 
 using exploration::DoorEntry;
@@ -95,4 +96,47 @@ TEST(RoomVisit, TheOtherDoorsSeenFromInsideAreGivenInTheOdometryFrame) {
   EXPECT_NEAR(laser_features::normalizeAngle(others[0].into_odom - (0.5 - 0.5 * kPi)), 0.0, 1e-9);
   EXPECT_NEAR(others[0].width, 0.9, 1e-9);
   EXPECT_EQ(others[0].sightings, 3);
+}
+
+namespace {
+
+laser_features::Opening opening(Eigen::Vector2d centre, double theta, double width) {
+  laser_features::Opening o;
+  const Eigen::Vector2d along(-std::sin(theta), std::cos(theta));  // the door's line, to the left
+  o.left = centre + 0.5 * width * along;
+  o.right = centre - 0.5 * width * along;
+  o.center = centre;
+  o.theta = theta;
+  o.width = width;
+  o.confidence = 1.0;
+  o.room_behind = true;
+  return o;
+}
+
+}  // namespace
+
+// At a dead end of a 2 m hallway along +x (end wall 1.3 m ahead), the door in the end wall is found,
+// in odometry, facing into the room; a door in a side wall beside the end, one beyond the end wall
+// and one facing along the wall are not; of two in the end wall, the one nearer the mid-line.
+TEST(HallwayDoors, ADoorInADeadEndsWallIsFound) {
+  HallwayDoors doors{HallwayDoorParams(), BuildingRules()};
+  exploration::HallwayView v;
+  v.left_wall = v.right_wall = true;
+  v.left_lateral = 1.0;
+  v.right_lateral = -1.0;
+  v.free_ahead = 1.3;
+  const laser_features::Pose2D odom{4.0, -2.0, 0.3};
+  const auto found = doors.inEndWall(odom, {opening({1.35, 0.2}, 0.05, 0.9)}, 0.0, v);
+  ASSERT_TRUE(found.has_value());
+  const Eigen::Vector2d expected = laser_features::transformPoint(odom, Eigen::Vector2d(1.35, 0.2));
+  EXPECT_NEAR((found->centre_odom - expected).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(found->into_odom, 0.35, 1e-9);
+  EXPECT_NEAR(found->width, 0.9, 1e-9);
+  EXPECT_FALSE(doors.inEndWall(odom, {opening({0.6, 1.0}, 0.5 * kPi, 0.9)}, 0.0, v)) << "a side door";
+  EXPECT_FALSE(doors.inEndWall(odom, {opening({3.5, 0.0}, 0.0, 0.9)}, 0.0, v)) << "beyond the end wall";
+  EXPECT_FALSE(doors.inEndWall(odom, {opening({1.3, 0.0}, 0.9, 0.9)}, 0.0, v)) << "not across the hallway";
+  EXPECT_FALSE(doors.inEndWall(odom, {opening({1.3, 0.0}, 0.0, 2.5)}, 0.0, v)) << "a junction's width";
+  const auto nearer = doors.inEndWall(odom, {opening({1.3, -0.6}, 0.0, 0.8), opening({1.3, 0.1}, 0.0, 1.0)}, 0.0, v);
+  ASSERT_TRUE(nearer.has_value());
+  EXPECT_NEAR(nearer->width, 1.0, 1e-9);
 }

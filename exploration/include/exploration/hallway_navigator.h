@@ -126,6 +126,9 @@ class HallwayNavigator {
   bool actOnRoute(const RouteAction& action, const Perception& p, const TopoView& topo, HallwayStep* step, Decision* d);
   bool enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v,
                        const HallwayContext& at, HallwayStep* step, Decision* d);
+  /// At a dead end (no side open), a door in the end wall is entered as a door passed would be.
+  bool enterEndWallDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v,
+                        const HallwayContext& at, HallwayStep* step, Decision* d);
   bool turnIntoRouteBranch(const Perception& p, const TopoView& topo, bool sure, double dir_robot, const HallwayView& v,
                            const HallwayContext& at, HallwayStep* step, Decision* d);
   /// The turn at a hallway's end (or where the robot is blocked): into an open way, else a U-turn.
