@@ -24,25 +24,29 @@ void DoorEntry::leftBy(const DoorTrack& door, const std::vector<DoorTrack>& othe
   for (const DoorTrack& o : others) other_doors_.emplace_back(o, travel);
 }
 
+namespace {
+// `door` is one of `doors` recorded within `window` (m) of travel: centres within `distance`,
+// directions into the room within 0.5 rad.
+bool seenWithin(const std::vector<std::pair<DoorTrack, double>>& doors, const DoorTrack& door, double travel,
+                double window, double distance) {
+  return std::any_of(doors.begin(), doors.end(), [&](const std::pair<DoorTrack, double>& seen) {
+    return travel - seen.second <= window && (door.centre_odom - seen.first.centre_odom).norm() < distance &&
+           std::abs(normalizeAngle(door.into_odom - seen.first.into_odom)) < 0.5;
+  });
+}
+}  // namespace
+
 bool DoorEntry::justLeft(const DoorTrack& door, double travel) const {
   // Within kLeftDoorsTravel of travel the odometry has not drifted by a door's spacing; twice the
   // tracks' same-door distance, as the door seen again from beside it is seen at a grazing angle.
-  return std::any_of(left_doors_.begin(), left_doors_.end(), [&](const std::pair<DoorTrack, double>& left) {
-    return travel - left.second <= kLeftDoorsTravel &&
-           (door.centre_odom - left.first.centre_odom).norm() < 2.0 * doors_.same_distance &&
-           std::abs(normalizeAngle(door.into_odom - left.first.into_odom)) < 0.5;
-  });
+  return seenWithin(left_doors_, door, travel, kLeftDoorsTravel, 2.0 * doors_.same_distance);
 }
 
 bool DoorEntry::otherDoorOfRoomLeft(const DoorTrack& door, double travel) const {
   // Seen from inside the room (the EKF's place) and tracked from the hallway, one door lies well
   // within half the span that tells two doors apart; within kLeftDoorsTravel the odometry has not
   // drifted by it. Its direction into the room is the same seen from either side.
-  return std::any_of(other_doors_.begin(), other_doors_.end(), [&](const std::pair<DoorTrack, double>& other) {
-    return travel - other.second <= kLeftDoorsTravel &&
-           (door.centre_odom - other.first.centre_odom).norm() < 0.5 * HallwayDoors::kSameDoorSpan &&
-           std::abs(normalizeAngle(door.into_odom - other.first.into_odom)) < 0.5;
-  });
+  return seenWithin(other_doors_, door, travel, kLeftDoorsTravel, 0.5 * HallwayDoors::kSameDoorSpan);
 }
 
 std::optional<EntryOpening> DoorEntry::mayEnter(const TopoView& topo, const TopoGraph& graph, const DoorTrack& door,
