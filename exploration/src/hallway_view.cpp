@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
+#include <vector>
 
 namespace exploration {
 
@@ -174,16 +176,28 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
 bool wallsSpan(const std::vector<laser_features::LineSegment>& lines, const HallwayView& view, double direction,
                double from, double to, const HallwayViewParams& params) {
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
-  for (const auto& l : lines) {
-    const double len = l.length();
-    if (len <= 0.0 || std::abs((l.end - l.start).dot(n)) / len > std::sin(params.wall_parallel_tolerance)) continue;
-    const double lateral = 0.5 * (l.start + l.end).dot(n);
-    const bool at_wall = (view.left_wall && std::abs(lateral - view.left_lateral) < params.wall_same_lateral) ||
-                         (view.right_wall && std::abs(lateral - view.right_lateral) < params.wall_same_lateral);
-    const double a0 = l.start.dot(u), a1 = l.end.dot(u);
-    if (at_wall && std::min(a0, a1) <= from && std::max(a0, a1) >= to) return true;
-  }
-  return false;
+  // Each wall's stretches along the direction, joined across gaps narrower than a hallway's mouth.
+  const auto spans = [&](bool present, double wall_lateral) {
+    if (!present) return false;
+    thread_local std::vector<std::pair<double, double>> stretches;
+    stretches.clear();
+    for (const auto& l : lines) {
+      const double len = l.length();
+      if (len <= 0.0 || std::abs((l.end - l.start).dot(n)) / len > std::sin(params.wall_parallel_tolerance)) continue;
+      if (std::abs(0.5 * (l.start + l.end).dot(n) - wall_lateral) >= params.wall_same_lateral) continue;
+      const double a0 = l.start.dot(u), a1 = l.end.dot(u);
+      stretches.emplace_back(std::min(a0, a1), std::max(a0, a1));
+    }
+    std::sort(stretches.begin(), stretches.end());
+    double begin = 0.0, end = -1e9;
+    for (const auto& [a, b] : stretches) {
+      if (a - end >= params.min_mouth) begin = a;  // a mouth breaks the wall: a new run starts
+      end = std::max(end, b);
+      if (begin <= from && end >= to) return true;
+    }
+    return false;
+  };
+  return spans(view.left_wall, view.left_lateral) || spans(view.right_wall, view.right_lateral);
 }
 
 HallwayView viewHallwayFrom(const std::vector<Eigen::Vector2d>& points,

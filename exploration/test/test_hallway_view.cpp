@@ -127,6 +127,39 @@ TEST(HallwayView, APillarAheadIsNoEndButAnEndWallIs) {
   }
 }
 
+// A hallway's wall runs on past a door in it: a pillar ahead with doors in the walls beside it (the
+// wall's lines broken by gaps narrower than the narrowest hallway's mouth) is no wall across the
+// hallway, and a lane beside it goes on. A 3 m hallway, the robot 0.8 m from its right wall (the
+// left wall too far aside to be seen as the hallway's), a 0.4 m pillar 1.45 m ahead and 0.67 m to
+// the left, a door in the right wall from 0.1 to 0.95 m ahead and one in the left wall beside the
+// pillar.
+TEST(HallwayView, ADoorBesideAPillarIsNoWallAcross) {
+  for (const double door_end : {0.95, 1.4}) {
+    std::vector<Eigen::Vector2d> pts;
+    std::vector<laser_features::LineSegment> lines;
+    addWall(&pts, &lines, {-6.0, -0.8}, {0.1, -0.8});  // right wall, a door, the wall on
+    addWall(&pts, &lines, {door_end, -0.8}, {2.45, -0.8});
+    addWall(&pts, &lines, {3.6, -0.8}, {12.0, -0.8});
+    addWall(&pts, &lines, {-6.0, 2.2}, {0.85, 2.2});  // left wall, a door beside the pillar
+    addWall(&pts, &lines, {1.75, 2.2}, {12.0, 2.2});
+    addPillar(&pts, 1.45, 0.67, 0.2);
+    const auto v = viewHallway(pts, lines, 0.0, HallwayViewParams());
+    EXPECT_FALSE(v.wall_across) << "door to " << door_end;
+    const exploration::Lane lane = exploration::freestLane(pts, 0.0, v, 0.35);
+    EXPECT_GT(lane.free, 10.0) << "door to " << door_end;
+  }
+  // The same wall broken by a crossing hallway's mouth (1.5 m) where the door was: the walls do not
+  // run on, and a wall across ahead (a room's front wall past the crossing) ends the hallway.
+  std::vector<Eigen::Vector2d> pts;
+  std::vector<laser_features::LineSegment> lines;
+  addWall(&pts, &lines, {-6.0, -0.8}, {0.1, -0.8});
+  addWall(&pts, &lines, {1.6, -0.8}, {12.0, -0.8});
+  addWall(&pts, &lines, {1.6, -0.8}, {1.6, -0.45});  // the front wall across, a 0.9 m door in it
+  addWall(&pts, &lines, {1.6, 0.45}, {1.6, 2.2});
+  const auto v = viewHallway(pts, lines, 0.0, HallwayViewParams());
+  EXPECT_TRUE(v.wall_across);
+}
+
 namespace {
 
 Eigen::Vector2d dirOf(double a) { return {std::cos(a), std::sin(a)}; }

@@ -128,8 +128,10 @@ std::vector<ObliqueWay> obliqueHallways(const std::vector<Eigen::Vector2d>& poin
 double corridorFree(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double bearing,
                     double half_width, double range_cap);
 
-/// A wall of `view`'s hallway (a line along `direction`, robot frame, at its left or right wall's
-/// lateral offset) runs unbroken from `from` to `to` m ahead.
+/// A wall of `view`'s hallway (lines along `direction`, robot frame, at its left or right wall's
+/// lateral offset) runs on from `from` to `to` m ahead, broken by doors only: gaps between its
+/// lines narrower than the narrowest hallway's mouth (params.min_mouth). A door in the wall beside
+/// an obstacle does not end the hallway there; a crossing hallway's mouth (at least min_mouth) does.
 bool wallsSpan(const std::vector<laser_features::LineSegment>& lines, const HallwayView& view, double direction,
                double from, double to, const HallwayViewParams& params);
 
