@@ -161,7 +161,7 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
     hallway_free = std::max(hallway_free, corridorFree(points, laterals[i] * n, direction, mouth_half, range_cap));
   }
   if (hallway_free > params.clearance && hallway_free < v.free_ahead &&
-      !wallsSpan(lines, v, direction, hallway_free - params.clearance, hallway_free + params.clearance, params)) {
+      !wallsSpan(points, lines, v, direction, hallway_free - params.clearance, hallway_free + params.clearance, params)) {
     v.free_ahead = hallway_free;
     v.wall_across = true;
   }
@@ -173,26 +173,64 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   return v;
 }
 
-bool wallsSpan(const std::vector<laser_features::LineSegment>& lines, const HallwayView& view, double direction,
-               double from, double to, const HallwayViewParams& params) {
+namespace {
+// m, a surface reaching out this far from a wall's line into the hallway is no part of that wall:
+// above the scatter of a wall's points about its line (a building laser's range noise, 1-3 cm) and
+// below the shortest stretch of wall beside a door in an end wall (the narrowest hallway less the
+// widest single door, 1.5 - 1.2 m).
+constexpr double kCornerDepth = 0.1;
+
+// A corner in a wall's gap from `gap_begin` to `gap_end` m along `u`: scan points within it that
+// stand out from the line `wall` (the wall's last line before the gap) into the hallway (the
+// robot's side) by kCornerDepth to `depth`: a wall across (an end wall, a crossing's near wall)
+// meets the hallway's wall there. A door in a side wall has none: its jambs lie in the wall.
+bool cornerInGap(const std::vector<Eigen::Vector2d>& points, const laser_features::LineSegment& wall,
+                 const Eigen::Vector2d& u, double gap_begin, double gap_end, double depth) {
+  const Eigen::Vector2d d = (wall.end - wall.start).normalized();
+  Eigen::Vector2d inward(-d.y(), d.x());
+  if (inward.dot(-wall.start) < 0.0) inward = -inward;  // towards the robot (the origin)
+  for (const Eigen::Vector2d& q : points) {
+    const double along = q.dot(u);
+    if (along < gap_begin - kCornerDepth || along > gap_end + kCornerDepth) continue;
+    const double out = (q - wall.start).dot(inward);
+    if (out > kCornerDepth && out < depth) return true;
+  }
+  return false;
+}
+}  // namespace
+
+bool wallsSpan(const std::vector<Eigen::Vector2d>& points, const std::vector<laser_features::LineSegment>& lines,
+               const HallwayView& view, double direction, double from, double to, const HallwayViewParams& params) {
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
-  // Each wall's stretches along the direction, joined across gaps narrower than a hallway's mouth.
+  // Each wall's stretches along the direction, joined across the gaps of doors: narrower than a
+  // hallway's mouth, and no wall across meeting the wall in the gap.
+  struct Stretch {
+    double begin, end;
+    const laser_features::LineSegment* line;
+    bool operator<(const Stretch& o) const { return begin < o.begin; }
+  };
   const auto spans = [&](bool present, double wall_lateral) {
     if (!present) return false;
-    thread_local std::vector<std::pair<double, double>> stretches;
+    thread_local std::vector<Stretch> stretches;
     stretches.clear();
     for (const auto& l : lines) {
       const double len = l.length();
       if (len <= 0.0 || std::abs((l.end - l.start).dot(n)) / len > std::sin(params.wall_parallel_tolerance)) continue;
       if (std::abs(0.5 * (l.start + l.end).dot(n) - wall_lateral) >= params.wall_same_lateral) continue;
       const double a0 = l.start.dot(u), a1 = l.end.dot(u);
-      stretches.emplace_back(std::min(a0, a1), std::max(a0, a1));
+      stretches.push_back({std::min(a0, a1), std::max(a0, a1), &l});
     }
     std::sort(stretches.begin(), stretches.end());
     double begin = 0.0, end = -1e9;
-    for (const auto& [a, b] : stretches) {
-      if (a - end >= params.min_mouth) begin = a;  // a mouth breaks the wall: a new run starts
-      end = std::max(end, b);
+    const laser_features::LineSegment* last = nullptr;  // the line reaching farthest so far
+    for (const Stretch& s : stretches) {
+      const bool broken = !last || (s.begin > end && (s.begin - end >= params.min_mouth ||
+                                                      cornerInGap(points, *last, u, end, s.begin, params.clearance)));
+      if (broken) begin = s.begin;  // a mouth or a wall across breaks the wall: a new run starts
+      if (!last || s.end > end) {
+        end = s.end;
+        last = s.line;
+      }
       if (begin <= from && end >= to) return true;
     }
     return false;

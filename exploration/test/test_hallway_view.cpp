@@ -303,6 +303,29 @@ TEST(HallwayView, AnEndWallWithADoorOnTheMidLineEndsTheHallway) {
   EXPECT_GT(v.free_ahead, 4.0);
 }
 
+// An end wall with a door, and behind it a room in line with the hallway (its side walls continue
+// the hallway's, a wall's thickness on): the wall's lines break only for the end wall's thickness,
+// but the end wall meets them there (a corner), so the hallway ends at it.
+TEST(HallwayView, AnEndWallsCornerEndsTheHallwayWhereARoomsWallsLineUpBeyondIt) {
+  for (const double hallway : {1.5, 2.0, 3.0}) {
+    for (const double door : {0.8, 1.0}) {
+      std::vector<Eigen::Vector2d> pts;
+      std::vector<laser_features::LineSegment> lines;
+      const double wall = 0.5 * hallway, end = 2.5, half = 0.5 * door, behind = end + 0.1;
+      addWall(&pts, &lines, {-6.0, wall}, {end, wall});
+      addWall(&pts, &lines, {-6.0, -wall}, {end, -wall});
+      addWall(&pts, &lines, {end, wall}, {end, half});  // the end wall, the door in its middle
+      addWall(&pts, &lines, {end, -half}, {end, -wall});
+      addWall(&pts, &lines, {behind, wall}, {behind + 5.0, wall});  // the room, in line
+      addWall(&pts, &lines, {behind, -wall}, {behind + 5.0, -wall});
+      addWall(&pts, &lines, {behind + 5.0, -wall}, {behind + 5.0, wall});
+      const auto v = viewHallway(pts, lines, 0.0, HallwayViewParams());
+      EXPECT_NEAR(v.free_ahead, end, 0.05) << door << " m door, " << hallway << " m hallway";
+      EXPECT_TRUE(v.wall_across) << door << " m door, " << hallway << " m hallway";
+    }
+  }
+}
+
 // A room straight across a crossing, as narrow as the hallway that leads to it and in line with it
 // (its side walls at the hallway's walls' offsets), entered by a door in its front wall: the room's
 // walls line up with the hallway's, but they do not run on unbroken past its front wall, so the

@@ -129,11 +129,14 @@ double corridorFree(const std::vector<Eigen::Vector2d>& points, const Eigen::Vec
                     double half_width, double range_cap);
 
 /// A wall of `view`'s hallway (lines along `direction`, robot frame, at its left or right wall's
-/// lateral offset) runs on from `from` to `to` m ahead, broken by doors only: gaps between its
-/// lines narrower than the narrowest hallway's mouth (params.min_mouth). A door in the wall beside
-/// an obstacle does not end the hallway there; a crossing hallway's mouth (at least min_mouth) does.
-bool wallsSpan(const std::vector<laser_features::LineSegment>& lines, const HallwayView& view, double direction,
-               double from, double to, const HallwayViewParams& params);
+/// lateral offset) runs on from `from` to `to` m ahead, broken by single doors only: gaps between
+/// its lines narrower than the narrowest hallway's mouth (params.min_mouth) with no wall across
+/// meeting it there (no scan point of `points` standing out of the wall's line into the hallway,
+/// up to params.clearance). A door in the wall beside an obstacle does not end the hallway there;
+/// a crossing hallway's mouth, a double door, or an end wall whose corner lines up with a room's
+/// wall beyond it does.
+bool wallsSpan(const std::vector<Eigen::Vector2d>& points, const std::vector<laser_features::LineSegment>& lines,
+               const HallwayView& view, double direction, double from, double to, const HallwayViewParams& params);
 
 /// A hallway's mouth beside `origin` (robot frame) on the `side` (+1 left, -1 right) of `direction`:
 /// the robot's corridor (half-width `clearance`) straight to that side is free for `depth` (m) from
