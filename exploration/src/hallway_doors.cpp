@@ -131,15 +131,15 @@ std::optional<DoorTrack> HallwayDoors::inEndWall(const Pose2D& odom, const std::
   const Eigen::Vector2d u = unitVector(dir_robot), nrm = unitVector(dir_robot + 0.5 * kPi);
   // Half the hallway's width from its mid-line; half the widest hallway where a wall is not seen.
   const double half = v.left_wall && v.right_wall ? 0.5 * v.width() : 0.5 * rules_.widestHallway();
-  // The end wall is free_ahead away; a sector that sees through the door makes free_ahead the
-  // wall's (HallwayView's wall_across), the door's centre lies within the wall's thickness of it.
-  constexpr double kWallDepth = 0.5;  // m
+  // The end wall is free_ahead away (a sector that sees through the door makes free_ahead the
+  // wall's: HallwayView's wall_across); a door lies on its wall, as a side door does on its side's
+  // (wall_tolerance).
   std::optional<DoorTrack> best;
   double best_lateral = 0.0;
   for (const auto& o : openings) {
     if (!rules_.isDoor(o.width, o.room_behind) || o.confidence < params_.min_confidence) continue;
     const double ahead = o.center.dot(u), lateral = std::abs(o.center.dot(nrm) - v.centre_offset);
-    if (ahead <= 0.0 || ahead > v.free_ahead + kWallDepth || lateral > half) continue;
+    if (ahead <= 0.0 || ahead > v.free_ahead + params_.wall_tolerance || lateral > half) continue;
     if (std::abs(normalizeAngle(o.theta - dir_robot)) > params_.side_angle) continue;
     if (best && lateral >= best_lateral) continue;
     DoorTrack t;

@@ -166,13 +166,16 @@ bool HallwayNavigator::enterPassedDoor(const Perception& p, const TopoView& topo
     if (door_entry_.justLeft(door, at.travel)) {
       step->text = "door passed: the one just left";
     } else if (!at.mission_door && door_entry_.otherDoorOfRoomLeft(door, at.travel)) {
-      // The room's other door is an explored way into it: recorded so, not entered as a new room.
-      Request rec;
-      rec.kind = Request::RecordOpening;
-      rec.bearing = follower_.topoBearing(door.into_odom, topo);
-      rec.width = door.width;
-      rec.explored = true;
-      d->requests.push_back(rec);
+      // The room's other door is an explored way into it: recorded so (on a new stretch's node, or
+      // the node a trusted belief gives, as every record), not entered as a new room.
+      if (topo.mode == "frontier" || beliefTrusted(topo, at.travel)) {
+        Request rec;
+        rec.kind = Request::RecordOpening;
+        rec.bearing = follower_.topoBearing(door.into_odom, topo);
+        rec.width = door.width;
+        rec.explored = true;
+        d->requests.push_back(rec);
+      }
       step->text = "door passed: another door of the room just left";
     } else if (const std::optional<EntryOpening> entry = mayEnter(topo, at, door)) {
       entering_ = *entry;

@@ -139,4 +139,18 @@ TEST(HallwayDoors, ADoorInADeadEndsWallIsFound) {
   const auto nearer = doors.inEndWall(odom, {opening({1.3, -0.6}, 0.0, 0.8), opening({1.3, 0.1}, 0.0, 1.0)}, 0.0, v);
   ASSERT_TRUE(nearer.has_value());
   EXPECT_NEAR(nearer->width, 1.0, 1e-9);
+
+  // The same along a hallway at 0.6 rad in the robot frame, the robot 0.4 m right of its mid-line:
+  // the door on the mid-line is found; one 1.1 m right of the mid-line (0.7 m right of the robot) is
+  // beside the end wall, not in it.
+  const double a = 0.6;
+  const Eigen::Vector2d u(std::cos(a), std::sin(a)), n(-u.y(), u.x());
+  exploration::HallwayView w = v;
+  w.left_lateral = 1.4;
+  w.right_lateral = -0.6;
+  w.centre_offset = 0.4;
+  const auto on_axis = doors.inEndWall(odom, {opening(1.35 * u + 0.4 * n, a + 0.05, 0.9)}, a, w);
+  ASSERT_TRUE(on_axis.has_value());
+  EXPECT_NEAR(on_axis->into_odom, odom.theta + a + 0.05, 1e-9);
+  EXPECT_FALSE(doors.inEndWall(odom, {opening(1.35 * u - 0.7 * n, a, 0.9)}, a, w)) << "beside the end wall";
 }

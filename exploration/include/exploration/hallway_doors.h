@@ -65,7 +65,7 @@ class HallwayDoors {
   /// A tracked door beside the robot (within kSameDoorSpan along) on the side `side` (+1 left, -1 right).
   std::optional<DoorTrack> abeam(const laser_features::Pose2D& odom, double dir_robot, double side) const;
   /// At a hallway's end (`v`), a door in the end wall in this scan: ahead of the robot no farther
-  /// than the wall, within the hallway's width of its mid-line, across the travel direction (its
+  /// than the wall (wall_tolerance beyond free_ahead), within half the hallway's width of its mid-line, across the travel direction (its
   /// normal within side_angle of it); the one nearest the mid-line. One sighting, in odometry.
   std::optional<DoorTrack> inEndWall(const laser_features::Pose2D& odom,
                                      const std::vector<laser_features::Opening>& openings, double dir_robot,
