@@ -50,7 +50,8 @@ std::vector<int> HallwayFollower::waysAtStart(int bin, const Perception& p, cons
     const int side_bin = bins_.wrap(bin + side * bins_.bins / 4);
     if (freeAlong(side_bin, p, topo) > beyond_end &&
         mouthBeside(p.points, Eigen::Vector2d::Zero(), dir, side, view_.clearance, view_.min_mouth,
-                    view_.side_open_distance))
+                    view_.side_open_distance) &&
+        !doorInMouth(p.openings, Eigen::Vector2d::Zero(), dir, side, view_.clearance, view_.wall_parallel_tolerance))
       ways.push_back(side_bin);
   }
   return ways;
@@ -110,6 +111,7 @@ int HallwayFollower::startBin(const Perception& p, const TopoView& topo) const {
 double HallwayFollower::track(const Perception& p, const TopoView& topo, HallwayView* v) {
   double dir_robot = normalizeAngle(odomHeading(direction_, topo) - p.odom.theta);
   *v = viewHallway(p.points, p.lines, dir_robot, view_);
+  closeDoorMouths(p, dir_robot, v);
   const double half_bin = kPi / bins_.bins;
   if (!v->wall_direction_valid) {
     // No wall along the way followed: the walls of the hallway around the robot, up to half a bin
@@ -118,8 +120,10 @@ double HallwayFollower::track(const Perception& p, const TopoView& topo, Hallway
     walls.min_length = view_.wall_min_length;
     walls.parallel_tolerance = view_.wall_parallel_tolerance;
     walls.max_width = view_.widest_hallway;
-    if (const std::optional<double> around = laser_features::hallwayWallsDirection(p.lines, dir_robot, half_bin + walls.parallel_tolerance, walls))
+    if (const std::optional<double> around = laser_features::hallwayWallsDirection(p.lines, dir_robot, half_bin + walls.parallel_tolerance, walls)) {
       *v = viewHallway(p.points, p.lines, *around, view_);
+      closeDoorMouths(p, *around, v);
+    }
   }
   if (!v->wall_direction_valid) return dir_robot;
   dir_robot = v->wall_direction;
@@ -129,6 +133,25 @@ double HallwayFollower::track(const Perception& p, const TopoView& topo, Hallway
       bins_, {direction_.bin, direction_.offset}, mapHeading(dir_robot, p, topo), view_.wall_parallel_tolerance);
   direction_ = HallwayDirection{d.bin, d.offset};
   return dir_robot;
+}
+
+void HallwayFollower::closeDoorMouths(const Perception& p, double direction, HallwayView* v) const {
+  // A side opens, and the hallway goes on ahead, at a mouth as wide as the narrowest hallway's; a
+  // double door is as wide. Where laser_features sees a door there (a room behind it), the door's
+  // wall crosses the hallway ahead, and a side is closed: the door is entered as a room (passed
+  // beside the robot, or in a dead end's wall), not followed or turned into as a hallway. The door lies in the hallway's wall: its normal
+  // within the walls' tolerance of the side.
+  if (!v->wall_across) {
+    if (const std::optional<double> across = doorAcross(p.openings, *v, direction, view_))
+      endWallAt(p.points, direction, view_, *across, v);
+  }
+  const auto door = [&](const Eigen::Vector2d& origin, int side) {
+    return doorInMouth(p.openings, origin, direction, side, view_.clearance, view_.wall_parallel_tolerance);
+  };
+  if (v->open_left && door(Eigen::Vector2d::Zero(), 1)) v->open_left = false;
+  if (v->open_right && door(Eigen::Vector2d::Zero(), -1)) v->open_right = false;
+  if (v->end_open_left && door(v->end_centre, 1)) v->end_open_left = false;
+  if (v->end_open_right && door(v->end_centre, -1)) v->end_open_right = false;
 }
 
 bool HallwayFollower::intoOpenArea(const Perception& p, double dir_robot, const HallwayView& v) {

@@ -162,15 +162,43 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   }
   if (hallway_free > params.clearance && hallway_free < v.free_ahead &&
       !wallsSpan(points, lines, v, direction, hallway_free - params.clearance, hallway_free + params.clearance, params)) {
-    v.free_ahead = hallway_free;
-    v.wall_across = true;
+    endWallAt(points, direction, params, hallway_free, &v);
+    return v;
   }
-  const double half_width = v.left_wall && v.right_wall ? 0.5 * v.width() : 1.0;
-  const Eigen::Vector2d centre = std::max(0.0, v.free_ahead - half_width) * u + v.centre_offset * n;
-  v.end_centre = centre;
-  v.end_open_left = open(centre, 1);
-  v.end_open_right = open(centre, -1);
+  endWallAt(points, direction, params, v.free_ahead, &v);
+  v.wall_across = false;
   return v;
+}
+
+void endWallAt(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayViewParams& params,
+               double distance, HallwayView* v) {
+  v->free_ahead = distance;
+  v->wall_across = true;
+  const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
+  const double half_width = v->left_wall && v->right_wall ? 0.5 * v->width() : 1.0;
+  const Eigen::Vector2d centre = std::max(0.0, distance - half_width) * u + v->centre_offset * n;
+  v->end_centre = centre;
+  const auto open = [&](int side) {
+    return mouthBeside(points, centre, direction, side, params.clearance, params.min_mouth, params.side_open_distance);
+  };
+  v->end_open_left = open(1);
+  v->end_open_right = open(-1);
+}
+
+std::optional<double> doorAcross(const std::vector<laser_features::Opening>& openings, const HallwayView& v,
+                                 double direction, const HallwayViewParams& params) {
+  const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
+  std::optional<double> nearest;
+  for (const laser_features::Opening& o : openings) {
+    if (o.kind != laser_features::OpeningKind::kDoor) continue;
+    if (std::abs(normalizeAngle(o.theta - direction)) > params.wall_parallel_tolerance) continue;
+    const double along = o.center.dot(u);
+    if (along <= params.clearance || along >= v.free_ahead || (nearest && along >= *nearest)) continue;
+    const double a = o.left.dot(n), b = o.right.dot(n);
+    if (std::min(a, b) > v.centre_offset || std::max(a, b) < v.centre_offset) continue;
+    nearest = along;
+  }
+  return nearest;
 }
 
 namespace {
@@ -372,6 +400,20 @@ bool mouthBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector
                  double clearance, double min_mouth, double depth) {
   const double need = min_mouth - 2.0 * clearance;  // the free stretch of corridor positions
   return freeStretchBeside(points, origin, direction, side, clearance, depth, need) >= need - 1e-9;
+}
+
+bool doorInMouth(const std::vector<laser_features::Opening>& openings, const Eigen::Vector2d& origin, double direction,
+                 int side, double clearance, double side_angle) {
+  const Eigen::Vector2d u(std::cos(direction), std::sin(direction));
+  const double towards = direction + (side >= 0 ? 0.5 : -0.5) * kPi;
+  const Eigen::Vector2d n(std::cos(towards), std::sin(towards));
+  return std::any_of(openings.begin(), openings.end(), [&](const laser_features::Opening& o) {
+    if (o.kind != laser_features::OpeningKind::kDoor) return false;
+    const Eigen::Vector2d c = o.center - origin;
+    if (c.dot(n) <= 0.0 || std::abs(normalizeAngle(o.theta - towards)) > side_angle) return false;
+    const double a = (o.left - origin).dot(u), b = (o.right - origin).dot(u);
+    return std::min(a, b) <= -clearance && std::max(a, b) >= clearance;
+  });
 }
 
 bool openAreaBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction,

@@ -381,3 +381,74 @@ TEST(HallwayView, AlongAnOpenAreasWallTheMidLineKeepsTheOneWallDistance) {
     }
   }
 }
+
+// A double door is as wide as the narrowest hallway's mouth: the side beside it is a door, not a
+// branch, where laser_features sees a door there (a room behind it). A junction's opening, a door
+// farther along, on the other side, or across the hallway is not in the mouth.
+TEST(HallwayView, ADoubleDoorInTheMouthBesideTheRobotIsNoBranch) {
+  const auto opening = [](Eigen::Vector2d centre, double theta, double width, laser_features::OpeningKind kind) {
+    laser_features::Opening o;
+    const Eigen::Vector2d along(-std::sin(theta), std::cos(theta));
+    o.left = centre + 0.5 * width * along;
+    o.right = centre - 0.5 * width * along;
+    o.center = centre;
+    o.theta = theta;
+    o.width = width;
+    o.kind = kind;
+    o.room_behind = kind == laser_features::OpeningKind::kDoor;
+    return o;
+  };
+  using laser_features::OpeningKind;
+  const double clearance = 0.35, tol = HallwayViewParams().wall_parallel_tolerance;
+  for (const double direction : {0.0, 0.7}) {
+    const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
+    const auto door = opening(0.1 * u + 1.55 * n, direction + 0.5 * kPi, 1.75, OpeningKind::kDoor);
+    EXPECT_TRUE(exploration::doorInMouth({door}, Eigen::Vector2d::Zero(), direction, 1, clearance, tol)) << direction;
+    EXPECT_FALSE(exploration::doorInMouth({door}, Eigen::Vector2d::Zero(), direction, -1, clearance, tol)) << direction;
+    const auto branch = opening(0.1 * u + 1.55 * n, direction + 0.5 * kPi, 1.75, OpeningKind::kJunction);
+    EXPECT_FALSE(exploration::doorInMouth({branch}, Eigen::Vector2d::Zero(), direction, 1, clearance, tol)) << direction;
+    const auto farther = opening(2.0 * u + 1.55 * n, direction + 0.5 * kPi, 1.75, OpeningKind::kDoor);
+    EXPECT_FALSE(exploration::doorInMouth({farther}, Eigen::Vector2d::Zero(), direction, 1, clearance, tol)) << direction;
+    const auto ahead = opening(0.5 * u + 1.55 * n, direction, 1.75, OpeningKind::kDoor);
+    EXPECT_FALSE(exploration::doorInMouth({ahead}, Eigen::Vector2d::Zero(), direction, 1, clearance, tol)) << direction;
+    // Seen from the crossing's expected centre 2 m ahead, the door beside the robot is not there.
+    EXPECT_FALSE(exploration::doorInMouth({door}, 2.0 * u, direction, 1, clearance, tol)) << direction;
+  }
+}
+
+// A double door straight ahead (as wide as the narrowest hallway's mouth, so a lane of a mouth's
+// width passes through it) is a wall across the hallway where laser_features sees a room behind it:
+// the hallway ends at it. A junction's opening there is the way on.
+TEST(HallwayView, ADoubleDoorAheadEndsTheHallway) {
+  std::vector<Eigen::Vector2d> pts;
+  std::vector<laser_features::LineSegment> lines;
+  addWall(&pts, &lines, {-6.0, 1.5}, {3.0, 1.5});  // a 3 m hallway, crossed 3 m ahead by a wall with a 1.75 m door
+  addWall(&pts, &lines, {-6.0, -1.5}, {3.0, -1.5});
+  addWall(&pts, &lines, {3.0, 1.5}, {3.0, 0.875});
+  addWall(&pts, &lines, {3.0, -0.875}, {3.0, -1.5});
+  const exploration::HallwayView v = viewHallway(pts, lines, 0.0, HallwayViewParams());
+  ASSERT_FALSE(v.wall_across);  // a lane of a mouth's width passes through the door
+  laser_features::Opening door;
+  door.left = {3.0, 0.875};
+  door.right = {3.0, -0.875};
+  door.center = {3.0, 0.0};
+  door.theta = 0.0;
+  door.width = 1.75;
+  door.kind = laser_features::OpeningKind::kDoor;
+  door.room_behind = true;
+  const auto across = exploration::doorAcross({door}, v, 0.0, HallwayViewParams());
+  ASSERT_TRUE(across.has_value());
+  EXPECT_NEAR(*across, 3.0, 1e-9);
+  exploration::HallwayView ended = v;
+  exploration::endWallAt(pts, 0.0, HallwayViewParams(), *across, &ended);
+  EXPECT_TRUE(ended.wall_across);
+  EXPECT_NEAR(ended.free_ahead, 3.0, 1e-9);
+  laser_features::Opening junction = door;
+  junction.kind = laser_features::OpeningKind::kJunction;
+  EXPECT_FALSE(exploration::doorAcross({junction}, v, 0.0, HallwayViewParams()).has_value());
+  laser_features::Opening aside = door;  // beside the mid-line, not across it
+  aside.left = {3.0, 1.4};
+  aside.right = {3.0, 0.3};
+  aside.center = {3.0, 0.85};
+  EXPECT_FALSE(exploration::doorAcross({aside}, v, 0.0, HallwayViewParams()).has_value());
+}

@@ -109,6 +109,9 @@ class HallwayFollower {
   /// robot keeps to its walls, one at a time. (Set off in one, the robot takes the start's way:
   /// HallwayFollower::startBin.)
   bool intoOpenArea(const Perception& p, double dir_robot, const HallwayView& v);
+  /// `v` (along `direction`, robot frame) where laser_features sees a door (a double door): ended
+  /// at a door across ahead (doorAcross), its sides that open at a door (doorInMouth) closed.
+  void closeDoorMouths(const Perception& p, double direction, HallwayView* v) const;
   /// The free distance ahead in `v` is below end_distance.
   bool atEnd(const HallwayView& v) const { return v.free_ahead < params_.end_distance; }
   /// The goal (odometry frame): lookahead metres ahead on the mid-line (past an obstacle, on `lane`

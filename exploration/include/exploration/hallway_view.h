@@ -8,6 +8,7 @@
 
 #include "laser_features/building_axes.h"
 #include "laser_features/line_extractor.h"
+#include "laser_features/opening_extractor.h"
 
 #include <Eigen/Core>
 
@@ -89,6 +90,19 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
                         const std::vector<laser_features::LineSegment>& lines, double direction,
                         const HallwayViewParams& params, double range_cap = 15.0);
 
+/// `v` ends at a wall across its hallway `distance` m ahead along `direction` (robot frame): the free
+/// distance ahead, wall_across, and the sides seen from the crossing's expected centre.
+void endWallAt(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayViewParams& params,
+               double distance, HallwayView* v);
+
+/// A door across the hallway of `v` ahead (m, along `direction`, robot frame), nearer than its free
+/// distance: one of laser_features' `openings` of kind door (BuildingRules::isDoor: a double door
+/// with a room behind it is a door, though a lane as wide as a hallway's mouth passes through it),
+/// facing along the direction (within the walls' tolerance), spanning the mid-line. A hallway does
+/// not go on through a door: its wall crosses the hallway there.
+std::optional<double> doorAcross(const std::vector<laser_features::Opening>& openings, const HallwayView& v,
+                                 double direction, const HallwayViewParams& params);
+
 /// viewHallway as seen from `origin` (robot frame) instead of the robot; distances and offsets are
 /// from `origin`.
 HallwayView viewHallwayFrom(const std::vector<Eigen::Vector2d>& points,
@@ -147,6 +161,15 @@ bool wallsSpan(const std::vector<Eigen::Vector2d>& points, const std::vector<las
 /// sector a narrow branch off a wide hallway opens.)
 bool mouthBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& origin, double direction, int side,
                  double clearance, double min_mouth, double depth);
+
+/// A door where a mouth beside `origin` (robot frame) on the `side` (+1 left, -1 right) of
+/// `direction` opens: one of laser_features' `openings` of kind door (BuildingRules::isDoor: a
+/// double door as wide as the narrowest hallway's mouth, with a room behind it whose free space
+/// reaches past its edges; a hallway's walls run on from its mouth's) on that side, facing that
+/// way (normal within `side_angle` of it), whose edges span the robot's corridor straight to the
+/// side (half-width `clearance`). Such a mouth is a door, not a branch.
+bool doorInMouth(const std::vector<laser_features::Opening>& openings, const Eigen::Vector2d& origin, double direction,
+                 int side, double clearance, double side_angle);
 
 /// Open space beside `origin` (robot frame) on the `side` (+1 left, -1 right) of `direction`, wider
 /// along it than the widest hallway's mouth (`widest_hallway`, m): the robot's corridor straight to
