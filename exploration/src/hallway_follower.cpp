@@ -51,7 +51,8 @@ std::vector<int> HallwayFollower::waysAtStart(int bin, const Perception& p, cons
     if (freeAlong(side_bin, p, topo) > beyond_end &&
         mouthBeside(p.points, Eigen::Vector2d::Zero(), dir, side, view_.clearance, view_.min_mouth,
                     view_.side_open_distance) &&
-        !doorInMouth(p.openings, Eigen::Vector2d::Zero(), dir, side, view_.clearance, view_.wall_parallel_tolerance))
+        !doorInMouth(p.openings, Eigen::Vector2d::Zero(), dir, side, view_.clearance, view_.min_mouth,
+                     view_.wall_parallel_tolerance))
       ways.push_back(side_bin);
   }
   return ways;
@@ -146,7 +147,7 @@ void HallwayFollower::closeDoorMouths(const Perception& p, double direction, Hal
       endWallAt(p.points, direction, view_, *across, v);
   }
   const auto door = [&](const Eigen::Vector2d& origin, int side) {
-    return doorInMouth(p.openings, origin, direction, side, view_.clearance, view_.wall_parallel_tolerance);
+    return doorInMouth(p.openings, origin, direction, side, view_.clearance, view_.min_mouth, view_.wall_parallel_tolerance);
   };
   if (v->open_left && door(Eigen::Vector2d::Zero(), 1)) v->open_left = false;
   if (v->open_right && door(Eigen::Vector2d::Zero(), -1)) v->open_right = false;

@@ -190,7 +190,8 @@ std::optional<double> doorAcross(const std::vector<laser_features::Opening>& ope
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
   std::optional<double> nearest;
   for (const laser_features::Opening& o : openings) {
-    if (o.kind != laser_features::OpeningKind::kDoor) continue;
+    // A narrower door lets no lane of a mouth's width through: that lane passes beside it.
+    if (o.kind != laser_features::OpeningKind::kDoor || o.width < params.min_mouth) continue;
     if (std::abs(normalizeAngle(o.theta - direction)) > params.wall_parallel_tolerance) continue;
     const double along = o.center.dot(u);
     if (along <= params.clearance || along >= v.free_ahead || (nearest && along >= *nearest)) continue;
@@ -403,12 +404,13 @@ bool mouthBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector
 }
 
 bool doorInMouth(const std::vector<laser_features::Opening>& openings, const Eigen::Vector2d& origin, double direction,
-                 int side, double clearance, double side_angle) {
+                 int side, double clearance, double min_mouth, double side_angle) {
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction));
   const double towards = direction + (side >= 0 ? 0.5 : -0.5) * kPi;
   const Eigen::Vector2d n(std::cos(towards), std::sin(towards));
   return std::any_of(openings.begin(), openings.end(), [&](const laser_features::Opening& o) {
-    if (o.kind != laser_features::OpeningKind::kDoor) return false;
+    // A narrower door is no mouth: a mouth found where one is lies beside it.
+    if (o.kind != laser_features::OpeningKind::kDoor || o.width < min_mouth) return false;
     const Eigen::Vector2d c = o.center - origin;
     if (c.dot(n) <= 0.0 || std::abs(normalizeAngle(o.theta - towards)) > side_angle) return false;
     const double a = (o.left - origin).dot(u), b = (o.right - origin).dot(u);

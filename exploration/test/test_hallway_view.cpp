@@ -403,16 +403,19 @@ TEST(HallwayView, ADoubleDoorInTheMouthBesideTheRobotIsNoBranch) {
   for (const double direction : {0.0, 0.7}) {
     const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
     const auto door = opening(0.1 * u + 1.55 * n, direction + 0.5 * kPi, 1.75, OpeningKind::kDoor);
-    EXPECT_TRUE(exploration::doorInMouth({door}, Eigen::Vector2d::Zero(), direction, 1, clearance, tol)) << direction;
-    EXPECT_FALSE(exploration::doorInMouth({door}, Eigen::Vector2d::Zero(), direction, -1, clearance, tol)) << direction;
+    EXPECT_TRUE(exploration::doorInMouth({door}, Eigen::Vector2d::Zero(), direction, 1, clearance, 1.4, tol)) << direction;
+    EXPECT_FALSE(exploration::doorInMouth({door}, Eigen::Vector2d::Zero(), direction, -1, clearance, 1.4, tol)) << direction;
     const auto branch = opening(0.1 * u + 1.55 * n, direction + 0.5 * kPi, 1.75, OpeningKind::kJunction);
-    EXPECT_FALSE(exploration::doorInMouth({branch}, Eigen::Vector2d::Zero(), direction, 1, clearance, tol)) << direction;
+    EXPECT_FALSE(exploration::doorInMouth({branch}, Eigen::Vector2d::Zero(), direction, 1, clearance, 1.4, tol)) << direction;
     const auto farther = opening(2.0 * u + 1.55 * n, direction + 0.5 * kPi, 1.75, OpeningKind::kDoor);
-    EXPECT_FALSE(exploration::doorInMouth({farther}, Eigen::Vector2d::Zero(), direction, 1, clearance, tol)) << direction;
+    EXPECT_FALSE(exploration::doorInMouth({farther}, Eigen::Vector2d::Zero(), direction, 1, clearance, 1.4, tol)) << direction;
     const auto ahead = opening(0.5 * u + 1.55 * n, direction, 1.75, OpeningKind::kDoor);
-    EXPECT_FALSE(exploration::doorInMouth({ahead}, Eigen::Vector2d::Zero(), direction, 1, clearance, tol)) << direction;
+    EXPECT_FALSE(exploration::doorInMouth({ahead}, Eigen::Vector2d::Zero(), direction, 1, clearance, 1.4, tol)) << direction;
+    // A single door is no mouth: one found there lies beside it.
+    const auto single = opening(0.1 * u + 1.55 * n, direction + 0.5 * kPi, 1.0, OpeningKind::kDoor);
+    EXPECT_FALSE(exploration::doorInMouth({single}, Eigen::Vector2d::Zero(), direction, 1, clearance, 1.4, tol)) << direction;
     // Seen from the crossing's expected centre 2 m ahead, the door beside the robot is not there.
-    EXPECT_FALSE(exploration::doorInMouth({door}, 2.0 * u, direction, 1, clearance, tol)) << direction;
+    EXPECT_FALSE(exploration::doorInMouth({door}, 2.0 * u, direction, 1, clearance, 1.4, tol)) << direction;
   }
 }
 

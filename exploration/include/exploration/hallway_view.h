@@ -96,7 +96,8 @@ void endWallAt(const std::vector<Eigen::Vector2d>& points, double direction, con
                double distance, HallwayView* v);
 
 /// A door across the hallway of `v` ahead (m, along `direction`, robot frame), nearer than its free
-/// distance: one of laser_features' `openings` of kind door (BuildingRules::isDoor: a double door
+/// distance: one of laser_features' `openings` of kind door at least params.min_mouth wide
+/// (BuildingRules::isDoor: a double door
 /// with a room behind it is a door, though a lane as wide as a hallway's mouth passes through it),
 /// facing along the direction (within the walls' tolerance), spanning the mid-line. A hallway does
 /// not go on through a door: its wall crosses the hallway there.
@@ -169,7 +170,7 @@ bool mouthBeside(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector
 /// way (normal within `side_angle` of it), whose edges span the robot's corridor straight to the
 /// side (half-width `clearance`). Such a mouth is a door, not a branch.
 bool doorInMouth(const std::vector<laser_features::Opening>& openings, const Eigen::Vector2d& origin, double direction,
-                 int side, double clearance, double side_angle);
+                 int side, double clearance, double min_mouth, double side_angle);
 
 /// Open space beside `origin` (robot frame) on the `side` (+1 left, -1 right) of `direction`, wider
 /// along it than the widest hallway's mouth (`widest_hallway`, m): the robot's corridor straight to
