@@ -165,24 +165,28 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
     endWallAt(points, direction, params, hallway_free, &v);
     return v;
   }
-  endWallAt(points, direction, params, v.free_ahead, &v);
-  v.wall_across = false;
+  seeEnd(points, direction, params, &v);
   return v;
 }
 
-void endWallAt(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayViewParams& params,
-               double distance, HallwayView* v) {
-  v->free_ahead = distance;
-  v->wall_across = true;
+void seeEnd(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayViewParams& params,
+            HallwayView* v) {
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
   const double half_width = v->left_wall && v->right_wall ? 0.5 * v->width() : 1.0;
-  const Eigen::Vector2d centre = std::max(0.0, distance - half_width) * u + v->centre_offset * n;
+  const Eigen::Vector2d centre = std::max(0.0, v->free_ahead - half_width) * u + v->centre_offset * n;
   v->end_centre = centre;
   const auto open = [&](int side) {
     return mouthBeside(points, centre, direction, side, params.clearance, params.min_mouth, params.side_open_distance);
   };
   v->end_open_left = open(1);
   v->end_open_right = open(-1);
+}
+
+void endWallAt(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayViewParams& params,
+               double distance, HallwayView* v) {
+  v->free_ahead = distance;
+  v->wall_across = true;
+  seeEnd(points, direction, params, v);
 }
 
 std::optional<double> doorAcross(const std::vector<laser_features::Opening>& openings, const HallwayView& v,

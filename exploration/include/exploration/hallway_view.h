@@ -90,8 +90,13 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
                         const std::vector<laser_features::LineSegment>& lines, double direction,
                         const HallwayViewParams& params, double range_cap = 15.0);
 
+/// The sides of `v`'s hallway end (free_ahead along `direction`, robot frame), seen from where a
+/// crossing's centre is expected there: end_centre, end_open_left, end_open_right.
+void seeEnd(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayViewParams& params,
+            HallwayView* v);
+
 /// `v` ends at a wall across its hallway `distance` m ahead along `direction` (robot frame): the free
-/// distance ahead, wall_across, and the sides seen from the crossing's expected centre.
+/// distance ahead, wall_across, and the sides seen from the crossing's expected centre (seeEnd).
 void endWallAt(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayViewParams& params,
                double distance, HallwayView* v);
 
