@@ -19,12 +19,18 @@ constexpr double kAtNodeDistance = 1.0;
 
 RouteStep RoutePolicy::plan(const TopoGraph& graph, const GraphPosition& pos, const PlaceDoor* mission_door) const {
   if (mission_door) return graph.routeTo(pos, mission_door->node, mission_door->opening, params_.u_turn_cost);
-  return graph.route(pos, params_.u_turn_cost,
-                     [this](uint32_t n, const GraphOpening& o) { return named(set_aside_, n, o.bearing); });
+  return graph.route(pos, params_.u_turn_cost, [this](uint32_t n, const GraphOpening& o) { return leftOut(n, o); });
 }
 
 size_t RoutePolicy::openingsLeft(const TopoGraph& graph) const {
-  return graph.unexploredCount([this](uint32_t n, const GraphOpening& o) { return named(set_aside_, n, o.bearing); });
+  return graph.unexploredCount([this](uint32_t n, const GraphOpening& o) { return leftOut(n, o); });
+}
+
+bool RoutePolicy::leftOut(uint32_t node, const GraphOpening& o) const {
+  // Given up is given up whether or not the map builder recorded it explored: a record it refused
+  // (the belief off the node, the bearing off the opening's) would leave the opening to be routed
+  // to, missed and given up again, round and round until the time limit.
+  return named(set_aside_, node, o.bearing) || named(given_up_, node, o.bearing);
 }
 
 size_t RoutePolicy::retrySetAside() {
@@ -169,6 +175,7 @@ RouteAction RoutePolicy::giveUp(uint32_t node, double bearing, const std::string
     ++stats_.openings_set_aside;
     return RouteAction{RouteAction::SetAside, {}, why + ": set aside until the others are explored"};
   }
+  given_up_.emplace_back(node, bearing);
   RouteAction give_up{RouteAction::GiveUp, {}, why + ": given up"};
   give_up.record.kind = Request::RecordOpening;
   give_up.record.node = int(node);

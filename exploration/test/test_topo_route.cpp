@@ -200,7 +200,8 @@ TEST(TopoRoute, RouteToAMissionsDoorGoesPastNearerUnexploredOpenings) {
 
 // An opening the route keeps missing is set aside the first time (the route goes to the others
 // first: a wrong belief is the likeliest reason for a miss), tried once more when every other
-// opening is explored, and only then given up (marked explored).
+// opening is explored, and only then given up (marked explored, and never routed to again
+// whether or not the map builder took the record).
 TEST(RoutePolicy, AnOpeningMissedIsSetAsideTriedOnceMoreThenGivenUp) {
   using exploration::RouteAction;
   exploration::RoutePolicyParams params;
@@ -244,4 +245,11 @@ TEST(RoutePolicy, AnOpeningMissedIsSetAsideTriedOnceMoreThenGivenUp) {
   EXPECT_EQ(missUntil(RouteAction::GiveUp), RouteAction::GiveUp);
   EXPECT_EQ(policy.stats().openings_given_up, 1);
   EXPECT_EQ(policy.stats().openings_set_aside, 2);
+  // Given up is never routed to again, even while the map (here never updated: the map builder
+  // refused the record) still shows it unexplored: one opening is left, not two.
+  EXPECT_EQ(policy.openingsLeft(g), 1u);
+  EXPECT_EQ(missUntil(RouteAction::GiveUp), RouteAction::GiveUp);
+  EXPECT_EQ(policy.openingsLeft(g), 0u);
+  EXPECT_FALSE(policy.plan(g, topo.position, nullptr).found);
+  EXPECT_EQ(policy.stats().openings_given_up, 2);
 }

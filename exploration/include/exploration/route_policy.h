@@ -118,6 +118,9 @@ class RoutePolicy {
   /// The goal's opening set aside (the first miss) or given up (a miss after retrySetAside), its
   /// counts of turns towards it forgotten.
   RouteAction giveUp(uint32_t node, double bearing, const std::string& why);
+  /// The opening `o` of `node` is left out of routes and of the openings left: set aside for now,
+  /// or given up.
+  bool leftOut(uint32_t node, const GraphOpening& o) const;
   /// (`node`, `bearing`) names an opening of `list` (same node, bearing within kSameBearing).
   static bool named(const std::vector<std::pair<uint32_t, double>>& list, uint32_t node, double bearing);
   static constexpr double kSameBearing = 0.3;  // rad: pomdp_topo's map keeps a node's openings' bearings to the axes
@@ -137,6 +140,7 @@ class RoutePolicy {
   std::map<std::pair<uint32_t, uint32_t>, int> branch_turns_;  // turns into (node's branch, towards goal node)
   std::vector<std::pair<uint32_t, double>> set_aside_;  // (node, bearing) of openings missed once
   std::vector<std::pair<uint32_t, double>> retried_;    // ... and tried once more
+  std::vector<std::pair<uint32_t, double>> given_up_;   // ... and missed again: never routed to again
 };
 
 }  // namespace exploration
