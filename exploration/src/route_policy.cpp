@@ -92,7 +92,9 @@ RouteAction RoutePolicy::alongRoute(const RouteContext& at, const RouteStep& rou
   // is not seen, or the belief flickers) is given up after max_route_attempts.
   const bool missed = ++route_attempts_[route.goal_node] > params_.max_route_attempts;
   if (missed && at.mission) return RouteAction{RouteAction::MissedDoor, {}, ""};
-  if (missed) return giveUp(route.goal_node, route.goal_bearing, "missed an opening of node " + std::to_string(route.goal_node));
+  if (missed)
+    return giveUp(route.goal_node, route.goal_bearing, route.goal_width,
+                  "missed an opening of node " + std::to_string(route.goal_node));
   RouteAction turn_round{RouteAction::TurnRound, {}, ""};
   turn_round.text = "turning round towards node " + std::to_string(route.goal_node) + " (" +
                     std::to_string(route.distance) + " m, from " + (at.topo.position.at_node ? "node " : "edge ") +
@@ -116,7 +118,7 @@ RouteAction RoutePolicy::passedGoal(const RouteContext& at, const RouteStep& rou
       goal_pass_travel_ = at.travel;
     } else if (at.travel - goal_pass_travel_ > params_.goal_pass_distance) {
       goal_pass_node_ = -1;
-      return giveUp(uint32_t(near), route.goal_bearing,
+      return giveUp(uint32_t(near), route.goal_bearing, route.goal_width,
                     "passed node " + std::to_string(near) + " without finding its opening");
     }
   } else if (near != goal_pass_node_) {
@@ -157,13 +159,14 @@ RouteAction RoutePolicy::atBranch(const RouteContext& at, const RouteStep& route
   // circle (a belief that moves back as the robot turns, look-alike junctions): the goal's opening
   // is given up after max_route_attempts such turns, as after as many U-turns.
   if (!at.mission && ++branch_turns_[{route.next_node, route.goal_node}] > params_.max_route_attempts)
-    return giveUp(route.goal_node, route.goal_bearing, "missed an opening of node " + std::to_string(route.goal_node));
+    return giveUp(route.goal_node, route.goal_bearing, route.goal_width,
+                  "missed an opening of node " + std::to_string(route.goal_node));
   return RouteAction{RouteAction::TurnIntoBranch, {},
                      "turning into the branch of node " + std::to_string(near) + " towards node " +
                          std::to_string(route.goal_node)};
 }
 
-RouteAction RoutePolicy::giveUp(uint32_t node, double bearing, const std::string& why) {
+RouteAction RoutePolicy::giveUp(uint32_t node, double bearing, double width, const std::string& why) {
   route_attempts_.erase(node);
   for (auto it = branch_turns_.begin(); it != branch_turns_.end();) {
     it = it->first.second == node ? branch_turns_.erase(it) : std::next(it);
@@ -180,6 +183,9 @@ RouteAction RoutePolicy::giveUp(uint32_t node, double bearing, const std::string
   give_up.record.kind = Request::RecordOpening;
   give_up.record.node = int(node);
   give_up.record.bearing = bearing;
+  // Its width names the opening where the node has two on that side (a door and a hallway's mouth
+  // beside it: pomdp_topo keeps them apart by width, BuildingRules::differentOpenings).
+  give_up.record.width = width;
   give_up.record.explored = true;
   ++stats_.openings_given_up;
   return give_up;

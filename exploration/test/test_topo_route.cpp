@@ -217,6 +217,7 @@ TEST(RoutePolicy, AnOpeningMissedIsSetAsideTriedOnceMoreThenGivenUp) {
   topo.position = onEdge(2, 2.0, 0.0);  // 2 m past node 2, towards the end 3
   double travel = 100.0;
   // Misses until the route's goal is set aside: turn round max_route_attempts times, then the miss.
+  RouteAction last;  // the last action missUntil() returned the kind of
   auto missUntil = [&](RouteAction::Kind kind) {
     for (int i = 0; i < 200; ++i) {
       travel += 1.0;  // each tick far from the last turn
@@ -225,7 +226,10 @@ TEST(RoutePolicy, AnOpeningMissedIsSetAsideTriedOnceMoreThenGivenUp) {
       const exploration::RouteContext at{g, topo, travel, false};
       const RouteAction a = policy.alongRoute(at, r, 0.0);
       if (a.kind == RouteAction::TurnRound) policy.turned(travel - 10.0);  // the turn is long ago
-      if (a.kind == kind || a.kind == RouteAction::GiveUp || a.kind == RouteAction::SetAside) return a.kind;
+      if (a.kind == kind || a.kind == RouteAction::GiveUp || a.kind == RouteAction::SetAside) {
+        last = a;
+        return a.kind;
+      }
     }
     return RouteAction::None;
   };
@@ -245,6 +249,12 @@ TEST(RoutePolicy, AnOpeningMissedIsSetAsideTriedOnceMoreThenGivenUp) {
   EXPECT_EQ(missUntil(RouteAction::GiveUp), RouteAction::GiveUp);
   EXPECT_EQ(policy.stats().openings_given_up, 1);
   EXPECT_EQ(policy.stats().openings_set_aside, 2);
+  // The record marks that opening explored: its node, bearing and width (the width tells it from a
+  // door on the same side of the node).
+  EXPECT_EQ(last.record.kind, exploration::Request::RecordOpening);
+  EXPECT_TRUE(last.record.explored);
+  EXPECT_EQ(last.record.node, 2);
+  EXPECT_NEAR(last.record.width, 2.0, 1e-9);
   // Given up is never routed to again, even while the map (here never updated: the map builder
   // refused the record) still shows it unexplored: one opening is left, not two.
   EXPECT_EQ(policy.openingsLeft(g), 1u);

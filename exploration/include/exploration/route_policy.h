@@ -117,7 +117,7 @@ class RoutePolicy {
   RouteAction passedGoal(const RouteContext& at, const RouteStep& route, int near);
   /// The goal's opening set aside (the first miss) or given up (a miss after retrySetAside), its
   /// counts of turns towards it forgotten.
-  RouteAction giveUp(uint32_t node, double bearing, const std::string& why);
+  RouteAction giveUp(uint32_t node, double bearing, double width, const std::string& why);
   /// The opening `o` of `node` is left out of routes and of the openings left: set aside for now,
   /// or given up.
   bool leftOut(uint32_t node, const GraphOpening& o) const;
