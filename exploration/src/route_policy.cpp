@@ -27,9 +27,10 @@ size_t RoutePolicy::openingsLeft(const TopoGraph& graph) const {
 }
 
 bool RoutePolicy::leftOut(uint32_t node, const GraphOpening& o) const {
-  // Given up is given up whether or not the map builder recorded it explored: a record it refused
-  // (the belief off the node, the bearing off the opening's) would leave the opening to be routed
-  // to, missed and given up again, round and round until the time limit.
+  // Given up is given up whether or not the map builder's record of it took: a record that marked
+  // another opening of the node (one on the same side that the width does not tell apart) or was
+  // refused would leave the opening to be routed to, missed and given up again, round and round
+  // until the time limit.
   return named(set_aside_, node, o.bearing) || named(given_up_, node, o.bearing);
 }
 
