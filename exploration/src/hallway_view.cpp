@@ -189,13 +189,16 @@ void endWallAt(const std::vector<Eigen::Vector2d>& points, double direction, con
   seeEnd(points, direction, params, v);
 }
 
+bool mouthWideDoor(const laser_features::Opening& o, double min_mouth) {
+  return o.kind == laser_features::OpeningKind::kDoor && o.width >= min_mouth;
+}
+
 std::optional<double> doorAcross(const std::vector<laser_features::Opening>& openings, const HallwayView& v,
                                  double direction, const HallwayViewParams& params) {
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
   std::optional<double> nearest;
   for (const laser_features::Opening& o : openings) {
-    // A narrower door lets no lane of a mouth's width through: that lane passes beside it.
-    if (o.kind != laser_features::OpeningKind::kDoor || o.width < params.min_mouth) continue;
+    if (!mouthWideDoor(o, params.min_mouth)) continue;
     if (std::abs(normalizeAngle(o.theta - direction)) > params.wall_parallel_tolerance) continue;
     const double along = o.center.dot(u);
     if (along <= params.clearance || along >= v.free_ahead || (nearest && along >= *nearest)) continue;
@@ -413,8 +416,7 @@ bool doorInMouth(const std::vector<laser_features::Opening>& openings, const Eig
   const double towards = direction + (side >= 0 ? 0.5 : -0.5) * kPi;
   const Eigen::Vector2d n(std::cos(towards), std::sin(towards));
   return std::any_of(openings.begin(), openings.end(), [&](const laser_features::Opening& o) {
-    // A narrower door is no mouth: a mouth found where one is lies beside it.
-    if (o.kind != laser_features::OpeningKind::kDoor || o.width < min_mouth) return false;
+    if (!mouthWideDoor(o, min_mouth)) return false;
     const Eigen::Vector2d c = o.center - origin;
     if (c.dot(n) <= 0.0 || std::abs(normalizeAngle(o.theta - towards)) > side_angle) return false;
     const double a = (o.left - origin).dot(u), b = (o.right - origin).dot(u);

@@ -100,12 +100,16 @@ void seeEnd(const std::vector<Eigen::Vector2d>& points, double direction, const 
 void endWallAt(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayViewParams& params,
                double distance, HallwayView* v);
 
+/// A door as wide as a hallway's mouth (`min_mouth`, m): laser_features' kind door
+/// (BuildingRules::isDoor: a double door with a room behind it is a door, though a lane as wide as
+/// a mouth passes through it). A narrower door lets no such lane through: a lane or mouth found
+/// where one is lies beside it.
+bool mouthWideDoor(const laser_features::Opening& o, double min_mouth);
+
 /// A door across the hallway of `v` ahead (m, along `direction`, robot frame), nearer than its free
-/// distance: one of laser_features' `openings` of kind door at least params.min_mouth wide
-/// (BuildingRules::isDoor: a double door
-/// with a room behind it is a door, though a lane as wide as a hallway's mouth passes through it),
-/// facing along the direction (within the walls' tolerance), spanning the mid-line. A hallway does
-/// not go on through a door: its wall crosses the hallway there.
+/// distance: one of laser_features' `openings` that is a mouthWideDoor (params.min_mouth), facing
+/// along the direction (within the walls' tolerance), spanning the mid-line. A hallway does not go
+/// on through a door: its wall crosses the hallway there.
 std::optional<double> doorAcross(const std::vector<laser_features::Opening>& openings, const HallwayView& v,
                                  double direction, const HallwayViewParams& params);
 
