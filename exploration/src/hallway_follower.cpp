@@ -144,15 +144,15 @@ void HallwayFollower::closeDoorMouths(const Perception& p, double direction, Hal
   // within the walls' tolerance of the side.
   if (!v->wall_across) {
     if (const std::optional<double> across = doorAcross(p.openings, *v, direction, view_))
-      endWallAt(p.points, direction, view_, *across, v);
+      endWallAt(p.points, p.lines, direction, view_, *across, v);
   }
   const auto door = [&](const Eigen::Vector2d& origin, int side) {
     return doorInMouth(p.openings, origin, direction, side, view_.clearance, view_.min_mouth, view_.wall_parallel_tolerance);
   };
   if (v->open_left && door(Eigen::Vector2d::Zero(), 1)) v->open_left = false;
   if (v->open_right && door(Eigen::Vector2d::Zero(), -1)) v->open_right = false;
-  if (v->end_open_left && door(v->end_centre, 1)) v->end_open_left = false;
-  if (v->end_open_right && door(v->end_centre, -1)) v->end_open_right = false;
+  if (v->end_open_left && door(v->end_mouth_left, 1)) v->end_open_left = false;
+  if (v->end_open_right && door(v->end_mouth_right, -1)) v->end_open_right = false;
 }
 
 bool HallwayFollower::intoOpenArea(const Perception& p, double dir_robot, const HallwayView& v) {

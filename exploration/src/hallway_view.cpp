@@ -14,6 +14,23 @@ using laser_features::kPi;
 using laser_features::normalizeAngle;
 
 namespace {
+
+// The end wall (`v`'s free distance ahead along `direction`, robot frame) runs on into `side` (+1
+// left): a wall line across the hallway there, within wall_same_lateral of the end, reaching
+// side_open_distance past the mid-line to that side, as a side hallway's far wall does.
+bool endWallRunsInto(const std::vector<laser_features::LineSegment>& lines, double direction, const HallwayView& v,
+                     int side, const HallwayViewParams& params) {
+  const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
+  return std::any_of(lines.begin(), lines.end(), [&](const laser_features::LineSegment& l) {
+    const double len = l.length();
+    if (len < params.wall_min_length) return false;
+    const Eigen::Vector2d d = (l.end - l.start) / len;
+    if (std::abs(d.dot(u)) > std::sin(params.wall_parallel_tolerance)) return false;  // across the hallway
+    if (std::abs(0.5 * (l.start + l.end).dot(u) - v.free_ahead) > params.wall_same_lateral) return false;
+    const double reach = side * std::max(side * l.start.dot(n), side * l.end.dot(n));
+    return side * (reach - v.centre_offset) >= params.side_open_distance;
+  });
+}
 // m, the spacing of the lanes freestLane tries: a mouth is found by a corridor this much narrower.
 constexpr double kLaneStep = 0.1;
 // A wall of the hallway along `direction` (unit `u`, left normal `n`): a line at least
@@ -162,31 +179,46 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   }
   if (hallway_free > params.clearance && hallway_free < v.free_ahead &&
       !wallsSpan(points, lines, v, direction, hallway_free - params.clearance, hallway_free + params.clearance, params)) {
-    endWallAt(points, direction, params, hallway_free, &v);
+    endWallAt(points, lines, direction, params, hallway_free, &v);
     return v;
   }
-  seeEnd(points, direction, params, &v);
+  seeEnd(points, lines, direction, params, &v);
   return v;
 }
 
-void seeEnd(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayViewParams& params,
-            HallwayView* v) {
+void seeEnd(const std::vector<Eigen::Vector2d>& points, const std::vector<laser_features::LineSegment>& lines,
+            double direction, const HallwayViewParams& params, HallwayView* v) {
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
   const double half_width = v->left_wall && v->right_wall ? 0.5 * v->width() : 1.0;
   const Eigen::Vector2d centre = std::max(0.0, v->free_ahead - half_width) * u + v->centre_offset * n;
   v->end_centre = centre;
-  const auto open = [&](int side) {
-    return mouthBeside(points, centre, direction, side, params.clearance, params.min_mouth, params.side_open_distance);
+  // A side hallway as wide as this one or wider opens about the crossing's centre. A narrower one
+  // (hallways are 1.5-4.0 m wide, and either may be the narrower) has its far wall in line with the
+  // end wall, as at an L or T corner, and its mouth lies between that centre and the end wall:
+  // where the end wall runs on into the side, the mouth is looked for up to it, as near as the
+  // robot's corridor fits. (A wing at an angle leaves the end wall's line; obliqueHallways finds it.)
+  const double nearest_end = std::max(0.0, v->free_ahead - params.clearance);
+  const auto open = [&](int side, Eigen::Vector2d* mouth) {
+    *mouth = centre;
+    const double last = endWallRunsInto(lines, direction, *v, side, params) ? nearest_end : centre.dot(u);
+    for (double along = centre.dot(u); along <= last + 1e-9; along += kLaneStep) {
+      const Eigen::Vector2d origin = along * u + v->centre_offset * n;
+      if (mouthBeside(points, origin, direction, side, params.clearance, params.min_mouth, params.side_open_distance)) {
+        *mouth = origin;
+        return true;
+      }
+    }
+    return false;
   };
-  v->end_open_left = open(1);
-  v->end_open_right = open(-1);
+  v->end_open_left = open(1, &v->end_mouth_left);
+  v->end_open_right = open(-1, &v->end_mouth_right);
 }
 
-void endWallAt(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayViewParams& params,
-               double distance, HallwayView* v) {
+void endWallAt(const std::vector<Eigen::Vector2d>& points, const std::vector<laser_features::LineSegment>& lines,
+               double direction, const HallwayViewParams& params, double distance, HallwayView* v) {
   v->free_ahead = distance;
   v->wall_across = true;
-  seeEnd(points, direction, params, v);
+  seeEnd(points, lines, direction, params, v);
 }
 
 bool mouthWideDoor(const laser_features::Opening& o, double min_mouth) {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "exploration/hallway_view.h"
 
@@ -268,6 +269,33 @@ TEST(HallwayView, ADoorNeverOpensASideEvenInANarrowHallway) {
   }
 }
 
+// At an L corner the side hallway's far wall is in line with the end wall. A side hallway narrower
+// than the robot's (both 1.5-4.0 m wide) has its mouth between the crossing's expected centre (half
+// the robot's hallway short of the end) and the end wall, not about that centre: its side is open.
+TEST(HallwayView, ANarrowerSideHallwayAtAnEndOpensItsSide) {
+  for (const double own : {1.5, 2.4, 3.5}) {
+    for (const double branch : {1.5, 2.0, 3.0}) {
+      for (const int side : {1, -1}) {
+        for (const double end : {1.0, 1.3}) {  // the robot stops about a metre short of the end wall
+          std::vector<Eigen::Vector2d> pts;
+          std::vector<laser_features::LineSegment> lines;
+          const double s = side, wall = 0.5 * own;
+          addWall(&pts, &lines, {-6.0, s * wall}, {end - branch, s * wall});  // the wall the branch leaves
+          addWall(&pts, &lines, {end - branch, s * wall}, {end - branch, s * 8.0});
+          addWall(&pts, &lines, {-6.0, -s * wall}, {end, -s * wall});
+          addWall(&pts, &lines, {end, -s * wall}, {end, s * 8.0});  // the end wall, the branch's far wall
+          const auto v = viewHallway(pts, lines, 0.0, HallwayViewParams());
+          const std::string at = std::to_string(branch) + " m branch off a " + std::to_string(own) + " m hallway, side " +
+                                 std::to_string(side) + ", end " + std::to_string(end) + " m ahead";
+          EXPECT_NEAR(v.free_ahead, end, 0.05) << at;
+          EXPECT_EQ(v.end_open_left, side > 0) << at;
+          EXPECT_EQ(v.end_open_right, side < 0) << at;
+        }
+      }
+    }
+  }
+}
+
 // A hallway ends at a wall across it even where a door in that wall lies on the mid-line: the
 // sector ahead sees through the door, but no lane as wide as the narrowest hallway's mouth is free
 // past the wall and the hallway's walls stop there. A hallway that narrows to the narrowest width
@@ -443,7 +471,7 @@ TEST(HallwayView, ADoubleDoorAheadEndsTheHallway) {
   ASSERT_TRUE(across.has_value());
   EXPECT_NEAR(*across, 3.0, 1e-9);
   exploration::HallwayView ended = v;
-  exploration::endWallAt(pts, 0.0, HallwayViewParams(), *across, &ended);
+  exploration::endWallAt(pts, lines, 0.0, HallwayViewParams(), *across, &ended);
   EXPECT_TRUE(ended.wall_across);
   EXPECT_NEAR(ended.free_ahead, 3.0, 1e-9);
   laser_features::Opening junction = door;

@@ -41,12 +41,16 @@ struct HallwayView {
   bool open_left = false;        // from the robot: the side sector is free, or a hallway's mouth is beside it
   bool open_right = false;
   // At a hallway's end: the sides seen from where the crossing's centre is expected (free_ahead
-  // less half this hallway's width ahead): an L or T corner opens there, not beside the robot.
+  // less half this hallway's width ahead) or, for a narrower side hallway, from between there and
+  // the end wall: an L or T corner opens there, not beside the robot.
   bool end_open_left = false;
   bool end_open_right = false;
   // Where a crossing's centre is expected (robot frame): half this hallway's width short of the
   // free distance ahead, on the mid-line.
   Eigen::Vector2d end_centre = Eigen::Vector2d::Zero();
+  // Where each side's mouth was seen from (robot frame, on the mid-line between end_centre and the
+  // end wall; end_centre where the side is closed): a door in the mouth is looked for there.
+  Eigen::Vector2d end_mouth_left = Eigen::Vector2d::Zero(), end_mouth_right = Eigen::Vector2d::Zero();
   bool left_wall = false, right_wall = false;
   double left_lateral = 0.0;     // m, lateral offset of the nearest left wall (> 0), robot frame along the direction
   double right_lateral = 0.0;    // m, (< 0)
@@ -91,13 +95,15 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
                         const HallwayViewParams& params, double range_cap = 15.0);
 
 /// The sides of `v`'s hallway end (free_ahead along `direction`, robot frame), seen from where a
-/// crossing's centre is expected there: end_centre, end_open_left, end_open_right.
-void seeEnd(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayViewParams& params,
-            HallwayView* v);
+/// crossing's centre is expected there and on to the end wall: end_centre, end_open_left,
+/// end_open_right, end_mouth_left, end_mouth_right.
+void seeEnd(const std::vector<Eigen::Vector2d>& points, const std::vector<laser_features::LineSegment>& lines,
+            double direction, const HallwayViewParams& params, HallwayView* v);
 
 /// `v` ends at a wall across its hallway `distance` m ahead along `direction` (robot frame): the free
 /// distance ahead, wall_across, and the sides seen from the crossing's expected centre (seeEnd).
-void endWallAt(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayViewParams& params,
+void endWallAt(const std::vector<Eigen::Vector2d>& points, const std::vector<laser_features::LineSegment>& lines,
+               double direction, const HallwayViewParams& params,
                double distance, HallwayView* v);
 
 /// A door as wide as a hallway's mouth (`min_mouth`, m): laser_features' kind door
