@@ -86,7 +86,9 @@ std::optional<DoorTrack> HallwayDoors::abeam(const Pose2D& odom, double dir_robo
   const double heading = normalizeAngle(dir_robot + odom.theta);
   const Eigen::Vector2d u = unitVector(heading), nrm = unitVector(heading + 0.5 * kPi);
   for (const DoorTrack& t : tracks_) {
-    if (t.sightings < 2) continue;
+    // A door by the building rules: an opening a hallway's mouth could be as wide as, with no room
+    // seen behind it, is no door (a short narrow hallway is such a mouth).
+    if (t.sightings < 2 || !rules_.isDoorTracked(t.width, t.room_sightings)) continue;
     const Eigen::Vector2d rel = t.centre_odom - robot;
     // Within kSameDoorSpan along: the door abeam, not one farther on.
     if (std::abs(rel.dot(u)) <= kSameDoorSpan && rel.dot(nrm) * side > 0.0) return t;

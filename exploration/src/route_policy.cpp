@@ -130,11 +130,15 @@ RouteAction RoutePolicy::passedGoal(const RouteContext& at, const RouteStep& rou
 
 RouteAction RoutePolicy::atBranch(const RouteContext& at, const RouteStep& route, bool side_open,
                                   const std::optional<DoorTrack>& door_abeam) {
-  // A door is entered once passed, never turned into like a branch: a mission's goal, and an
+  // A door is entered once passed, never turned into like a branch: a mission's goal, an
   // exploration's goal opening as narrow as only a door is (a side sector of a narrow hallway sees
-  // through a door into the room behind it and opens).
-  const bool door_next = route.next_node == route.goal_node &&
-                         (at.mission || (route.goal_width > 0.0 && rules_.doorByWidth(route.goal_width)));
+  // through a door into the room behind it and opens), and a goal opening as wide as a hallway's
+  // mouth where laser_features sees a door of its width beside the robot: a double door, which the
+  // map builder's sightings took for a branch (a room behind it seen in fewer of them).
+  const bool goal_is_door =
+      route.goal_width > 0.0 &&
+      (rules_.doorByWidth(route.goal_width) || (door_abeam && rules_.sameWidth(door_abeam->width, route.goal_width)));
+  const bool door_next = route.next_node == route.goal_node && (at.mission || goal_is_door);
   if (!route.found || door_next) return RouteAction{};
   const int near = at.graph.nearestNode(at.topo.position);
   // At the node as the belief says, or within 2 m of the goal node: the belief may be off by a

@@ -62,7 +62,8 @@ class HallwayDoors {
               double dir_robot, const HallwayView& v, double travel);
   /// A door passed (pass_distance behind), not behind its side's wall in `walls`.
   bool passed(const laser_features::Pose2D& odom, double dir_robot, const Walls& walls, DoorTrack* door);
-  /// A tracked door beside the robot (within kSameDoorSpan along) on the side `side` (+1 left, -1 right).
+  /// A tracked door beside the robot (within kSameDoorSpan along) on the side `side` (+1 left, -1 right):
+  /// a door by BuildingRules::isDoorTracked, seen twice at least.
   std::optional<DoorTrack> abeam(const laser_features::Pose2D& odom, double dir_robot, double side) const;
   /// At a hallway's end (`v`), a door in the end wall in this scan: ahead of the robot no farther
   /// than the wall (wall_tolerance beyond free_ahead), within half the hallway's width of its mid-line, across the travel direction (its

@@ -59,6 +59,9 @@ struct BuildingRules {
     if (width_a <= 0.0 || width_b <= 0.0 || std::abs(width_a - width_b) <= apart) return false;
     return doorByWidth(width_a) != doorByWidth(width_b);
   }
+  /// Two measurements of these widths may be one opening measured twice: each is within
+  /// width_tolerance of the true width.
+  bool sameWidth(double width_a, double width_b) const { return std::abs(width_a - width_b) <= 2.0 * width_tolerance; }
   /// Range checks; false with the offending parameter in `error`.
   bool valid(std::string* error = nullptr) const {
     auto fail = [&](const char* why) {
