@@ -31,6 +31,7 @@ bool endWallRunsInto(const std::vector<laser_features::LineSegment>& lines, doub
     return side * (reach - v.centre_offset) >= params.side_open_distance;
   });
 }
+
 // m, the spacing of the lanes freestLane tries: a mouth is found by a corridor this much narrower.
 constexpr double kLaneStep = 0.1;
 // A wall of the hallway along `direction` (unit `u`, left normal `n`): a line at least
