@@ -36,7 +36,7 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
     if (!(o.width >= rules_.door_min_width && rules_.mayBeDoor(o.width))) continue;
     if (o.confidence < params_.min_confidence) continue;
     const double lateral = o.center.dot(nrm);
-    if (std::abs(lateral) > params_.max_lateral || std::abs(lateral) < 0.4) continue;
+    if (std::abs(lateral) > rules_.hallwayReach() || std::abs(lateral) < 0.4) continue;
     const double side = lateral > 0.0 ? 1.0 : -1.0;
     // Behind the wall on its side: a gap inside a room seen through its door (large_floor: a
     // "door" 1.7 m to the left of a hallway whose wall is 1.1 m away, tracked for 3 scans and

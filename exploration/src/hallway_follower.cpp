@@ -19,6 +19,7 @@ HallwayFollower::HallwayFollower(const HallwayFollowerParams& params, const Hall
   view_.clearance = robot.robot_radius + robot.safety_margin;
   view_.min_mouth = rules.hallway_min_width - rules.width_tolerance;
   view_.widest_hallway = rules.widestHallway();
+  view_.wall_max_lateral = rules.hallwayReach();
 }
 
 double HallwayFollower::odomHeadingOfBin(int bin, const TopoView& topo) const {

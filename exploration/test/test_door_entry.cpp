@@ -154,3 +154,26 @@ TEST(HallwayDoors, ADoorInADeadEndsWallIsFound) {
   EXPECT_NEAR(on_axis->into_odom, odom.theta + a + 0.05, 1e-9);
   EXPECT_FALSE(doors.inEndWall(odom, {opening(1.35 * u - 0.7 * n, a, 0.9)}, a, w)) << "beside the end wall";
 }
+
+// A door is the hallway's own (tracked, and entered once passed) within half the widest hallway of
+// the travel line (BuildingRules::hallwayReach), whatever the widest hallway is: the reach
+// pomdp_topo passes side openings within.
+TEST(HallwayDoors, ADoorIsTrackedWithinHalfTheWidestHallway) {
+  for (const double hallway_max_width : {4.0, 6.0}) {
+    for (const double aside : {1.5, 2.6}) {
+      BuildingRules rules;
+      rules.hallway_max_width = hallway_max_width;
+      HallwayDoors doors{HallwayDoorParams(), rules};
+      const exploration::HallwayView no_walls;
+      bool passed = false;
+      for (int i = 0; i <= 100 && !passed; ++i) {  // 5 m east past a door 3 m ahead, `aside` m to the left
+        const laser_features::Pose2D odom{0.05 * i, 0.0, 0.0};
+        const auto walls = doors.track(odom, {opening({3.0 - odom.x, aside}, 0.5 * kPi, 0.9)}, 0.0, no_walls, odom.x);
+        DoorTrack d;
+        passed = doors.passed(odom, 0.0, walls, &d);
+      }
+      EXPECT_EQ(passed, aside <= 0.5 * hallway_max_width)
+          << "widest hallway " << hallway_max_width << " m, door " << aside << " m aside";
+    }
+  }
+}

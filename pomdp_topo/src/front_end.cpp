@@ -239,7 +239,7 @@ void FrontEnd::checkPassed() {
     if (t.armed && behind && confirmed(t)) {
       const bool side = t.type == LandmarkType::Corner ||
                         std::abs(std::abs(o.orientation) - 0.5 * kPi) <= params_.side_angle;
-      const double max_lateral = t.type == LandmarkType::Opening ? params_.side_max_lateral : params_.observation_range;
+      const double max_lateral = t.type == LandmarkType::Opening ? params_.rules.hallwayReach() : params_.observation_range;
       if (side && std::abs(o.lateral) <= max_lateral) {
         passed_.push_back({o, travel_, bin_, t.id});
       }

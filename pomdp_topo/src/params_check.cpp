@@ -47,7 +47,6 @@ bool validateParams(const TopoParams& p, std::string* error) {
   need(positive(f.observation_range), "observation_range must be > 0");
   need(nonneg(f.pass_lag), "pass_lag must be >= 0");
   need(finite(f.side_angle) && f.side_angle > 0.0 && f.side_angle < 0.5 * laser_features::kPi, "side_angle must be in (0, pi/2)");
-  need(positive(f.side_max_lateral), "side_max_lateral must be > 0");
   need(positive(f.track_max_rotation), "track_max_rotation must be > 0");
   need(positive(f.max_odometry_step), "max_odometry_step must be > 0");
   const MapBuilderParams& b = p.builder;

@@ -770,6 +770,37 @@ TEST(FrontEnd, TravelAndTurnsFollowAWingsWalls) {
   }
 }
 
+// A side opening is the hallway's own (passed, so recorded at a node) within half the widest
+// hallway of the travel line (BuildingRules::hallwayReach), whatever the widest hallway is: the
+// same reach the coordinator tracks doors and hallway walls within.
+TEST(FrontEnd, ASideOpeningIsPassedWithinHalfTheWidestHallway) {
+  for (const double hallway_max_width : {4.0, 6.0}) {
+    for (const double aside : {1.5, 2.6}) {
+      FrontEndParams params;
+      params.rules.hallway_max_width = hallway_max_width;
+      FrontEnd fe(params);
+      std::vector<Action> actions;
+      std::vector<laser_features::Corner> corners;
+      std::vector<laser_features::LineSegment> lines;
+      Pose2D pose{0.0, 0.0, 0.0};
+      fe.reset(pose, 0.0, 1e-6);
+      size_t passed = 0;
+      for (int i = 1; i <= 140; ++i) {  // 7 m east past a door 4 m ahead, `aside` m to the left
+        pose.x = 0.05 * i;
+        laser_features::Opening o;
+        o.center = {4.0 - pose.x, aside};
+        o.theta = 0.5 * kPi;
+        o.width = 1.0;
+        o.confidence = 0.8;
+        ASSERT_TRUE(fe.process(pose, lines, corners, {o}, &actions));
+        for (const PassedLandmark& p : fe.takePassed()) passed += p.landmark.type == LandmarkType::Opening;
+      }
+      const bool within = aside <= 0.5 * hallway_max_width;
+      EXPECT_EQ(passed, within ? 1u : 0u) << "widest hallway " << hallway_max_width << " m, door " << aside << " m aside";
+    }
+  }
+}
+
 // An odometry jump (kidnapping) while a frontier is mapped: the frontier's way is left as an
 // unexplored opening of the node it started from, and the belief is uniform (unconfident, so the
 // map does not change until the robot is localized again); on the known graph, just the belief.

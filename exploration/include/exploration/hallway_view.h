@@ -25,7 +25,6 @@ struct HallwayViewParams {
   // (the defaults are laser_features::HallwayWallsParams', whose rule finds a wing's walls)
   double wall_parallel_tolerance = laser_features::HallwayWallsParams().parallel_tolerance;
   double wall_min_length = laser_features::HallwayWallsParams().min_length;
-  double wall_max_lateral = 2.0;       // m, walls farther to the side are not this hallway's
   double min_wall_clearance = 0.8;     // m, with one wall only the mid-line keeps at least this far from
                                        // it; along an open area's wall exactly this far
   double wall_same_lateral = 0.3;      // m, lines this close to a wall's lateral offset are that wall
@@ -34,6 +33,8 @@ struct HallwayViewParams {
   double clearance = 0.35;             // m, the robot's radius and safety margin
   double min_mouth = 1.4;              // m, the narrowest hallway's mouth: hallway_min_width - width_tolerance
   double widest_hallway = 4.3;         // m, hallway_max_width + width_tolerance
+  double wall_max_lateral = 2.0;       // m, walls farther to the side are not this hallway's:
+                                       // BuildingRules::hallwayReach, half hallway_max_width
 };
 
 struct HallwayView {

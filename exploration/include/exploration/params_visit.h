@@ -42,7 +42,6 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("lookahead", &c.follow.lookahead);
   visit("end_distance", &c.follow.end_distance);
   visit("door_min_confidence", &c.doors.min_confidence);
-  visit("door_max_lateral", &c.doors.max_lateral);
   visit("door_wall_tolerance", &c.doors.wall_tolerance);
   visit("door_wall_memory", &c.doors.wall_memory);
   visit("door_side_angle", &c.doors.side_angle);
@@ -74,7 +73,6 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("hallway/side_open_distance", &h.side_open_distance);
   visit("hallway/wall_parallel_tolerance", &h.wall_parallel_tolerance);
   visit("hallway/wall_min_length", &h.wall_min_length);
-  visit("hallway/wall_max_lateral", &h.wall_max_lateral);
   visit("hallway/min_wall_clearance", &h.min_wall_clearance);
   visit("hallway/wall_same_lateral", &h.wall_same_lateral);
   RoomVisitParams& v = c.room_visit;

@@ -32,6 +32,11 @@ struct BuildingRules {
 
   /// m, the widest hallway as measured: no hallway's walls are farther apart (an open area's are).
   double widestHallway() const { return hallway_max_width + width_tolerance; }
+  /// m, how far aside of a robot on a hallway's mid-line that hallway's walls and side openings lie:
+  /// half the widest hallway. A wall or opening farther aside is not the hallway's own (an open
+  /// area's, or a room's far wall seen through a door). Every node that asks "is this beside my
+  /// hallway" asks this.
+  double hallwayReach() const { return 0.5 * hallway_max_width; }
   /// No hallway's mouth is this narrow: an opening of this width is a door by its width alone
   /// (or too narrow to pass: see door_min_width).
   bool doorByWidth(double width) const { return width < hallway_min_width - width_tolerance; }

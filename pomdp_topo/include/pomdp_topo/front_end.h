@@ -33,7 +33,6 @@ struct FrontEndParams {
   double pass_lag = 0.2;             // m, a side landmark is passed once this far behind the robot
   double side_angle = 0.44;          // rad (25 deg), openings whose normal is within this of +-90 deg
                                      // of the travel heading are side openings (doors, branches)
-  double side_max_lateral = 2.0;     // m, side openings farther from the travel line are not passed
   double track_max_rotation = 0.05;  // rad, scans during which the robot turned more are not tracked
                                      // (the heading estimate lags in fast turns)
   double max_odometry_step = 3.0;    // m, a larger odometry jump between scans is refused (a reset), not travelled

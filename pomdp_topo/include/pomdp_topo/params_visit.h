@@ -93,7 +93,6 @@ void visitParams(TopoParams* p, Visitor&& visit) {
   visit("observation_range", &p->front_end.observation_range);
   visit("pass_lag", &p->front_end.pass_lag);
   visit("side_angle", &p->front_end.side_angle);
-  visit("side_max_lateral", &p->front_end.side_max_lateral);
   visit("track_max_rotation", &p->front_end.track_max_rotation);
   visit("max_odometry_step", &p->front_end.max_odometry_step);
   // Map building and loop closing.
