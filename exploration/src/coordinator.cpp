@@ -322,7 +322,8 @@ void Coordinator::leaveRoom(const Perception& q, Decision* d) {
 
 void Coordinator::backOnHallway(bool exact, Decision* d) {
   // A mission's visit does not cover the room: no other door of it was looked for.
-  hallway_.backFromRoom(entry_hallway_, mission_.active() ? std::vector<DoorTrack>{} : visit_.otherDoorsOdom(), travel_);
+  hallway_.backFromRoom(entry_hallway_, visit_.doorOdom(),
+                        mission_.active() ? std::vector<DoorTrack>{} : visit_.otherDoorsOdom(), travel_);
   mode_ = CoordinatorMode::Topological;
   if (mission_.active()) {
     // A mission leaving a room: back on the hallway, on to the goal's door (nothing to record).

@@ -37,9 +37,15 @@ bool seenWithin(const std::vector<std::pair<DoorTrack, double>>& doors, const Do
 }  // namespace
 
 bool DoorEntry::justLeft(const DoorTrack& door, double travel) const {
-  // Within kLeftDoorsTravel of travel the odometry has not drifted by a door's spacing; twice the
-  // tracks' same-door distance, as the door seen again from beside it is seen at a grazing angle.
-  return seenWithin(left_doors_, door, travel, kLeftDoorsTravel, 2.0 * doors_.same_distance);
+  // Two doors in one wall cannot overlap: the door passed is the one left only where their spans
+  // do, centres closer than half the sum of their widths. A door beside it (door centres 1.2 m
+  // apart and more) is another room's. Within kLeftDoorsTravel of travel the odometry has not
+  // drifted by that much.
+  return std::any_of(left_doors_.begin(), left_doors_.end(), [&](const std::pair<DoorTrack, double>& left) {
+    return travel - left.second <= kLeftDoorsTravel &&
+           (door.centre_odom - left.first.centre_odom).norm() < 0.5 * (door.width + left.first.width) &&
+           std::abs(normalizeAngle(door.into_odom - left.first.into_odom)) < 0.5;
+  });
 }
 
 bool DoorEntry::otherDoorOfRoomLeft(const DoorTrack& door, double travel) const {

@@ -399,12 +399,12 @@ std::optional<EntryOpening> HallwayNavigator::enterAfterStop(const TopoView& top
   return entering_;
 }
 
-void HallwayNavigator::backFromRoom(const HallwayDirection& direction, const std::vector<DoorTrack>& other_doors,
-                                    double travel) {
+void HallwayNavigator::backFromRoom(const HallwayDirection& direction, const DoorTrack& door_left,
+                                    const std::vector<DoorTrack>& other_doors, double travel) {
   way_line_.reset();
   follower_.setDirection(direction);
   follower_.forgetGoal();
-  door_entry_.leftBy(door_, other_doors, travel);
+  door_entry_.leftBy(door_left, other_doors, travel);
   route_.backOnHallway(travel);
 }
 

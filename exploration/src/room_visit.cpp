@@ -186,6 +186,14 @@ std::vector<DoorTrack> RoomVisit::otherDoorsOdom() const {
   return doors;
 }
 
+DoorTrack RoomVisit::doorOdom() const {
+  DoorTrack t;
+  t.centre_odom = transformPoint(place_origin_odom_, Eigen::Vector2d(door_in_place_.x, door_in_place_.y));
+  t.into_odom = normalizeAngle(place_origin_odom_.theta + door_in_place_.theta);
+  t.width = door_width_;
+  return t;
+}
+
 void RoomVisit::beginExit() {
   exit_attempts_ = 0;
   planExit();

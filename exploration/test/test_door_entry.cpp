@@ -98,6 +98,44 @@ TEST(RoomVisit, TheOtherDoorsSeenFromInsideAreGivenInTheOdometryFrame) {
   EXPECT_EQ(others[0].sightings, 3);
 }
 
+// Two doors in one wall cannot overlap: the door passed is the one just left only where their spans
+// do. Door centres on one wall lie 1.2 m apart and more (a shared divider): the next one is
+// another room's, to enter.
+TEST(DoorEntry, TheDoorBesideTheOneJustLeftIsAnotherRoomsOnlyWhereTheirSpansDoNotOverlap) {
+  DoorEntry entry{HallwayDoorParams(), BuildingRules()};
+  entry.leftBy(door(0.0, 1.0, 0.5 * kPi, 0.9), {}, 100.0);
+  EXPECT_TRUE(entry.justLeft(door(0.4, 1.1, 0.5 * kPi, 0.9), 101.0)) << "seen again 0.4 m along the wall";
+  EXPECT_FALSE(entry.justLeft(door(1.2, 1.0, 0.5 * kPi, 0.9), 101.0)) << "the next door on the wall";
+  EXPECT_FALSE(entry.justLeft(door(-1.4, 1.0, 0.5 * kPi, 1.0), 101.0)) << "the door before it";
+  // A double door: its span reaches 0.9 m from its centre.
+  entry.leftBy(door(10.0, -1.0, -0.5 * kPi, 1.8), {}, 102.0);
+  EXPECT_TRUE(entry.justLeft(door(10.8, -1.0, -0.5 * kPi, 0.9), 103.0));
+  EXPECT_FALSE(entry.justLeft(door(11.4, -1.0, -0.5 * kPi, 0.7), 103.0));
+}
+
+// Leaving a room, the door left by is where the EKF last placed the room's place: the odometry's
+// drift inside the room does not move it off the door the hallway's tracker sees again.
+TEST(RoomVisit, TheDoorLeftByIsPlacedByTheEkfNotByTheOdometrysDriftInTheRoom) {
+  exploration::RoomVisit visit{exploration::RoomVisitParams(), exploration::RoomExplorerParams(), BuildingRules(),
+                               HallwayDoorParams()};
+  const laser_features::Pose2D origin{2.0, 1.0, 0.5};  // the robot at the place's creation, odometry frame
+  const Eigen::Vector2d entry = laser_features::transformPoint(origin, Eigen::Vector2d(1.0, 0.0));
+  visit.beginNewRoom(origin, door(entry.x(), entry.y(), 0.5, 1.1), 0.5 + 0.5 * kPi);
+  // Inside, the odometry has drifted 0.8 m and 0.1 rad: the EKF puts the robot at (3, 0) in the
+  // place while the odometry says the place's origin was elsewhere.
+  const laser_features::Pose2D drifted_origin = laser_features::compose(origin, {0.5, -0.6, 0.1});
+  exploration::Perception q;
+  q.room_pose_valid = true;
+  q.room_pose = laser_features::Pose2D{3.0, 0.0, 0.0};
+  q.odom = laser_features::compose(drifted_origin, q.room_pose);
+  visit.inPlace(q);
+  const DoorTrack left = visit.doorOdom();
+  const Eigen::Vector2d expected = laser_features::transformPoint(drifted_origin, Eigen::Vector2d(1.0, 0.0));
+  EXPECT_NEAR((left.centre_odom - expected).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(laser_features::normalizeAngle(left.into_odom - (0.5 + 0.1)), 0.0, 1e-9);
+  EXPECT_NEAR(left.width, 1.1, 1e-9);
+}
+
 namespace {
 
 laser_features::Opening opening(Eigen::Vector2d centre, double theta, double width) {

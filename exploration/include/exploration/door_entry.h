@@ -40,7 +40,8 @@ class DoorEntry {
   /// The robot came out of a room through `door` at `travel` (m); `others`: the room's other doors
   /// as seen from inside it (RoomVisit::otherDoorsOdom).
   void leftBy(const DoorTrack& door, const std::vector<DoorTrack>& others, double travel);
-  /// `door` is one the robot came out of within the last kLeftDoorsTravel (10 m) of travel.
+  /// `door` is one the robot came out of within the last kLeftDoorsTravel (10 m) of travel: their
+  /// spans overlap and they face the same way.
   bool justLeft(const DoorTrack& door, double travel) const;
   /// `door` is another door of a room the robot came out of within the last kLeftDoorsTravel of
   /// travel: within half HallwayDoors::kSameDoorSpan of one seen from inside, facing the same way.

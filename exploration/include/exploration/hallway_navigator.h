@@ -101,10 +101,11 @@ class HallwayNavigator {
   double odomHeading(const HallwayDirection& direction, const TopoView& topo) const {
     return follower_.odomHeading(direction, topo);
   }
-  /// Out of a room by door() at `travel` (m), back on the hallway along `direction`: a new goal on
-  /// the mid-line; neither the door nor the room's `other_doors` (seen from inside it) are entered
-  /// again from the hallway; the route's turns count from here.
-  void backFromRoom(const HallwayDirection& direction, const std::vector<DoorTrack>& other_doors, double travel);
+  /// Out of a room by `door_left` (RoomVisit::doorOdom) at `travel` (m), back on the hallway along
+  /// `direction`: a new goal on the mid-line; neither the door nor the room's `other_doors` (seen
+  /// from inside it) are entered again from the hallway; the route's turns count from here.
+  void backFromRoom(const HallwayDirection& direction, const DoorTrack& door_left,
+                    const std::vector<DoorTrack>& other_doors, double travel);
   /// The next goal is a new one (the robot leaves the hallway's mid-line for a while).
   void forgetGoal() { follower_.forgetGoal(); }
   /// A mission sets off along the hallway at `travel` (m): a new goal, and the route may turn the

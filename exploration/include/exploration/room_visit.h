@@ -104,6 +104,9 @@ class RoomVisit {
   /// sightings), in the odometry frame as the EKF last placed the place: centre, direction into the
   /// room, width.
   std::vector<DoorTrack> otherDoorsOdom() const;
+  /// The door entered by, in the odometry frame as the EKF last placed the place (the odometry's
+  /// drift inside the room taken out): centre, direction into the room, width as tracked.
+  DoorTrack doorOdom() const;
   /// A goal `g` (and heading `theta`) in the place as an odometry goal for the robot of `q`.
   void goalInPlace(const Perception& q, const Eigen::Vector2d& g, std::optional<double> theta, Decision* d) const;
   /// A grid path in the room as seen so far (RoomExplorer::pathTo).
