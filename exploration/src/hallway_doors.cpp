@@ -58,6 +58,7 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
       t.sightings = 1;
       t.room_sightings = o.room_behind ? 1 : 0;
       t.wall_lateral = wall ? *wall : -1.0;
+      t.located = std::abs(o.center.dot(unitVector(dir_robot))) <= kAbeam * std::abs(lateral);
       // First seen already passed: behind where this stretch started, seen in the turn into it
       // (large_floor: a known room's door 1.2 m behind the T where the robot turned into hall_3,
       // entered as new 0.4 s after the turn).
@@ -71,6 +72,7 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
     it->width += k * (o.width - it->width);
     it->into_odom = into_odom;
     it->wall_lateral = wall ? *wall : -1.0;
+    if (std::abs(o.center.dot(unitVector(dir_robot))) <= kAbeam * std::abs(lateral)) it->located = true;
     ++it->sightings;
     if (o.room_behind) ++it->room_sightings;
   }
@@ -115,9 +117,10 @@ bool HallwayDoors::passed(const Pose2D& odom, double dir_robot, const Walls& wal
     // A door taken already on this stretch, tracked a second time: its first sightings from afar
     // lay beyond door_same_distance of the later ones (large_floor run 14: room_4_16's door entered
     // by a track of 5 sightings, and again by one of 97, 0.24 m from it, after visiting the room
-    // across the hallway).
+    // across the hallway). Two tracks both located are one door only where their spans overlap.
     const bool taken_before = std::any_of(tracks_.begin(), tracks_.end(), [&](const DoorTrack& k) {
-      return k.taken && (k.centre_odom - t.centre_odom).norm() < kSameDoorSpan &&
+      const double span = k.located && t.located ? 0.5 * (k.width + t.width) : kSameDoorSpan;
+      return k.taken && (k.centre_odom - t.centre_odom).norm() < span &&
              std::abs(normalizeAngle(k.into_odom - t.into_odom)) < 0.5;
     });
     if (taken_before) continue;

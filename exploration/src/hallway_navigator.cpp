@@ -405,6 +405,7 @@ void HallwayNavigator::backFromRoom(const HallwayDirection& direction, const Doo
   follower_.setDirection(direction);
   follower_.forgetGoal();
   door_entry_.leftBy(door_left, other_doors, travel);
+  doors_.roomVisited();
   route_.backOnHallway(travel);
 }
 

@@ -215,3 +215,36 @@ TEST(HallwayDoors, ADoorIsTrackedWithinHalfTheWidestHallway) {
     }
   }
 }
+
+// Passing along +x beside doors in the left wall (y = 1), each seen within 6 m: the doors passed.
+// `far_shift`: seen from farther than 2.5 m along, the first door appears this much further on;
+// `drift`: after the first door passed a room is visited (HallwayDoors::roomVisited) and the
+// odometry drifts there: every door is seen this much further on.
+int doorsPassed(const std::vector<double>& door_x, double far_shift = 0.0, double drift = 0.0) {
+  HallwayDoors doors{HallwayDoorParams(), BuildingRules()};
+  const exploration::HallwayView no_walls;
+  int passed = 0;
+  for (int i = 0; i <= 200; ++i) {
+    const laser_features::Pose2D odom{0.05 * i, 0.0, 0.0};
+    std::vector<laser_features::Opening> seen;
+    for (size_t k = 0; k < door_x.size(); ++k) {
+      const double shift = (k == 0 && std::abs(door_x[k] - odom.x) > 2.5 ? far_shift : 0.0) + (passed > 0 ? drift : 0.0);
+      if (std::abs(door_x[k] - odom.x) < 6.0) seen.push_back(opening({door_x[k] + shift - odom.x, 1.0}, 0.5 * kPi, 0.9));
+    }
+    const auto walls = doors.track(odom, seen, 0.0, no_walls, odom.x);
+    DoorTrack d;
+    if (doors.passed(odom, 0.0, walls, &d) && ++passed == 1 && drift != 0.0) doors.roomVisited();
+  }
+  return passed;
+}
+
+// Two doors in one wall cannot overlap: two doors 1.25 m apart (a 0.35 m divider), each seen from
+// beside it, are two doors. A door's sightings from afar, up to 1 m off along the wall, make a
+// second track of the same door: it is not taken again; nor is the door taken before a room's
+// visit, seen again after it 1.2 m off by the odometry's drift in the room.
+TEST(HallwayDoors, DoorsBesideEachOtherSeenAbeamAreTwoDoorsAndAGrazingTrackOfOneIsNot) {
+  EXPECT_EQ(doorsPassed({3.0, 4.25}), 2);
+  EXPECT_EQ(doorsPassed({3.0}, 1.05), 1);
+  EXPECT_EQ(doorsPassed({3.0, 5.0}), 2);
+  EXPECT_EQ(doorsPassed({3.0}, 0.0, 1.2), 1);
+}

@@ -41,15 +41,22 @@ struct DoorTrack {
   bool decided = false;     // entered or passed: never again on this pass
   bool taken = false;       // passed and offered for entering (entered, or refused as known)
   double wall_lateral = -1.0;  // m, its side's wall line from the robot when last seen (-1: no wall known)
+  // Its centre known to within its half-width in the odometry frame now: seen within 45 deg of
+  // abeam (HallwayDoors::kAbeam), and no room visited since (the odometry drifts inside a room).
+  bool located = false;
 };
 
 class HallwayDoors {
  public:
   // m, two tracks of one door: sightings from afar (grazing) lie up to about 1 m off the later ones
-  // (ADoorTrackedTwiceIsEnteredOnce). Doors whose centres are closer on one wall (1.0-1.2 m apart
-  // where two share a divider) are taken for one: the cost of this rule, until the coordinator
-  // takes its doors from pomdp_topo's nodes instead of tracking them itself.
+  // (ADoorTrackedTwiceIsEnteredOnce), and tracks from before a room's visit lie off by the
+  // odometry's drift inside it (TheDoorJustLeftIsNotEnteredAgain). Two tracks both located
+  // (DoorTrack::located) are one door only where their spans overlap (two doors in one wall
+  // cannot): doors 1.2 m apart on one wall, where two share a divider, are two.
   static constexpr double kSameDoorSpan = 1.3;
+  // An opening seen within 45 deg of abeam (|along| <= |lateral|) has both jambs in view: its
+  // centre is found to within its half-width. At a grazing angle the near jamb hides the far one.
+  static constexpr double kAbeam = 1.0;  // |along| / |lateral| at most
   using Walls = std::array<std::optional<double>, 2>;  // wallLateral of the left and the right side
 
   HallwayDoors(const HallwayDoorParams& params, const laser_features::BuildingRules& rules)
@@ -70,6 +77,10 @@ class HallwayDoors {
   std::optional<DoorTrack> inEndWall(const laser_features::Pose2D& odom,
                                      const std::vector<laser_features::Opening>& openings, double dir_robot,
                                      const HallwayView& v) const;
+  /// Back from a room: the doors tracked before lie off by the odometry's drift in it.
+  void roomVisited() {
+    for (DoorTrack& t : tracks_) t.located = false;
+  }
   /// Forgets the doors and the walls: they belong to the hallway being left.
   void clear() {
     tracks_.clear();
