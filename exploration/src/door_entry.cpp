@@ -25,12 +25,13 @@ void DoorEntry::leftBy(const DoorTrack& door, const std::vector<DoorTrack>& othe
 }
 
 namespace {
-// `door` is one of `doors` recorded within `window` (m) of travel: centres within `distance`,
+// `door` is one of `doors` recorded within `window` (m) of travel: centres within `distance(seen)`,
 // directions into the room within 0.5 rad.
+template <typename Distance>
 bool seenWithin(const std::vector<std::pair<DoorTrack, double>>& doors, const DoorTrack& door, double travel,
-                double window, double distance) {
+                double window, Distance distance) {
   return std::any_of(doors.begin(), doors.end(), [&](const std::pair<DoorTrack, double>& seen) {
-    return travel - seen.second <= window && (door.centre_odom - seen.first.centre_odom).norm() < distance &&
+    return travel - seen.second <= window && (door.centre_odom - seen.first.centre_odom).norm() < distance(seen.first) &&
            std::abs(normalizeAngle(door.into_odom - seen.first.into_odom)) < 0.5;
   });
 }
@@ -41,18 +42,16 @@ bool DoorEntry::justLeft(const DoorTrack& door, double travel) const {
   // do, centres closer than half the sum of their widths. A door beside it (door centres 1.2 m
   // apart and more) is another room's. Within kLeftDoorsTravel of travel the odometry has not
   // drifted by that much.
-  return std::any_of(left_doors_.begin(), left_doors_.end(), [&](const std::pair<DoorTrack, double>& left) {
-    return travel - left.second <= kLeftDoorsTravel &&
-           (door.centre_odom - left.first.centre_odom).norm() < 0.5 * (door.width + left.first.width) &&
-           std::abs(normalizeAngle(door.into_odom - left.first.into_odom)) < 0.5;
-  });
+  return seenWithin(left_doors_, door, travel, kLeftDoorsTravel,
+                    [&](const DoorTrack& left) { return 0.5 * (door.width + left.width); });
 }
 
 bool DoorEntry::otherDoorOfRoomLeft(const DoorTrack& door, double travel) const {
   // Seen from inside the room (the EKF's place) and tracked from the hallway, one door lies well
   // within half the span that tells two doors apart; within kLeftDoorsTravel the odometry has not
   // drifted by it. Its direction into the room is the same seen from either side.
-  return seenWithin(other_doors_, door, travel, kLeftDoorsTravel, 0.5 * HallwayDoors::kSameDoorSpan);
+  return seenWithin(other_doors_, door, travel, kLeftDoorsTravel,
+                    [](const DoorTrack&) { return 0.5 * HallwayDoors::kSameDoorSpan; });
 }
 
 std::optional<EntryOpening> DoorEntry::mayEnter(const TopoView& topo, const TopoGraph& graph, const DoorTrack& door,
