@@ -31,7 +31,8 @@ template <typename Distance>
 bool seenWithin(const std::vector<std::pair<DoorTrack, double>>& doors, const DoorTrack& door, double travel,
                 double window, Distance distance) {
   return std::any_of(doors.begin(), doors.end(), [&](const std::pair<DoorTrack, double>& seen) {
-    return travel - seen.second <= window && (door.centre_odom - seen.first.centre_odom).norm() < distance(seen.first) &&
+    return travel - seen.second <= window &&
+           (door.centre_odom - seen.first.centre_odom).norm() < distance(seen.first) &&
            std::abs(normalizeAngle(door.into_odom - seen.first.into_odom)) < 0.5;
   });
 }

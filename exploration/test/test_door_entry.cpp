@@ -228,8 +228,10 @@ int doorsPassed(const std::vector<double>& door_x, double far_shift = 0.0, doubl
     const laser_features::Pose2D odom{0.05 * i, 0.0, 0.0};
     std::vector<laser_features::Opening> seen;
     for (size_t k = 0; k < door_x.size(); ++k) {
-      const double shift = (k == 0 && std::abs(door_x[k] - odom.x) > 2.5 ? far_shift : 0.0) + (passed > 0 ? drift : 0.0);
-      if (std::abs(door_x[k] - odom.x) < 6.0) seen.push_back(opening({door_x[k] + shift - odom.x, 1.0}, 0.5 * kPi, 0.9));
+      const double far = k == 0 && std::abs(door_x[k] - odom.x) > 2.5 ? far_shift : 0.0;
+      const double shift = far + (passed > 0 ? drift : 0.0);
+      if (std::abs(door_x[k] - odom.x) < 6.0)
+        seen.push_back(opening({door_x[k] + shift - odom.x, 1.0}, 0.5 * kPi, 0.9));
     }
     const auto walls = doors.track(odom, seen, 0.0, no_walls, odom.x);
     DoorTrack d;
