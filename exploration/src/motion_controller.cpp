@@ -62,9 +62,11 @@ MotionController::MotionController(const MotionParams& params) : params_(params)
   finish(MotionStatus::Idle, "idle: no goal");
 }
 
+double passageSteering(double width, double robot_radius) { return 0.5 * (0.5 * width - robot_radius); }
+
 void MotionController::setPassageWidth(std::optional<double> width) {
   double margin = params_.safety_margin;
-  if (width && std::isfinite(*width)) margin = std::clamp(0.5 * (0.5 * *width - params_.robot_radius), 0.0, margin);
+  if (width && std::isfinite(*width)) margin = std::clamp(passageSteering(*width, params_.robot_radius), 0.0, margin);
   clearance_ = params_.robot_radius + margin;
 }
 

@@ -1,5 +1,7 @@
 #include "exploration/room_visit.h"
 
+#include "exploration/motion_controller.h"
+
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -92,25 +94,30 @@ void RoomVisit::observe(const Perception& q, bool approaching, Decision* d) {
   if (!approaching) last_position_ = robot;
 }
 
-bool RoomVisit::refineDoor(const Perception& q) {
-  // The door seen now: an opening of a door's width facing the same way, within same_distance of
-  // the door as tracked; the mean of its sightings on the approach replaces the door (its
-  // direction, the hallway's normal, is kept) once it differs by more than 5 cm.
-  const Eigen::Vector2d tracked = door_tracked_in_place_;
+std::optional<RoomVisit::DoorSighting> RoomVisit::seeDoor(const Perception& q, const Eigen::Vector2d& near,
+                                                          double facing) const {
   double nearest = doors_.same_distance;
-  std::optional<Eigen::Vector2d> seen;
+  std::optional<DoorSighting> seen;
   for (const laser_features::Opening& o : q.openings) {
     if (!(o.width >= rules_.door_min_width && rules_.mayBeDoor(o.width))) continue;
-    if (std::abs(normalizeAngle(o.theta + q.room_pose.theta - door_in_place_.theta)) > doors_.side_angle) continue;
+    if (std::abs(normalizeAngle(o.theta + q.room_pose.theta - facing)) > doors_.side_angle) continue;
     const Eigen::Vector2d c = transformPoint(q.room_pose, o.center);
-    const double off = (c - tracked).norm();
+    const double off = (c - near).norm();
     if (off < nearest) {
       nearest = off;
-      seen = c;
+      seen = DoorSighting{c, o.width};
     }
   }
+  return seen;
+}
+
+bool RoomVisit::refineDoor(const Perception& q) {
+  // The door seen now, facing the way the tracked one does; the mean of its sightings on the
+  // approach replaces the door (its direction, the hallway's normal, is kept) once it differs by
+  // more than 5 cm.
+  const std::optional<DoorSighting> seen = seeDoor(q, door_tracked_in_place_, door_in_place_.theta);
   if (!seen) return false;
-  door_seen_sum_ += *seen;
+  door_seen_sum_ += seen->centre;
   ++door_seen_count_;
   const Eigen::Vector2d mean = door_seen_sum_ / double(door_seen_count_);
   if ((mean - Eigen::Vector2d(door_in_place_.x, door_in_place_.y)).norm() <= 0.05) return false;
@@ -216,6 +223,29 @@ bool RoomVisit::followExitPath(const Perception& q, double elapsed, Decision* d)
 void RoomVisit::beginDoorExit(double now) {
   exit_step_ = 0;
   exit_step_since_ = now;
+  exit_seen_sum_ = Eigen::Vector2d::Zero();
+  exit_width_sum_ = 0.0;
+  exit_seen_count_ = 0;
+}
+
+RoomVisit::DoorSighting RoomVisit::doorOnTheWayOut(const Perception& q) {
+  // A narrow door leaves the controller a few centimetres a side (MotionController::
+  // setPassageWidth: 5 cm for a 0.7 m door), less than the door as placed in the place may be off
+  // by (the track from the hallway, the EKF's corrections since). From inside, both jambs in view
+  // before the robot's body reaches the door line, the door is seen to a centimetre: the way
+  // through is on the mean of this attempt's sightings.
+  const Eigen::Vector2d placed(door_in_place_.x, door_in_place_.y);
+  const Eigen::Vector2d robot(q.room_pose.x, q.room_pose.y);
+  const bool inside = (robot - placed).dot(unitVector(door_in_place_.theta)) > explorer_.params().planner.robot_radius;
+  if (inside && exit_step_ < 2) {
+    if (const std::optional<DoorSighting> seen = seeDoor(q, placed, door_in_place_.theta + kPi)) {
+      exit_seen_sum_ += seen->centre;
+      exit_width_sum_ += seen->width;
+      ++exit_seen_count_;
+    }
+  }
+  if (exit_seen_count_ == 0) return DoorSighting{placed, door_width_};
+  return DoorSighting{exit_seen_sum_ / double(exit_seen_count_), exit_width_sum_ / exit_seen_count_};
 }
 
 RoomVisit::Exit RoomVisit::exitThroughDoor(const Perception& q, double now, double elapsed, const MotionFeedback& motion,
@@ -223,22 +253,32 @@ RoomVisit::Exit RoomVisit::exitThroughDoor(const Perception& q, double now, doub
   // Each step through the door ends when reached, when the controller is blocked, or after a third
   // of exit_time_limit.
   const Eigen::Vector2d robot(q.room_pose.x, q.room_pose.y);
-  const Eigen::Vector2d door(door_in_place_.x, door_in_place_.y);
+  const DoorSighting seen = doorOnTheWayOut(q);
+  const Eigen::Vector2d door = seen.centre;
   const Eigen::Vector2d into = unitVector(door_in_place_.theta);
-  const Eigen::Vector2d steps[2] = {door + 0.6 * into, door - 0.7 * into};
+  if ((robot - door).norm() < kDoorPassage) d->passage_width = seen.width;
+  const double inside = explorer_.params().exit_depth;  // where the grid path out ended
+  const Eigen::Vector2d steps[2] = {door + inside * into, door - 0.7 * into};
   const bool step_timeout = now - exit_step_since_ > params_.exit_time_limit / 3.0;
   if (exit_step_ < 2) {
-    const Eigen::Vector2d& w = steps[exit_step_];
-    const bool past = exit_step_ == 0 && (robot - door).dot(into) < 0.6;  // already nearer the door
-    if ((robot - w).norm() < 0.25 || past || motion.blocked || step_timeout) {
+    // The way through starts on the door's axis facing out, as the way in did (approachDoor): in a
+    // narrow door the controller has no room to steer onto the axis (passageSteering: 5 cm a side
+    // in a 0.7 m door), nor to turn onto it (an arc drifts aside), on the way through. Facing out
+    // within the angle that drifts that far before the door; already in the door, it goes on.
+    const double out = normalizeAngle(door_in_place_.theta + kPi);
+    const double depth = (robot - door).dot(into);
+    const double radius = explorer_.params().planner.robot_radius;
+    const double steer = passageSteering(seen.width, radius);
+    const bool on_axis = std::abs(laser_features::cross2(into, robot - door)) <= steer &&
+                         std::abs(normalizeAngle(q.room_pose.theta - out)) <= std::atan2(steer, inside);
+    const bool done = exit_step_ == 0 ? (on_axis && depth < inside + 0.25) || depth < radius
+                                      : (robot - steps[1]).norm() < 0.25;
+    if (done || motion.blocked || step_timeout) {
       ++exit_step_;
       exit_step_since_ = now;
-    } else {
-      goalInPlace(q, w, std::nullopt, d);
-      return Exit::Passing;
     }
     if (exit_step_ < 2) {
-      goalInPlace(q, steps[exit_step_], std::nullopt, d);
+      goalInPlace(q, steps[exit_step_], exit_step_ == 0 ? std::optional<double>(out) : std::nullopt, d);
       return Exit::Passing;
     }
   }

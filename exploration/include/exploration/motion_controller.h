@@ -74,6 +74,11 @@ enum class MotionStatus {
 
 const char* toString(MotionStatus status);
 
+/// m, half of a door's slack a side (width / 2 - robot_radius): in a door `width` wide, the
+/// clearance the controller keeps on top of the robot's radius (at most safety_margin), and how far
+/// off the door's axis a robot may start straight through it (MotionController::setPassageWidth).
+double passageSteering(double width, double robot_radius);
+
 class MotionController {
  public:
   /// Throws std::invalid_argument when validate() refuses `params`.
@@ -91,7 +96,7 @@ class MotionController {
   void cancel();
   /// The robot is passing a door `width` wide (nullopt: it is not): the clearance kept to obstacles
   /// is then the robot's radius plus half of the door's slack on each side (width / 2 - radius), at
-  /// most safety_margin; the other half is left for steering. A 0.7 m door (the narrowest) leaves a
+  /// most safety_margin; the other half is left for steering (passageSteering()). A 0.7 m door (the narrowest) leaves a
   /// 0.25 m robot 0.1 m a side, all of which a 0.1 m margin would take. Non-finite: ignored.
   void setPassageWidth(std::optional<double> width);
 

@@ -115,6 +115,17 @@ class RoomVisit {
   }
 
  private:
+  struct DoorSighting {
+    Eigen::Vector2d centre;  // m, place frame
+    double width;            // m
+  };
+  /// The door as the scan `q` shows it: of the openings of a door's width (BuildingRules) whose
+  /// direction lies within doors.side_angle of `facing` (rad, place frame), the nearest to `near`
+  /// (place frame) within doors.same_distance.
+  std::optional<DoorSighting> seeDoor(const Perception& q, const Eigen::Vector2d& near, double facing) const;
+  /// The door to go out by: the mean of its sightings from inside the room since beginDoorExit()
+  /// (`q`'s among them), or the door as placed until it is seen.
+  DoorSighting doorOnTheWayOut(const Perception& q);
   /// On the way to a new room's door: the door as seen now (the mean of its sightings on the
   /// approach) replaces door_in_place_ when it differs by more than 5 cm; true if it did.
   bool refineDoor(const Perception& q);
@@ -144,6 +155,9 @@ class RoomVisit {
   int exit_step_ = 0;               // through the door: 0 inside the door, 1 outside, 2 back on the hallway
   double exit_step_since_ = 0.0;    // s
   int exit_attempts_ = 0;           // ways out of the room tried that ended still inside it
+  Eigen::Vector2d exit_seen_sum_ = Eigen::Vector2d::Zero();  // the door's sightings from inside on the way out (place frame)
+  double exit_width_sum_ = 0.0;     // m, their widths
+  int exit_seen_count_ = 0;
   struct SeenDoor {                 // another door of the room, place frame: sums of its sightings
     Eigen::Vector2d centre_sum = Eigen::Vector2d::Zero();
     Eigen::Vector2d into_sum = Eigen::Vector2d::Zero();  // unit vectors into the room
