@@ -17,6 +17,7 @@
 
 #include <optional>
 
+#include "laser_features/param_reader_ros.h"
 #include "laser_features/tf_lookup.h"
 #include "lockstep/participant.h"
 #include "ekf_local_map/odometry_noise.h"
@@ -30,22 +31,9 @@ namespace {
 
 using laser_features::Pose2D;
 
-// Each parameter from the private namespace; the default is the core's (config/ekf_local_map.yaml
-// holds the same values).
-struct RosParamReader {
-  const ros::NodeHandle& nh;
-  void operator()(const char* name, double* value) const { nh.param(name, *value, *value); }
-  template <typename Unsigned>
-  void operator()(const char* name, Unsigned* value) const {
-    int v = static_cast<int>(*value);
-    nh.param(name, v, v);
-    *value = static_cast<Unsigned>(std::max(1, v));
-  }
-};
-
 StochasticMapParams readMapParams(const ros::NodeHandle& pnh) {
   StochasticMapParams p;
-  visitParams(&p, RosParamReader{pnh});
+  visitParams(&p, laser_features::RosParamReader{pnh});
   return p;
 }
 
@@ -385,7 +373,13 @@ class LocalMapNode {
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "ekf_local_map");
-  ekf_local_map::LocalMapNode node{ros::NodeHandle(), ros::NodeHandle("~")};
-  ros::spin();
+  ros::NodeHandle nh, pnh("~");  // outside the try: the last handle's end shuts ROS (and its log) down
+  try {
+    ekf_local_map::LocalMapNode node{nh, pnh};
+    ros::spin();
+  } catch (const std::exception& e) {  // a parameter out of range: named, the node ends
+    ROS_FATAL("ekf_local_map: %s", e.what());
+    return 1;
+  }
   return 0;
 }

@@ -36,6 +36,7 @@
 #include "exploration/coordinator.h"
 #include "exploration/params_visit.h"
 #include "laser_features/building_rules_ros.h"
+#include "laser_features/param_reader_ros.h"
 #include "laser_features/tf_lookup.h"
 #include "lockstep/participant.h"
 #include "ros_conversions.h"
@@ -53,7 +54,7 @@ class ExplorationNode {
         tf_listener_(tf_buffer_, true, lockstep::kTransportHints),
         control_spinner_(1, &control_queue_),
         lockstep_(nh_, {"laser_features", "pomdp_topo", "ekf_local_map"}) {
-    visitParams(&params_, ParamReader{pnh_});
+    visitParams(&params_, laser_features::RosParamReader{pnh_});
     params_.coordinator.rules = laser_features::readBuildingRules(nh_);
     applyFootprint(laser_features::readRobotFootprint(nh_), &params_);
     std::string why;

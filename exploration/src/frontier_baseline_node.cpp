@@ -63,6 +63,7 @@
 
 #include "exploration/baseline_params.h"
 #include "laser_features/building_rules_ros.h"
+#include "laser_features/param_reader_ros.h"
 #include "laser_features/tf_lookup.h"
 #include "lockstep/participant.h"
 #include "exploration/motion_controller.h"
@@ -85,7 +86,7 @@ class FrontierBaselineNode {
  public:
   FrontierBaselineNode()
       : nh_(), pnh_("~"), tf_listener_(tf_buffer_, true, lockstep::kTransportHints), control_spinner_(1, &control_queue_), lockstep_(nh_) {
-    visitBaselineParams(&p_, ParamReader{pnh_});
+    visitBaselineParams(&p_, laser_features::RosParamReader{pnh_});
     applyFootprint(laser_features::readRobotFootprint(nh_), &p_);
     std::string why;
     if (!OccupancyGrid::validate(p_.grid, &why)) why = "grid: " + why;

@@ -31,6 +31,7 @@
 #include <map>
 #include <set>
 
+#include "laser_features/param_reader_ros.h"
 #include "laser_features/tf_lookup.h"
 #include "exploration/door_crossings.h"
 #include "exploration/passive_places.h"
@@ -38,13 +39,6 @@
 
 namespace exploration {
 namespace {
-
-struct RosParamReader {
-  const ros::NodeHandle& nh;
-  void operator()(const char* name, double* value) const { nh.param(name, *value, *value); }
-  void operator()(const char* name, int* value) const { nh.param(name, *value, *value); }
-  void operator()(const char* name, bool* value) const { nh.param(name, *value, *value); }
-};
 
 ScanPlace toScanPlace(uint8_t type) {
   if (type == hybrid_slam_msgs::LaserFeatures::ROOM) return ScanPlace::Room;
@@ -55,11 +49,11 @@ ScanPlace toScanPlace(uint8_t type) {
 class ReplayPlacesNode {
  public:
   ReplayPlacesNode(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), tf_listener_(tf_buffer_) {
-    visitPassivePlacesParams(&params_, RosParamReader{pnh});
+    visitPassivePlacesParams(&params_, laser_features::RosParamReader{pnh});
     std::string why;
     if (!PassivePlaces::validate(params_, &why)) throw std::runtime_error("bad parameter: " + why);
     places_ = PassivePlaces(params_);
-    visitDoorCrossingsParams(&crossing_params_, RosParamReader{pnh});
+    visitDoorCrossingsParams(&crossing_params_, laser_features::RosParamReader{pnh});
     if (!DoorCrossings::validate(crossing_params_, &why)) throw std::runtime_error("bad parameter: " + why);
     crossings_ = DoorCrossings(crossing_params_);
     pnh.param<std::string>("topo_node", topo_node_, "pomdp_topo");

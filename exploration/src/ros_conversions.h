@@ -16,15 +16,6 @@
 
 namespace exploration {
 
-/// Reads a parameter from a node handle with the value it holds as the default (for visitParams).
-struct ParamReader {
-  ros::NodeHandle& nh;
-  void operator()(const char* name, double* value) const { nh.param(name, *value, *value); }
-  void operator()(const char* name, int* value) const { nh.param(name, *value, *value); }
-  void operator()(const char* name, bool* value) const { nh.param(name, *value, *value); }
-  void operator()(const char* name, std::string* value) const { nh.param(name, *value, *value); }
-};
-
 /// Scan points (finite returns) in the robot frame, given the laser's pose in it.
 void scanPoints(const sensor_msgs::LaserScan& scan, const laser_features::Pose2D& sensor_in_robot,
                 std::vector<Eigen::Vector2d>* points);

@@ -9,25 +9,13 @@
 #include "laser_features/feature_extractor.h"
 #include "laser_features/building_rules_ros.h"
 #include "laser_features/params_visit.h"
+#include "laser_features/param_reader_ros.h"
 #include "laser_features/tf_lookup.h"
 #include "lockstep/participant.h"
 #include "ros_conversions.h"
 
 namespace laser_features {
 namespace {
-
-// Each parameter from the private namespace; the default is the core's (config/laser_features.yaml
-// holds the same values).
-struct RosParamReader {
-  const ros::NodeHandle& nh;
-  void operator()(const char* name, double* value) const { nh.param(name, *value, *value); }
-  void operator()(const char* name, int* value) const { nh.param(name, *value, *value); }
-  void operator()(const char* name, size_t* value) const {
-    int v = static_cast<int>(*value);
-    nh.param(name, v, v);
-    *value = static_cast<size_t>(std::max(1, v));
-  }
-};
 
 FeatureExtractor::Params readParams(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) {
   FeatureExtractor::Params p;
@@ -133,7 +121,13 @@ class FeaturesNode {
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "laser_features");
-  laser_features::FeaturesNode node{ros::NodeHandle(), ros::NodeHandle("~")};
-  ros::spin();
+  ros::NodeHandle nh, pnh("~");  // outside the try: the last handle's end shuts ROS (and its log) down
+  try {
+    laser_features::FeaturesNode node{nh, pnh};
+    ros::spin();
+  } catch (const std::exception& e) {  // a parameter out of range: named, the node ends
+    ROS_FATAL("laser_features: %s", e.what());
+    return 1;
+  }
   return 0;
 }

@@ -22,6 +22,7 @@
 #include <cmath>
 
 #include "laser_features/building_rules_ros.h"
+#include "laser_features/param_reader_ros.h"
 #include "laser_features/tf_lookup.h"
 #include "lockstep/participant.h"
 #include "pomdp_topo/map_io.h"
@@ -31,16 +32,9 @@
 namespace pomdp_topo {
 namespace {
 
-struct RosParamReader {
-  const ros::NodeHandle& nh;
-  void operator()(const char* name, double* value) const { nh.param(name, *value, *value); }
-  void operator()(const char* name, bool* value) const { nh.param(name, *value, *value); }
-  void operator()(const char* name, int* value) const { nh.param(name, *value, *value); }
-};
-
 TopoParams readParams(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) {
   TopoParams p;
-  visitParams(&p, RosParamReader{pnh});
+  visitParams(&p, laser_features::RosParamReader{pnh});
   p.builder.rules = laser_features::readBuildingRules(nh);
   p.sync();
   std::string why;
