@@ -60,7 +60,7 @@ struct RoomExplorerParams {
                                         // door when the wall closes behind it)
   double entry_goal_extra = 0.3;        // m, the entering goal lies this much beyond entry_depth
   double exit_depth = 0.6;              // m, pathToExit() ends this far inside the entry door, on
-                                        // its axis
+                                        // its axis (RoomVisit turns there to face out, then passes)
   double door_wall_extension = 0.3;     // m, a virtual wall across a door extends this much beyond
                                         // each edge (into the door's jambs: the edges' error)
   double opening_merge_distance = 0.5;  // m, an opening whose centre is this close to a known one's
