@@ -19,6 +19,7 @@
 
 #include "laser_features/param_reader_ros.h"
 #include "laser_features/tf_lookup.h"
+#include "laser_features/node_main_ros.h"
 #include "lockstep/participant.h"
 #include "ekf_local_map/odometry_noise.h"
 #include "ekf_local_map/params_visit.h"
@@ -371,15 +372,4 @@ class LocalMapNode {
 }  // namespace
 }  // namespace ekf_local_map
 
-int main(int argc, char** argv) {
-  ros::init(argc, argv, "ekf_local_map");
-  ros::NodeHandle nh, pnh("~");  // outside the try: the last handle's end shuts ROS (and its log) down
-  try {
-    ekf_local_map::LocalMapNode node{nh, pnh};
-    ros::spin();
-  } catch (const std::exception& e) {  // a parameter out of range: named, the node ends
-    ROS_FATAL("ekf_local_map: %s", e.what());
-    return 1;
-  }
-  return 0;
-}
+int main(int argc, char** argv) { return laser_features::runNode<ekf_local_map::LocalMapNode>(argc, argv, "ekf_local_map"); }

@@ -33,6 +33,7 @@
 
 #include "laser_features/param_reader_ros.h"
 #include "laser_features/tf_lookup.h"
+#include "laser_features/node_main_ros.h"
 #include "exploration/door_crossings.h"
 #include "exploration/passive_places.h"
 #include "ros_conversions.h"
@@ -384,15 +385,4 @@ class ReplayPlacesNode {
 }  // namespace
 }  // namespace exploration
 
-int main(int argc, char** argv) {
-  ros::init(argc, argv, "replay_places");
-  ros::NodeHandle nh, pnh("~");
-  try {
-    exploration::ReplayPlacesNode node(nh, pnh);
-    ros::spin();
-  } catch (const std::exception& e) {
-    ROS_FATAL("replay_places: %s", e.what());
-    return 1;
-  }
-  return 0;
-}
+int main(int argc, char** argv) { return laser_features::runNode<exploration::ReplayPlacesNode>(argc, argv, "replay_places"); }

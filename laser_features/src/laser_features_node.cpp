@@ -11,6 +11,7 @@
 #include "laser_features/params_visit.h"
 #include "laser_features/param_reader_ros.h"
 #include "laser_features/tf_lookup.h"
+#include "laser_features/node_main_ros.h"
 #include "lockstep/participant.h"
 #include "ros_conversions.h"
 
@@ -119,15 +120,4 @@ class FeaturesNode {
 }  // namespace
 }  // namespace laser_features
 
-int main(int argc, char** argv) {
-  ros::init(argc, argv, "laser_features");
-  ros::NodeHandle nh, pnh("~");  // outside the try: the last handle's end shuts ROS (and its log) down
-  try {
-    laser_features::FeaturesNode node{nh, pnh};
-    ros::spin();
-  } catch (const std::exception& e) {  // a parameter out of range: named, the node ends
-    ROS_FATAL("laser_features: %s", e.what());
-    return 1;
-  }
-  return 0;
-}
+int main(int argc, char** argv) { return laser_features::runNode<laser_features::FeaturesNode>(argc, argv, "laser_features"); }

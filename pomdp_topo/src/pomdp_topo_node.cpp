@@ -24,6 +24,7 @@
 #include "laser_features/building_rules_ros.h"
 #include "laser_features/param_reader_ros.h"
 #include "laser_features/tf_lookup.h"
+#include "laser_features/node_main_ros.h"
 #include "lockstep/participant.h"
 #include "pomdp_topo/map_io.h"
 #include "pomdp_topo/params_visit.h"
@@ -475,15 +476,4 @@ class TopoNodeRos {
 }  // namespace
 }  // namespace pomdp_topo
 
-int main(int argc, char** argv) {
-  ros::init(argc, argv, "pomdp_topo");
-  ros::NodeHandle nh, pnh("~");
-  try {
-    pomdp_topo::TopoNodeRos node(nh, pnh);
-    ros::spin();
-  } catch (const std::exception& e) {
-    ROS_FATAL("pomdp_topo: %s", e.what());
-    return 1;
-  }
-  return 0;
-}
+int main(int argc, char** argv) { return laser_features::runNode<pomdp_topo::TopoNodeRos>(argc, argv, "pomdp_topo"); }
