@@ -146,6 +146,7 @@ std::optional<DoorTrack> HallwayDoors::inEndWall(const Pose2D& odom, const std::
     const double ahead = o.center.dot(u), lateral = std::abs(o.center.dot(nrm) - v.centre_offset);
     if (ahead <= 0.0 || ahead > v.free_ahead + params_.wall_tolerance || lateral > half) continue;
     if (std::abs(normalizeAngle(o.theta - dir_robot)) > params_.side_angle) continue;
+    if (v.left_wall && v.right_wall && !rules_.fitsInEndWall(o.width, v.width())) continue;  // the hallway's mouth
     if (best && lateral >= best_lateral) continue;
     DoorTrack t;
     t.centre_odom = transformPoint(odom, o.center);

@@ -144,7 +144,7 @@ void HallwayFollower::closeDoorMouths(const Perception& p, double direction, Hal
   // beside the robot, or in a dead end's wall), not followed or turned into as a hallway. The door lies in the hallway's wall: its normal
   // within the walls' tolerance of the side.
   if (!v->wall_across) {
-    if (const std::optional<double> across = doorAcross(p.openings, *v, direction, view_))
+    if (const std::optional<double> across = doorAcross(p.openings, *v, direction, view_, rules_))
       endWallAt(p.points, p.lines, direction, view_, *across, v);
   }
   const auto door = [&](const Eigen::Vector2d& origin, int side) {

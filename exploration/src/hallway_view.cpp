@@ -227,12 +227,14 @@ bool mouthWideDoor(const laser_features::Opening& o, double min_mouth) {
 }
 
 std::optional<double> doorAcross(const std::vector<laser_features::Opening>& openings, const HallwayView& v,
-                                 double direction, const HallwayViewParams& params) {
+                                 double direction, const HallwayViewParams& params,
+                                 const laser_features::BuildingRules& rules) {
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
   std::optional<double> nearest;
   for (const laser_features::Opening& o : openings) {
     if (!mouthWideDoor(o, params.min_mouth)) continue;
     if (std::abs(normalizeAngle(o.theta - direction)) > params.wall_parallel_tolerance) continue;
+    if (v.left_wall && v.right_wall && !rules.fitsInEndWall(o.width, v.width())) continue;
     const double along = o.center.dot(u);
     if (along <= params.clearance || along >= v.free_ahead || (nearest && along >= *nearest)) continue;
     const double a = o.left.dot(n), b = o.right.dot(n);

@@ -193,6 +193,28 @@ TEST(HallwayDoors, ADoorInADeadEndsWallIsFound) {
   EXPECT_FALSE(doors.inEndWall(odom, {opening(1.35 * u - 0.7 * n, a, 0.9)}, a, w)) << "beside the end wall";
 }
 
+// A door in a hallway's end wall has end wall on both sides of it (BuildingRules::fitsInEndWall):
+// in a 1.7 m hallway whose walls end at a crossing, the crossing's mouth, 1.6 m wide as measured
+// between the side walls' ends, is no door, while a 1.2 m double door in the same end wall is one.
+TEST(HallwayDoors, AnOpeningAsWideAsTheHallwayIsItsMouthNotADoorInTheEndWall) {
+  HallwayDoors doors{HallwayDoorParams(), BuildingRules()};
+  exploration::HallwayView v;
+  v.left_wall = v.right_wall = true;
+  v.left_lateral = 0.85;
+  v.right_lateral = -0.85;
+  v.free_ahead = 0.7;
+  const laser_features::Pose2D odom{1.0, 2.0, -0.4};
+  EXPECT_FALSE(doors.inEndWall(odom, {opening({0.7, 0.0}, 0.0, 1.6)}, 0.0, v)) << "the hallway's mouth";
+  EXPECT_FALSE(doors.inEndWall(odom, {opening({0.7, 0.0}, 0.0, 1.55)}, 0.0, v)) << "the mouth, measured narrow";
+  const auto door = doors.inEndWall(odom, {opening({0.7, 0.1}, 0.0, 1.2)}, 0.0, v);
+  ASSERT_TRUE(door.has_value()) << "a double door with 0.25 m of end wall on each side";
+  EXPECT_NEAR(door->width, 1.2, 1e-9);
+  // The same 1.6 m opening at the end of a 2.4 m hallway is a double door in its end wall.
+  v.left_lateral = 1.2;
+  v.right_lateral = -1.2;
+  EXPECT_TRUE(doors.inEndWall(odom, {opening({0.7, 0.0}, 0.0, 1.6)}, 0.0, v).has_value());
+}
+
 // A door is the hallway's own (tracked, and entered once passed) within half the widest hallway of
 // the travel line (BuildingRules::hallwayReach), whatever the widest hallway is: the reach
 // pomdp_topo passes side openings within.

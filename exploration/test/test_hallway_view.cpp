@@ -7,6 +7,7 @@
 #include "exploration/hallway_view.h"
 
 using exploration::HallwayViewParams;
+using laser_features::BuildingRules;
 using exploration::viewHallway;
 
 namespace {
@@ -467,7 +468,7 @@ TEST(HallwayView, ADoubleDoorAheadEndsTheHallway) {
   door.width = 1.75;
   door.kind = laser_features::OpeningKind::kDoor;
   door.room_behind = true;
-  const auto across = exploration::doorAcross({door}, v, 0.0, HallwayViewParams());
+  const auto across = exploration::doorAcross({door}, v, 0.0, HallwayViewParams(), BuildingRules());
   ASSERT_TRUE(across.has_value());
   EXPECT_NEAR(*across, 3.0, 1e-9);
   exploration::HallwayView ended = v;
@@ -476,10 +477,16 @@ TEST(HallwayView, ADoubleDoorAheadEndsTheHallway) {
   EXPECT_NEAR(ended.free_ahead, 3.0, 1e-9);
   laser_features::Opening junction = door;
   junction.kind = laser_features::OpeningKind::kJunction;
-  EXPECT_FALSE(exploration::doorAcross({junction}, v, 0.0, HallwayViewParams()).has_value());
+  EXPECT_FALSE(exploration::doorAcross({junction}, v, 0.0, HallwayViewParams(), BuildingRules()).has_value());
   laser_features::Opening aside = door;  // beside the mid-line, not across it
   aside.left = {3.0, 1.4};
   aside.right = {3.0, 0.3};
   aside.center = {3.0, 0.85};
-  EXPECT_FALSE(exploration::doorAcross({aside}, v, 0.0, HallwayViewParams()).has_value());
+  EXPECT_FALSE(exploration::doorAcross({aside}, v, 0.0, HallwayViewParams(), BuildingRules()).has_value());
+  // The hallway's own mouth, as wide as the hallway between its walls' ends, is no door across it
+  // (BuildingRules::fitsInEndWall): a 1.75 m hallway, whose walls end 3 m ahead at a crossing.
+  exploration::HallwayView narrow = v;
+  narrow.left_lateral = 0.875;
+  narrow.right_lateral = -0.875;
+  EXPECT_FALSE(exploration::doorAcross({door}, narrow, 0.0, HallwayViewParams(), BuildingRules()).has_value());
 }

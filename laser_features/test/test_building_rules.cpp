@@ -114,6 +114,22 @@ TEST(BuildingRules, TheSteepestBranchADoorCouldBeRunsItsWallsSoFarBeyondItsMouth
   EXPECT_NEAR(rules.branchSpread(), 0.777, 0.001);
 }
 
+// A door in a wall across a hallway leaves door_jamb_min (0.2 m) of that wall on each side: in a
+// 1.7 m hallway a door up to 1.5 m fits (the widths' errors, 0.1 m each, allowed for), a 1.6 m
+// opening is the hallway's mouth; a jamb of 1 m leaves no door in the narrowest hallway.
+TEST(BuildingRules, ADoorInAnEndWallIsNarrowerThanTheHallwayByTwoJambs) {
+  BuildingRules rules;
+  EXPECT_TRUE(rules.fitsInEndWall(0.9, 1.7));
+  EXPECT_TRUE(rules.fitsInEndWall(1.45, 1.7));
+  EXPECT_FALSE(rules.fitsInEndWall(1.6, 1.7));
+  EXPECT_FALSE(rules.fitsInEndWall(1.7, 1.7));
+  EXPECT_TRUE(rules.fitsInEndWall(1.8, 2.4));
+  rules.door_jamb_min = 1.0;
+  std::string why;
+  EXPECT_FALSE(rules.valid(&why));
+  EXPECT_NE(why.find("door_jamb_min"), std::string::npos);
+}
+
 TEST(BuildingRules, NoInvertedRange) {
   const BuildingRules rules;
   EXPECT_TRUE(rules.valid());

@@ -6,6 +6,7 @@
 // ROS-free: Eigen and laser_features only.
 #pragma once
 
+#include "laser_features/building_rules.h"
 #include "laser_features/building_axes.h"
 #include "laser_features/line_extractor.h"
 #include "laser_features/opening_extractor.h"
@@ -115,10 +116,12 @@ bool mouthWideDoor(const laser_features::Opening& o, double min_mouth);
 
 /// A door across the hallway of `v` ahead (m, along `direction`, robot frame), nearer than its free
 /// distance: one of laser_features' `openings` that is a mouthWideDoor (params.min_mouth), facing
-/// along the direction (within the walls' tolerance), spanning the mid-line. A hallway does not go
-/// on through a door: its wall crosses the hallway there.
+/// along the direction (within the walls' tolerance), spanning the mid-line, and narrower than the
+/// hallway by its jambs where both walls are seen (BuildingRules::fitsInEndWall: one as wide is the
+/// hallway's own mouth). A hallway does not go on through a door: its wall crosses the hallway there.
 std::optional<double> doorAcross(const std::vector<laser_features::Opening>& openings, const HallwayView& v,
-                                 double direction, const HallwayViewParams& params);
+                                 double direction, const HallwayViewParams& params,
+                                 const laser_features::BuildingRules& rules);
 
 /// viewHallway as seen from `origin` (robot frame) instead of the robot; distances and offsets are
 /// from `origin`.

@@ -29,6 +29,7 @@ struct BuildingRules {
   double hallway_min_width = 1.5;  // m, narrowest hallway
   double hallway_max_width = 4.0;  // m, widest hallway (an open hall or lobby is wider)
   double width_tolerance = 0.1;    // m, a measured opening's width may be this much off the true one
+  double door_jamb_min = 0.2;      // m, least wall between a door's edge and a wall across that wall
 
   /// m, the widest hallway as measured: no hallway's walls are farther apart (an open area's are).
   double widestHallway() const { return hallway_max_width + width_tolerance; }
@@ -67,6 +68,13 @@ struct BuildingRules {
   /// Two measurements of these widths may be one opening measured twice: each is within
   /// width_tolerance of the true width.
   bool sameWidth(double width_a, double width_b) const { return std::abs(width_a - width_b) <= 2.0 * width_tolerance; }
+  /// A door in a wall across a hallway (its end wall) has that wall on both sides: its frame is set
+  /// in it, door_jamb_min at least, so the hallway is that much wider than the door on each side. An
+  /// opening as wide as the hallway (within both widths' errors) spans it from side wall to side
+  /// wall: the hallway's mouth (into a crossing or an open area), not a door.
+  bool fitsInEndWall(double opening_width, double hallway_width) const {
+    return opening_width + 2.0 * door_jamb_min <= hallway_width + 2.0 * width_tolerance;
+  }
   /// Range checks; false with the offending parameter in `error`.
   bool valid(std::string* error = nullptr) const {
     auto fail = [&](const char* why) {
@@ -81,6 +89,8 @@ struct BuildingRules {
       return fail("building/hallway_max_width must be above building/hallway_min_width");
     if (!(width_tolerance >= 0.0 && width_tolerance < hallway_min_width - door_min_width))
       return fail("building/width_tolerance must be in [0, hallway_min_width - door_min_width)");
+    if (!(door_jamb_min >= 0.0 && door_min_width + 2.0 * door_jamb_min < hallway_min_width + 2.0 * width_tolerance))
+      return fail("building/door_jamb_min must be in [0, (hallway_min_width - door_min_width) / 2 + width_tolerance)");
     return true;
   }
 };
@@ -93,6 +103,7 @@ void visitBuildingRules(BuildingRules* r, Visitor&& visit) {
   visit("hallway_min_width", &r->hallway_min_width);
   visit("hallway_max_width", &r->hallway_max_width);
   visit("width_tolerance", &r->width_tolerance);
+  visit("door_jamb_min", &r->door_jamb_min);
 }
 
 }  // namespace laser_features
