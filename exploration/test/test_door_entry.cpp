@@ -151,6 +151,16 @@ laser_features::Opening opening(Eigen::Vector2d centre, double theta, double wid
   return o;
 }
 
+// The robot on the mid-line of a hallway `width` wide, both walls seen, its end `free_ahead` ahead.
+exploration::HallwayView hallwayEnd(double width, double free_ahead) {
+  exploration::HallwayView v;
+  v.left_wall = v.right_wall = true;
+  v.left_lateral = 0.5 * width;
+  v.right_lateral = -0.5 * width;
+  v.free_ahead = free_ahead;
+  return v;
+}
+
 }  // namespace
 
 // At a dead end of a 2 m hallway along +x (end wall 1.3 m ahead), the door in the end wall is found,
@@ -158,11 +168,7 @@ laser_features::Opening opening(Eigen::Vector2d centre, double theta, double wid
 // and one facing along the wall are not; of two in the end wall, the one nearer the mid-line.
 TEST(HallwayDoors, ADoorInADeadEndsWallIsFound) {
   HallwayDoors doors{HallwayDoorParams(), BuildingRules()};
-  exploration::HallwayView v;
-  v.left_wall = v.right_wall = true;
-  v.left_lateral = 1.0;
-  v.right_lateral = -1.0;
-  v.free_ahead = 1.3;
+  exploration::HallwayView v = hallwayEnd(2.0, 1.3);
   const laser_features::Pose2D odom{4.0, -2.0, 0.3};
   const auto found = doors.inEndWall(odom, {opening({1.35, 0.2}, 0.05, 0.9)}, 0.0, v);
   ASSERT_TRUE(found.has_value());
@@ -198,11 +204,7 @@ TEST(HallwayDoors, ADoorInADeadEndsWallIsFound) {
 // between the side walls' ends, is no door, while a 1.2 m double door in the same end wall is one.
 TEST(HallwayDoors, AnOpeningAsWideAsTheHallwayIsItsMouthNotADoorInTheEndWall) {
   HallwayDoors doors{HallwayDoorParams(), BuildingRules()};
-  exploration::HallwayView v;
-  v.left_wall = v.right_wall = true;
-  v.left_lateral = 0.85;
-  v.right_lateral = -0.85;
-  v.free_ahead = 0.7;
+  const exploration::HallwayView v = hallwayEnd(1.7, 0.7);
   const laser_features::Pose2D odom{1.0, 2.0, -0.4};
   EXPECT_FALSE(doors.inEndWall(odom, {opening({0.7, 0.0}, 0.0, 1.6)}, 0.0, v)) << "the hallway's mouth";
   EXPECT_FALSE(doors.inEndWall(odom, {opening({0.7, 0.0}, 0.0, 1.55)}, 0.0, v)) << "the mouth, measured narrow";
@@ -210,9 +212,7 @@ TEST(HallwayDoors, AnOpeningAsWideAsTheHallwayIsItsMouthNotADoorInTheEndWall) {
   ASSERT_TRUE(door.has_value()) << "a double door with 0.25 m of end wall on each side";
   EXPECT_NEAR(door->width, 1.2, 1e-9);
   // The same 1.6 m opening at the end of a 2.4 m hallway is a double door in its end wall.
-  v.left_lateral = 1.2;
-  v.right_lateral = -1.2;
-  EXPECT_TRUE(doors.inEndWall(odom, {opening({0.7, 0.0}, 0.0, 1.6)}, 0.0, v).has_value());
+  EXPECT_TRUE(doors.inEndWall(odom, {opening({0.7, 0.0}, 0.0, 1.6)}, 0.0, hallwayEnd(2.4, 0.7)).has_value());
 }
 
 // A door is the hallway's own (tracked, and entered once passed) within half the widest hallway of
