@@ -142,9 +142,16 @@ std::optional<DoorTrack> HallwayDoors::inEndWall(const Pose2D& odom, const std::
   std::optional<DoorTrack> best;
   double best_lateral = 0.0;
   for (const auto& o : openings) {
-    if (!rules_.isDoor(o.width, o.room_behind) || o.confidence < params_.min_confidence) continue;
+    if (!rules_.isDoor(o.width, o.room_behind)) continue;
     const double ahead = o.center.dot(u), lateral = std::abs(o.center.dot(nrm) - v.centre_offset);
     if (ahead <= 0.0 || ahead > v.free_ahead + params_.wall_tolerance || lateral > half) continue;
+    // A gap in the end wall itself (both walls seen, the end wall where the view ends) is a gap in a
+    // wall whatever line support its edges have: the wall beside a door near a side wall may be
+    // shorter than any line (door_jamb_min, 0.2 m), which halves laser_features' confidence. The
+    // extractor's passage test (free space min_depth behind it) stands. Elsewhere ahead, a gap
+    // between unrelated surfaces is told from a door by its edges' support.
+    const bool in_end_wall = v.left_wall && v.right_wall && std::abs(ahead - v.free_ahead) <= params_.wall_tolerance;
+    if (o.confidence < params_.min_confidence && !in_end_wall) continue;
     if (std::abs(normalizeAngle(o.theta - dir_robot)) > params_.side_angle) continue;
     if (v.left_wall && v.right_wall && !rules_.fitsInEndWall(o.width, v.width())) continue;  // the hallway's mouth
     if (best && lateral >= best_lateral) continue;

@@ -215,6 +215,28 @@ TEST(HallwayDoors, AnOpeningAsWideAsTheHallwayIsItsMouthNotADoorInTheEndWall) {
   EXPECT_TRUE(doors.inEndWall(odom, {opening({0.7, 0.0}, 0.0, 1.6)}, 0.0, hallwayEnd(2.4, 0.7)).has_value());
 }
 
+// A door in the end wall of a dead end is found however little line support laser_features gave
+// its edges (a 0.8 m door 0.2 m from a side wall leaves a piece of end wall shorter than any line:
+// confidence 0.25): the end wall seen across supports it. The same weak opening short of the end
+// wall (a gap between unrelated surfaces ahead) is not a door.
+TEST(HallwayDoors, AGapInTheEndWallNeedsNoLineSupportOfItsEdges) {
+  HallwayDoors doors{HallwayDoorParams(), BuildingRules()};
+  const exploration::HallwayView v = hallwayEnd(2.1, 1.3);
+  const laser_features::Pose2D odom{0.0, 0.0, 0.0};
+  laser_features::Opening weak = opening({1.35, -0.3}, -0.1, 0.8);
+  weak.confidence = 0.25;
+  weak.room_behind = false;
+  const auto found = doors.inEndWall(odom, {weak}, 0.0, v);
+  ASSERT_TRUE(found.has_value());
+  EXPECT_NEAR(found->width, 0.8, 1e-9);
+  laser_features::Opening short_of_the_wall = weak;
+  short_of_the_wall.center = {0.6, -0.3};
+  EXPECT_FALSE(doors.inEndWall(odom, {short_of_the_wall}, 0.0, v));
+  laser_features::Opening seen_well = short_of_the_wall;
+  seen_well.confidence = 0.9;
+  EXPECT_TRUE(doors.inEndWall(odom, {seen_well}, 0.0, v).has_value());
+}
+
 // A door is the hallway's own (tracked, and entered once passed) within half the widest hallway of
 // the travel line (BuildingRules::hallwayReach), whatever the widest hallway is: the reach
 // pomdp_topo passes side openings within.

@@ -73,7 +73,9 @@ class HallwayDoors {
   std::optional<DoorTrack> abeam(const laser_features::Pose2D& odom, double dir_robot, double side) const;
   /// At a hallway's end (`v`), a door in the end wall in this scan: ahead of the robot no farther
   /// than the wall (wall_tolerance beyond free_ahead), within half the hallway's width of its mid-line, across the travel direction (its
-  /// normal within side_angle of it); the one nearest the mid-line. One sighting, in odometry.
+  /// normal within side_angle of it); the one nearest the mid-line. One sighting, in odometry. Of
+  /// min_confidence where it is not on the end wall itself (both walls seen, free_ahead away within
+  /// wall_tolerance): there the wall supports it.
   std::optional<DoorTrack> inEndWall(const laser_features::Pose2D& odom,
                                      const std::vector<laser_features::Opening>& openings, double dir_robot,
                                      const HallwayView& v) const;
