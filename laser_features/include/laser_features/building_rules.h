@@ -12,7 +12,9 @@
 //    edges of its mouth. A hallway leaving at an angle phi to the wall has a mouth of width / sin phi,
 //    so one whose mouth is no wider than a door leaves at phi >= asin(hallway_min / door_max) and its
 //    walls run from the edges at most cot(phi) per metre beyond them (branchSpread);
-//  - wider openings are junctions.
+//  - wider openings are junctions;
+//  - a door in a wall across a hallway leaves 0.2-0.5 m of that wall on each side (its frame): an
+//    opening as wide as the hallway is the hallway's mouth (fitsInEndWall).
 //
 // ROS-free: the standard library only.
 #pragma once
@@ -29,7 +31,7 @@ struct BuildingRules {
   double hallway_min_width = 1.5;  // m, narrowest hallway
   double hallway_max_width = 4.0;  // m, widest hallway (an open hall or lobby is wider)
   double width_tolerance = 0.1;    // m, a measured opening's width may be this much off the true one
-  double door_jamb_min = 0.2;      // m, least wall between a door's edge and a wall across that wall
+  double door_jamb_min = 0.2;      // m, least wall on each side of a door in a hallway's end wall (its frame)
 
   /// m, the widest hallway as measured: no hallway's walls are farther apart (an open area's are).
   double widestHallway() const { return hallway_max_width + width_tolerance; }
