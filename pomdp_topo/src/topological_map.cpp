@@ -87,10 +87,6 @@ bool TopologicalMap::removeNode(uint32_t id) {
   return true;
 }
 
-bool TopologicalMap::differentOpenings(double width_a, double width_b) const {
-  return rules_.differentOpenings(width_a, width_b, kDifferentWidth);
-}
-
 std::vector<NodeOpening>::iterator TopologicalMap::findOpening(TopoNode* n, const NodeOpening& opening,
                                                               double same_bearing) {
   return std::find_if(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {

@@ -89,7 +89,7 @@ TEST(TopologicalMap, ADoorMeasuredAnotherWidthIsTheSameDoor) {
   ASSERT_TRUE(map.recordOpening(d, again));
   ASSERT_EQ(map.node(d)->openings.size(), 1u) << "one door, measured twice, became two openings";
   EXPECT_TRUE(map.node(d)->explored);
-  // Door against branch still tells apart; within kDifferentWidth nothing does; nor does no width.
+  // Door against branch still tells apart; within BuildingRules::kWidthSpread nothing does; nor does no width.
   EXPECT_TRUE(map.differentOpenings(0.9, 2.18));
   EXPECT_FALSE(map.differentOpenings(0.66, 1.28));
   EXPECT_FALSE(map.differentOpenings(1.2, 1.5));

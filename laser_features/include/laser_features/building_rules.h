@@ -61,10 +61,17 @@ struct BuildingRules {
     const double s = std::clamp(hallway_min_width / (door_max_width + width_tolerance), 1e-3, 1.0);
     return std::sqrt(1.0 - s * s) / s;
   }
+  /// m, how far apart two widths of one opening measured from different places along a hallway
+  /// may lie: each is within width_tolerance only with both jambs in view. From a grazing view
+  /// the far jamb is hidden and the far edge is the next wall point seen, and a door's frame set
+  /// back in a thick wall hides part of it (a 0.7 m door was measured 1.3 m after a U-turn). A
+  /// measured value, not derived: see differentOpenings().
+  static constexpr double kWidthSpread = 0.6;
   /// Two openings measured these widths are two (a door beside a hallway's branch on the same side),
-  /// not one measured twice: their widths differ by more than `apart` and only one is a door's.
-  bool differentOpenings(double width_a, double width_b, double apart = 0.6) const {
-    if (width_a <= 0.0 || width_b <= 0.0 || std::abs(width_a - width_b) <= apart) return false;
+  /// not one measured twice: their widths differ by more than kWidthSpread and only one is a
+  /// door's. An unmeasured width (<= 0) tells nothing apart.
+  bool differentOpenings(double width_a, double width_b) const {
+    if (width_a <= 0.0 || width_b <= 0.0 || std::abs(width_a - width_b) <= kWidthSpread) return false;
     return doorByWidth(width_a) != doorByWidth(width_b);
   }
   /// Two measurements of these widths may be one opening measured twice: each is within

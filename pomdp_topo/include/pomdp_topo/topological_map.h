@@ -125,13 +125,10 @@ class TopologicalMap {
   /// side must not mark the branch explored); the node's `explored` flag
   /// becomes "every opening explored". No structural change: the revision is not bumped (the
   /// localizer's states stay). False for an unknown node or a non-finite bearing.
-  static constexpr double kDifferentWidth = 0.6;  // m
   /// Two measured widths name two openings at one bearing only where one is a door and the other
-  /// a branch: more than kDifferentWidth apart and on either side of the door width limit (a door
-  /// beside a junction's branch). A door measured 0.7 m wide one time and 1.3 m after a U-turn is
-  /// one door (large_floor: taken for two, the door was added to its own node again and the known
-  /// room was entered as a new one). An unmeasured width (<= 0) tells nothing apart.
-  bool differentOpenings(double width_a, double width_b) const;
+  /// a branch (a door beside a junction's branch): BuildingRules::differentOpenings with this map's
+  /// rules.
+  bool differentOpenings(double width_a, double width_b) const { return rules_.differentOpenings(width_a, width_b); }
   /// The building rules that tell a door's width from a junction's (MapBuilder sets its own).
   void setBuildingRules(const laser_features::BuildingRules& rules) { rules_ = rules; }
   bool recordOpening(uint32_t id, const NodeOpening& opening, double same_bearing = 0.4);
