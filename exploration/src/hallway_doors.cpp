@@ -134,8 +134,10 @@ bool HallwayDoors::passed(const Pose2D& odom, double dir_robot, const Walls& wal
 std::optional<DoorTrack> HallwayDoors::inEndWall(const Pose2D& odom, const std::vector<laser_features::Opening>& openings,
                                                 double dir_robot, const HallwayView& v) const {
   const Eigen::Vector2d u = unitVector(dir_robot), nrm = unitVector(dir_robot + 0.5 * kPi);
-  // Half the hallway's width from its mid-line; half the widest hallway where a wall is not seen.
-  const double half = v.left_wall && v.right_wall ? 0.5 * v.width() : 0.5 * rules_.widestHallway();
+  // Both walls seen: the hallway's width is measured. Half of it from the mid-line; half the widest
+  // hallway where a wall is not seen.
+  const bool walls_seen = v.left_wall && v.right_wall;
+  const double half = walls_seen ? 0.5 * v.width() : 0.5 * rules_.widestHallway();
   // The end wall is free_ahead away (a sector that sees through the door makes free_ahead the
   // wall's: HallwayView's wall_across); a door lies on its wall, as a side door does on its side's
   // (wall_tolerance).
@@ -150,10 +152,10 @@ std::optional<DoorTrack> HallwayDoors::inEndWall(const Pose2D& odom, const std::
     // shorter than any line (door_jamb_min, 0.2 m), which halves laser_features' confidence. The
     // extractor's passage test (free space min_depth behind it) stands. Elsewhere ahead, a gap
     // between unrelated surfaces is told from a door by its edges' support.
-    const bool in_end_wall = v.left_wall && v.right_wall && std::abs(ahead - v.free_ahead) <= params_.wall_tolerance;
+    const bool in_end_wall = walls_seen && std::abs(ahead - v.free_ahead) <= params_.wall_tolerance;
     if (o.confidence < params_.min_confidence && !in_end_wall) continue;
     if (std::abs(normalizeAngle(o.theta - dir_robot)) > params_.side_angle) continue;
-    if (v.left_wall && v.right_wall && !rules_.fitsInEndWall(o.width, v.width())) continue;  // the hallway's mouth
+    if (walls_seen && !rules_.fitsInEndWall(o.width, v.width())) continue;  // the hallway's mouth
     if (best && lateral >= best_lateral) continue;
     DoorTrack t;
     t.centre_odom = transformPoint(odom, o.center);
