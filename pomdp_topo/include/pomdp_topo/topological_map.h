@@ -118,6 +118,12 @@ class TopologicalMap {
   bool mergeNodes(uint32_t keep, uint32_t drop, std::vector<std::pair<uint32_t, uint32_t>>* also_merged = nullptr,
                   double max_zip_distance = std::numeric_limits<double>::infinity());
 
+  /// Two measured widths name two openings at one bearing only where one is a door and the other
+  /// a branch (a door beside a junction's branch): BuildingRules::differentOpenings with this map's
+  /// rules.
+  bool differentOpenings(double width_a, double width_b) const { return rules_.differentOpenings(width_a, width_b); }
+  /// The building rules that tell a door's width from a junction's (MapBuilder sets its own).
+  void setBuildingRules(const laser_features::BuildingRules& rules) { rules_ = rules; }
   /// Records an opening of node `id` (the exploration's bookkeeping): the opening within
   /// `same_bearing` (rad) of `opening.bearing` is updated (explored stays once set; offset and
   /// width are taken when it had no width), else `opening` is added; two widths that
@@ -125,12 +131,6 @@ class TopologicalMap {
   /// side must not mark the branch explored); the node's `explored` flag
   /// becomes "every opening explored". No structural change: the revision is not bumped (the
   /// localizer's states stay). False for an unknown node or a non-finite bearing.
-  /// Two measured widths name two openings at one bearing only where one is a door and the other
-  /// a branch (a door beside a junction's branch): BuildingRules::differentOpenings with this map's
-  /// rules.
-  bool differentOpenings(double width_a, double width_b) const { return rules_.differentOpenings(width_a, width_b); }
-  /// The building rules that tell a door's width from a junction's (MapBuilder sets its own).
-  void setBuildingRules(const laser_features::BuildingRules& rules) { rules_ = rules; }
   bool recordOpening(uint32_t id, const NodeOpening& opening, double same_bearing = 0.4);
   /// Links place `place_id` (its door at `door_in_place` in the place's frame) to the opening of
   /// node `id` that matches `door` (as recordOpening matches; record it first). A door links one
