@@ -62,10 +62,9 @@ struct BuildingRules {
     return std::sqrt(1.0 - s * s) / s;
   }
   /// m, how far apart two widths of one opening measured from different places along a hallway
-  /// may lie: each is within width_tolerance only with both jambs in view. From a grazing view
-  /// the far jamb is hidden and the far edge is the next wall point seen, and a door's frame set
-  /// back in a thick wall hides part of it (a 0.7 m door was measured 1.3 m after a U-turn). A
-  /// measured value, not derived: see differentOpenings().
+  /// may lie: each is within width_tolerance only with both jambs in view; from a grazing view the
+  /// far jamb is hidden and the far edge is the next wall point seen. A measured value, not
+  /// derived (a 0.7 m door was measured 1.3 m after a U-turn): see differentOpenings().
   static constexpr double kWidthSpread = 0.6;
   /// Two openings measured these widths are two (a door beside a hallway's branch on the same side),
   /// not one measured twice: their widths differ by more than kWidthSpread and only one is a
