@@ -142,7 +142,9 @@ class SimNode {
     truth_pub_ = advertise<nav_msgs::Odometry>("ground_truth", 50);
     bumper_pub_ = advertise<std_msgs::Bool>("bumper", 10, true);
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("world_markers", 1, true);
-    cmd_sub_ = nh_.subscribe("cmd_vel", 10, &SimNode::onCmdVel, this, ros::TransportHints().tcpNoDelay());
+    // In lockstep a dropped cmd_vel would stall the step that counts it (lockstep::kUnboundedQueue).
+    cmd_sub_ = nh_.subscribe("cmd_vel", lockstep_ ? lockstep::kUnboundedQueue : 10, &SimNode::onCmdVel, this,
+                             ros::TransportHints().tcpNoDelay());
     if (lockstep_) lockstep_->watch(cmd_sub_);
     reset_srv_ = pnh_.advertiseService("reset", &SimNode::onReset, this);
     teleport_srv_ = pnh_.advertiseService("teleport", &SimNode::onTeleport, this);
@@ -219,7 +221,7 @@ class SimNode {
  private:
   template <class M>
   lockstep::Publisher advertise(const std::string& topic, uint32_t queue, bool latch = false) {
-    if (lockstep_) return lockstep_->advertise<M>(nh_, topic, queue, latch);
+    if (lockstep_) return lockstep_->advertise<M>(nh_, topic, latch);
     return lockstep::Publisher(nh_.advertise<M>(topic, queue, latch), nullptr);
   }
 

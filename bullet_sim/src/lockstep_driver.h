@@ -27,10 +27,10 @@ class LockstepDriver {
 
   LockstepDriver(ros::NodeHandle nh, const Options& options);
 
-  /// A publisher whose messages the steps announce.
+  /// A publisher whose messages the steps announce; its queue never drops (lockstep::kUnboundedQueue).
   template <class M>
-  lockstep::Publisher advertise(ros::NodeHandle& nh, const std::string& topic, uint32_t queue, bool latch = false) {
-    return own_.advertise<M>(nh, topic, queue, latch);
+  lockstep::Publisher advertise(ros::NodeHandle& nh, const std::string& topic, bool latch = false) {
+    return own_.advertise<M>(nh, topic, lockstep::kUnboundedQueue, latch);
   }
   /// A subscription of the simulator's whose messages the participants announce (cmd_vel): call
   /// received() from its callback.

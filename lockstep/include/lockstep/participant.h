@@ -31,6 +31,13 @@ namespace lockstep {
 /// Nagle's algorithm holds a small message back until the peer acknowledges the last one.
 inline const ros::TransportHints kTransportHints = ros::TransportHints().tcpNoDelay();
 
+/// roscpp's queue size for "never drop" (a subscription's and a publisher's queue alike). In
+/// lockstep every counted message must arrive: a step waits until its counts are received, so a
+/// message a full queue dropped would stall the step until the timeout. While a node is busy (a
+/// service call during a step) its queue grows by what the others publish, and the simulator waits
+/// for that node, so the queue stays bounded by one step's messages.
+constexpr uint32_t kUnboundedQueue = 0;
+
 /// The first multiple of `period` (s) after `t`: the sim time a periodic step hook asks for next, on
 /// the same grid as a ros::Timer of that period.
 inline ros::Time nextMultiple(const ros::Time& t, double period) {
@@ -98,7 +105,7 @@ class Participant {
 
   template <class M>
   Publisher advertise(ros::NodeHandle& nh, const std::string& topic, uint32_t queue, bool latch = false) {
-    return published_.advertise<M>(nh, topic, queue, latch);
+    return published_.advertise<M>(nh, topic, enabled_ ? kUnboundedQueue : queue, latch);
   }
 
   template <class M>
@@ -113,7 +120,7 @@ class Participant {
     // Nagle's algorithm would hold a step's small messages back for the peer's delayed ACK.
     ros::TransportHints transport = enabled_ ? ros::TransportHints(hints).tcpNoDelay() : hints;
     ros::Subscriber sub = on.subscribe<M>(
-        topic, queue,
+        topic, enabled_ ? kUnboundedQueue : queue,
         [this, resolved, callback, delivery](const boost::shared_ptr<const M>& msg) {
           if (!enabled_) return callback(msg);
           gate_.received(resolved);
