@@ -241,7 +241,7 @@ void FrontEnd::checkPassed() {
                         std::abs(std::abs(o.orientation) - 0.5 * kPi) <= params_.side_angle;
       const double max_lateral = t.type == LandmarkType::Opening ? params_.rules.hallwayReach() : params_.observation_range;
       if (side && std::abs(o.lateral) <= max_lateral) {
-        passed_.push_back({o, travel_, bin_, t.id});
+        passed_.push_back({o, travel_, bin_, wing_offset_, t.id});
       }
       t.armed = false;
     }

@@ -13,12 +13,14 @@ using laser_features::normalizeAngle;
 namespace {
 constexpr double kSameBearing = 0.4;  // rad: two openings of a node this close in bearing are one
 double sideOf(double lateral) { return lateral >= 0.0 ? 1.0 : -1.0; }
-// The node opening a side landmark passed while travelling along `heading` (map frame) stands for.
-NodeOpening sideOpening(double heading, const ObservedLandmark& l) {
+// The node opening a side landmark passed while travelling along the bin heading `heading` (map
+// frame) stands for: across the bin, with the skew of the hallway it was passed in.
+NodeOpening sideOpening(double heading, const PassedLandmark& p) {
   NodeOpening o;
-  o.bearing = normalizeAngle(heading + (l.lateral >= 0.0 ? 0.5 : -0.5) * kPi);
-  o.offset = std::abs(l.lateral);
-  o.width = l.width;
+  o.bearing = normalizeAngle(heading + (p.landmark.lateral >= 0.0 ? 0.5 : -0.5) * kPi);
+  o.skew = p.skew;
+  o.offset = std::abs(p.landmark.lateral);
+  o.width = p.landmark.width;
   return o;
 }
 }  // namespace
@@ -234,10 +236,7 @@ void MapBuilder::processFrontier(const Scan& scan, const FrontEnd& fe) {
       pending_.push_back(l);
       continue;
     }
-    NodeOpening o;
-    o.bearing = normalizeAngle(binHeading(frontier_bin_) + (p.landmark.lateral >= 0.0 ? 0.5 : -0.5) * kPi);
-    o.offset = std::abs(p.landmark.lateral);
-    o.width = p.landmark.width;
+    const NodeOpening o = sideOpening(binHeading(frontier_bin_), p);
     const NodeType type = p.landmark.door ? NodeType::Door : NodeType::Junction;
     createNode(type, std::max(0.0, pos), scan, fe, {o});
   }
@@ -948,7 +947,7 @@ void MapBuilder::addOpeningsAtNode(const PomdpLocalizer::State& st, const Scan& 
   for (const PassedLandmark& p : scan.passed) {
     if (p.landmark.type != LandmarkType::Opening || !p.landmark.door) continue;
     if (binHeading(p.heading_bin) != binHeading(binOf(st.heading))) continue;
-    const NodeOpening o = sideOpening(st.heading, p.landmark);
+    const NodeOpening o = sideOpening(st.heading, p);
     if (knownOpeningNear({{n->id, reach}}, p, scan, o.bearing, o.width)) continue;
     if (farFromNode(*n, p, scan)) continue;
     n->openings.push_back(o);
@@ -1022,7 +1021,7 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       // unlikely (hallway branches are seen from afar); a gap beside a pillar or a wide view into
       // a room is not. Not a node.
       continue;
-    } else if (knownOpeningNear(*e, d, p, scan, sideOpening(st.heading, p.landmark).bearing, p.landmark.width)) {
+    } else if (knownOpeningNear(*e, d, p, scan, sideOpening(st.heading, p).bearing, p.landmark.width)) {
       // A door a node near here already has: the belief is a little off along the edge (institute:
       // office_10's door, 0.84 m from seminar's across the hallway, was added to seminar's node as
       // a second, unexplored opening, and the room was explored twice).
@@ -1033,7 +1032,7 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       Eigen::Vector2d believed;
       if (pointOnEdge(*e, d, &believed) && farFromDeadReckoning(believed, p, scan)) continue;
       const double heading = st.heading;
-      splitEdgeWithDoor(e->id, d, p.landmark, heading);
+      splitEdgeWithDoor(e->id, d, sideOpening(heading, p), p.landmark.door);
       return;
     } else {
       // An opening at an end node that the node does not know yet.
@@ -1043,7 +1042,7 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       // of a stretch, above), not a branch: institute's hall_north got 1.8-2.1 m "openings" at two
       // door nodes, which the exploration turned round for five times before giving them up.
       if (n->type != NodeType::Junction && !p.landmark.door) continue;
-      const NodeOpening o = sideOpening(st.heading, p.landmark);
+      const NodeOpening o = sideOpening(st.heading, p);
       const bool present = std::any_of(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {
         return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameBearing;
       });
@@ -1086,17 +1085,13 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
   }
 }
 
-void MapBuilder::splitEdgeWithDoor(uint32_t edge_id, double distance, const ObservedLandmark& opening, double heading) {
+void MapBuilder::splitEdgeWithDoor(uint32_t edge_id, double distance, const NodeOpening& opening, bool is_door) {
   const TopoEdge old = *map_->edge(edge_id);
   const TopoNode& a = *map_->node(old.source);
   TopoNode door;
-  door.type = opening.door ? NodeType::Door : NodeType::Junction;
+  door.type = is_door ? NodeType::Door : NodeType::Junction;
   door.pose = Pose2D{a.pose.x + distance * std::cos(old.heading), a.pose.y + distance * std::sin(old.heading), old.heading};
-  NodeOpening o;
-  o.bearing = normalizeAngle(heading + (opening.lateral >= 0.0 ? 0.5 : -0.5) * kPi);
-  o.offset = std::abs(opening.lateral);
-  o.width = opening.width;
-  door.openings.push_back(o);
+  door.openings.push_back(opening);
   const uint32_t id = map_->addNode(door);
   std::vector<EdgeLandmark> first, second;
   for (EdgeLandmark l : old.landmarks) {

@@ -18,7 +18,8 @@ using laser_features::normalizeAngle;
 
 /// The widths of a version's fields: real numbers (f64 until version 2, f32 from version 3) and
 /// small codes (types, flags, kinds: u32, then u8). Ids, counts, place ids and observation counts
-/// are 4 bytes in every version. Version 3 has version 2's fields in version 2's order.
+/// are 4 bytes in every version. Version 3 has version 2's fields in version 2's order; version 4
+/// adds an opening's skew at the end of its record.
 struct Layout {
   uint32_t version;
   size_t real;
@@ -28,8 +29,8 @@ struct Layout {
   size_t minNode() const {  // version 1: with the node's place and door
     return 4 + small + 3 * real + small + 4 + 4 + (version == 1 ? 4 + 3 * real : 0);
   }
-  size_t opening() const {  // from version 2: with the door's place and pose in it
-    return 3 * real + small + (version >= 2 ? 4 + 3 * real : 0);
+  size_t opening() const {  // from version 2: with the door's place and pose in it; 4: and skew
+    return 3 * real + small + (version >= 2 ? 4 + 3 * real : 0) + (version >= 4 ? real : 0);
   }
   size_t fingerprintEntry() const { return small + real; }
   size_t minEdge() const { return 3 * 4 + 2 * real + 4; }
@@ -42,7 +43,7 @@ std::string headerText(uint32_t version) {
 
 // ---- encoding --------------------------------------------------------------------------------
 
-/// Writes version 3: real numbers as float32 (the localizer computes in float32; poses, offsets
+/// Writes version 4: real numbers as float32 (the localizer computes in float32; poses, offsets
 /// and widths within 6e-8 of their size, e.g. 1 um at 16 m), codes as u8.
 class Writer : public laser_features::BinaryWriter {
  public:
@@ -71,6 +72,7 @@ void encodeNode(const TopoNode& node, Writer* w) {
     w->u8(o.explored ? 1u : 0u);
     w->i32(o.place_id);
     w->pose(o.door_in_place);
+    w->angle(o.skew);
   }
   for (const FingerprintEntry& e : node.fingerprint.entries) {
     w->u8(uint8_t(e.kind));
@@ -194,6 +196,7 @@ bool decodeNode(Reader* in, size_t index, TopoNode* node, std::string* error) {
       o.place_id = v1_place;
       o.door_in_place = v1_door;
     }
+    if (version >= 4) o.skew = in->angle("an opening's skew");  // before: bearings on the axes only
     if (!in->ok()) return false;
     if (!validPlaceId(o.place_id, where + ", opening " + std::to_string(i), error)) return false;
     if (o.width < 0.0) {

@@ -770,6 +770,31 @@ TEST(FrontEnd, TravelAndTurnsFollowAWingsWalls) {
   }
 }
 
+// A wing's door faces across the wing: its opening is stored across the bin the wing's hallway is
+// followed in (the graph matches openings and turns by bins) with the wing's skew, so its direction
+// is the door's own, whatever the wing's angle to the building's axes (30-60 deg).
+TEST(MapBuilder, AWingsDoorFacesAcrossTheWingNotAcrossItsBin) {
+  for (const double wing : {0.0, 0.6, -0.9}) {
+    SyntheticFloor floor;
+    floor.doors.push_back({{4.0, 1.1}, 0.5 * kPi, 0.9});
+    floor.doors.push_back({{9.0, -1.1}, -0.5 * kPi, 0.9});
+    Drive drive;
+    drive.yaw = wing;  // the hallway runs `wing` off the building's axis, which stays at 0
+    drive.run(&floor, {{1.5, 0}, {14.0, 0}}, 0.0);
+    size_t doors = 0;
+    for (const auto& [id, node] : drive.map.nodes()) {
+      if (node.type != NodeType::Door) continue;
+      for (const NodeOpening& o : node.openings) {
+        ++doors;
+        const double across = o.direction() - wing;  // in the wing's frame: +-90 deg
+        EXPECT_NEAR(std::abs(normalizeAngle(across)), 0.5 * kPi, 0.1) << "wing " << wing << ", node " << id;
+        EXPECT_NEAR(std::abs(normalizeAngle(4.0 * o.bearing)), 0.0, 1e-6) << "wing " << wing << ": not on a bin";
+      }
+    }
+    EXPECT_EQ(doors, 2u) << "wing " << wing;
+  }
+}
+
 // A side opening is the hallway's own (passed, so recorded at a node) within half the widest
 // hallway of the travel line (BuildingRules::hallwayReach), whatever the widest hallway is: the
 // same reach the coordinator tracks doors and hallway walls within.

@@ -24,7 +24,7 @@ namespace {
 
 using laser_features::kPi;
 
-const std::string kHeader = "hybrid_slam_topological_map\nversion 3\n";
+const std::string kHeader = "hybrid_slam_topological_map\nversion 4\n";
 
 /// How two maps must agree: exactly, or within the float32 bounds of map_io.h (reals within 6e-8
 /// of their size, angles within 2.4e-7 rad).
@@ -132,6 +132,7 @@ void expectSameMaps(const TopologicalMap& a, const TopologicalMap& b, Precision 
       EXPECT_TRUE(nearReal(p.openings[i].door_in_place.x, q->openings[i].door_in_place.x, m));
       EXPECT_TRUE(nearReal(p.openings[i].door_in_place.y, q->openings[i].door_in_place.y, m));
       EXPECT_TRUE(nearAngle(p.openings[i].door_in_place.theta, q->openings[i].door_in_place.theta, m));
+      EXPECT_TRUE(nearAngle(p.openings[i].skew, q->openings[i].skew, m));
     }
     ASSERT_EQ(p.fingerprint.entries.size(), q->fingerprint.entries.size());
     for (size_t i = 0; i < p.fingerprint.entries.size(); ++i) {
@@ -164,8 +165,8 @@ void expectSameMaps(const TopologicalMap& a, const TopologicalMap& b, Precision 
 
 size_t bodyOffset(const std::string& bytes) { return bytes.find('\n', bytes.find('\n') + 1) + 1; }
 
-// Record sizes of version 3 (map_io.h) and field offsets inside them.
-constexpr size_t kNodeBytes = 26, kOpeningBytes = 29, kEntryBytes = 5, kEdgeBytes = 24, kLandmarkBytes = 21;
+// Record sizes of version 4 (map_io.h) and field offsets inside them.
+constexpr size_t kNodeBytes = 26, kOpeningBytes = 33, kEntryBytes = 5, kEdgeBytes = 24, kLandmarkBytes = 21;
 constexpr size_t kNodeType = 4, kNodeX = 5, kNodeTheta = 13, kNodeFlags = 17, kNodeOpeningCount = 18;
 constexpr size_t kOpeningOffset = 4, kOpeningWidth = 8, kOpeningFlags = 12, kOpeningPlace = 13, kOpeningDoorX = 17,
                  kOpeningDoorTheta = 25;
@@ -316,11 +317,11 @@ TEST(MapIo, AVersionOneFileIsReadWithItsNodesPlaceOnTheFirstOpening) {
   EXPECT_EQ(n->openings[1].place_id, -1);
   EXPECT_TRUE(n->explored);
   EXPECT_EQ(loaded.nextNodeId(), 4u);
-  // Saved again, it is version 3, and reads back within float32.
+  // Saved again, it is version 4, and reads back within float32.
   const std::string again = encodeMap(loaded);
   EXPECT_EQ(again.rfind(kHeader, 0), 0u);
   TopologicalMap reloaded;
-  ASSERT_TRUE(decodeMap(again, "v3", &reloaded));
+  ASSERT_TRUE(decodeMap(again, "v4", &reloaded));
   expectSameMaps(loaded, reloaded, Precision::kFloat32);
   // Without a place: no opening links one.
   ASSERT_TRUE(decodeMap(versionOneFile(-1), "v1", &loaded));
@@ -345,12 +346,12 @@ TEST(MapIo, AVersionTwoFileIsStillRead) {
   const IoResult result = loadMap(path, &loaded);
   ASSERT_TRUE(result) << result.error;
   expectSameMaps(fullMap(), loaded, Precision::kExact);
-  // Saved again, it is version 3, smaller, and within float32 of it.
+  // Saved again, it is version 4, smaller (f32 for f64, u8 for u32), and within float32 of it.
   const std::string again = encodeMap(loaded);
   EXPECT_EQ(again.rfind(kHeader, 0), 0u);
-  EXPECT_LT(again.size(), bytes.size() * 6 / 10);
+  EXPECT_LT(again.size(), bytes.size() * 2 / 3);
   TopologicalMap reloaded;
-  ASSERT_TRUE(decodeMap(again, "v3", &reloaded));
+  ASSERT_TRUE(decodeMap(again, "v4", &reloaded));
   expectSameMaps(loaded, reloaded, Precision::kFloat32);
 
   // Version 2's wide fields are checked as before (node #0's pose x, theta and type, in f64 / u32).
@@ -373,13 +374,54 @@ TEST(MapIo, AVersionTwoFileIsStillRead) {
   EXPECT_TRUE(kept.empty());
 }
 
+TEST(MapIo, AVersionThreeFileIsReadWithEveryOpeningOnTheAxes) {
+  // Written by the version-3 code (at d9029b0) from fullMap(): no skew, so every opening's
+  // direction is its bearing.
+  const std::string path = std::string(TEST_DATA_DIR) + "/full_map_v3.topo";
+  const std::string v3 = readFile(path);
+  ASSERT_EQ(v3.rfind("hybrid_slam_topological_map\nversion 3\n", 0), 0u) << path;
+  TopologicalMap loaded;
+  const IoResult result = loadMap(path, &loaded);
+  ASSERT_TRUE(result) << result.error;
+  expectSameMaps(fullMap(), loaded, Precision::kFloat32);
+  size_t openings = 0;
+  for (const auto& [id, node] : loaded.nodes()) {
+    for (const NodeOpening& o : node.openings) EXPECT_EQ(o.direction(), o.bearing) << "node " << id;
+    openings += node.openings.size();
+  }
+  // Saved again, it is version 4: version 3's bytes and a skew (f32) per opening.
+  const std::string again = encodeMap(loaded);
+  EXPECT_EQ(again.rfind(kHeader, 0), 0u);
+  EXPECT_EQ(again.size(), v3.size() + 4 * openings);
+}
+
+TEST(MapIo, AWingsDoorKeepsItsSkewAndSoItsDirection) {
+  // A door seen from a wing 40 deg off its bin: stored across the bin, facing across the wing.
+  TopologicalMap map = fullMap();
+  TopoNode* door = map.node(map.nodes().begin()->first);
+  ASSERT_FALSE(door->openings.empty());
+  door->openings[0].skew = -0.7;
+  TopologicalMap loaded;
+  ASSERT_TRUE(decodeMap(encodeMap(map), "wing", &loaded));
+  expectSameMaps(map, loaded, Precision::kFloat32);
+  const NodeOpening& o = loaded.node(door->id)->openings[0];
+  EXPECT_NEAR(o.direction(), laser_features::normalizeAngle(door->openings[0].bearing - 0.7), 1e-6);
+  // A skew outside (-pi, pi] in the file is refused like any angle.
+  std::string bad = encodeMap(map);
+  const size_t skew_at = bodyOffset(bad) + 4 + kNodeBytes + kOpeningBytes - 4;
+  putF32(&bad, skew_at, 4.0f);
+  TopologicalMap kept;
+  const IoResult refused = decodeMap(withValidChecksum(bad), "wing", &kept);
+  EXPECT_NE(refused.error.find("not in (-pi, pi]"), std::string::npos) << refused.error;
+}
+
 TEST(MapIo, RecordSizes) {
-  // As map_io.h states: a node 26 bytes + 29 an opening + 5 a fingerprint entry, an edge 24 bytes
+  // As map_io.h states: a node 26 bytes + 33 an opening + 5 a fingerprint entry, an edge 24 bytes
   // + 21 a landmark; around them the header, the counts, the next ids and the CRC.
   const TopologicalMap map = fullMap();
   size_t records = 0, openings = 0, entries = 0, landmarks = 0;
   for (const auto& [id, node] : map.nodes()) {
-    records += 26 + 29 * node.openings.size() + 5 * node.fingerprint.entries.size();
+    records += 26 + 33 * node.openings.size() + 5 * node.fingerprint.entries.size();
     openings += node.openings.size();
     entries += node.fingerprint.entries.size();
   }
@@ -465,14 +507,14 @@ TEST_F(RefusedFile, WrongMagic) {
 }
 
 TEST_F(RefusedFile, NewerOrUnknownVersion) {
-  const size_t at = good_.find("version 3\n");
+  const size_t at = good_.find("version 4\n");
   ASSERT_NE(at, std::string::npos);
   std::string newer = good_;
-  newer[at + 8] = '4';
-  expectRefused(newer, "format version 4 is newer than this build reads (3); update the software");
+  newer[at + 8] = '5';
+  expectRefused(newer, "format version 5 is newer than this build reads (4); update the software");
   std::string older = good_;
   older[at + 8] = '0';
-  expectRefused(older, "format version 0 is older than this build reads (1..3) and has no migration");
+  expectRefused(older, "format version 0 is older than this build reads (1..4) and has no migration");
   std::string garbage = good_;
   garbage[at + 8] = 'x';
   expectRefused(garbage, "malformed version line");

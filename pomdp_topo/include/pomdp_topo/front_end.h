@@ -45,6 +45,7 @@ struct PassedLandmark {
   ObservedLandmark landmark;
   double travel = 0.0;      // m, total signed travel (along headings) when it was passed
   int heading_bin = 0;      // travel heading bin then
+  double skew = 0.0;        // rad, the travel heading's angle to that bin then (FrontEnd::wingOffset)
   uint32_t track_id = 0;
 };
 

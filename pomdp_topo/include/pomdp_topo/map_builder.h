@@ -204,7 +204,7 @@ class MapBuilder {
   bool farFromNode(const TopoNode& n, const PassedLandmark& p, const Scan& scan) const;
   /// Doors passed while the belief is at node `st` that no node within reach has: added to it.
   void addOpeningsAtNode(const PomdpLocalizer::State& st, const Scan& scan);
-  void splitEdgeWithDoor(uint32_t edge, double distance, const ObservedLandmark& opening, double heading);
+  void splitEdgeWithDoor(uint32_t edge, double distance, const NodeOpening& opening, bool is_door);
   Fingerprint fingerprintAt(const Eigen::Vector2d& position, const FrontEnd& fe) const;
   double fingerprintSimilarity(const Fingerprint& a, const Fingerprint& b) const;
   laser_features::HeadingBins headingBins() const { return {fe_params_.axis_angle, fe_params_.heading_bins}; }

@@ -1,20 +1,21 @@
 // Saving and loading the topological map (DESIGN.md: written atomically, versioned; a corrupt or
 // newer file is refused with a clear error and the map in memory is kept).
 //
-// File format, version 3: two text lines, then little-endian binary (u8 / u32: 1- / 4-byte unsigned
+// File format, version 4: two text lines, then little-endian binary (u8 / u32: 1- / 4-byte unsigned
 // integer, i32: 4-byte two's complement, f32: IEEE-754 binary32):
 //
 //   "hybrid_slam_topological_map\n"     magic line
-//   "version 3\n"                       format version, decimal
+//   "version 4\n"                       format version, decimal
 //   u32 node_count
-//   node_count x {                      26 bytes + 29 an opening + 5 a fingerprint entry
+//   node_count x {                      26 bytes + 33 an opening + 5 a fingerprint entry
 //     u32 id, u8 type                   type: NodeType (0 door, 1 junction, 2 hallway end, 3 place, 4 start)
 //     f32 x, y, theta                   display pose in the map frame
 //     u8 flags                          bit 0: explored
 //     u32 opening_count o, u32 fingerprint_count f
 //     o x { f32 bearing, offset, width, u8 flags,      flags bit 0: explored
 //           i32 place_id,                              the place behind the door, -1: none
-//           f32 x, y, theta }                          door_in_place: the door's pose in that place
+//           f32 x, y, theta,                           door_in_place: the door's pose in that place
+//           f32 skew }                                 NodeOpening::skew (direction = bearing + skew)
 //     f x { u8 kind, f32 bearing }               kind: FingerprintEntry::Kind (0 corner, 1 opening,
 //                                                     2 line direction), in the stored order
 //   }
@@ -45,8 +46,10 @@
 // saveMap refuses (and writes nothing) a map that loading would refuse (a number beyond float32's
 // range among them).
 //
-// Older versions, still read: version 2 is version 3 with f64 for every real number and u32 for
-// every u8 (node 44 bytes, opening 56, fingerprint entry 12, edge 32, landmark 40). Version 1 (until
+// Older versions, still read: version 3 is version 4 without an opening's skew (read as 0: until
+// then a wing's doors were stored across its bin). Version 2 is version 3 with f64 for every real
+// number and u32 for every u8 (node 44 bytes, opening 56, fingerprint entry 12, edge 32, landmark
+// 40). Version 1 (until
 // stop 19) had one place per node: i32 place_id and f64 x, y, theta door_in_place after the node's
 // pose, and openings without them; the node's place becomes its first opening's (the door it was
 // entered by, which linking put first).
@@ -59,7 +62,7 @@
 
 namespace pomdp_topo {
 
-constexpr uint32_t kTopoMapFormatVersion = 3;
+constexpr uint32_t kTopoMapFormatVersion = 4;
 constexpr const char* kTopoMapMagic = "hybrid_slam_topological_map";
 
 struct IoResult {

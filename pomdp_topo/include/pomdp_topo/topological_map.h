@@ -42,13 +42,21 @@ struct EdgeLandmark {
 
 /// An opening at a node: a door into a room, or a hallway branch at a junction.
 struct NodeOpening {
-  double bearing = 0.0;  // rad, map frame: direction from the node's centre through the opening
-  double offset = 0.0;   // m, from the node's centre to the opening's centre along `bearing`
+  double bearing = 0.0;  // rad, map frame: the direction from the node's centre through the opening,
+                         // turned onto the heading bins (a side door: perpendicular to the bin of the
+                         // hallway it was seen from). The graph matches openings and turns by it.
+  double offset = 0.0;   // m, from the node's centre to the opening's centre along direction()
   double width = 0.0;    // m
   bool explored = false; // the robot went through it (a room mapped or a hallway stretch followed)
   int32_t place_id = -1; // the place (local metric map) behind this door, -1 if none: each door of a
                          // node links its own (doors facing each other across a hallway are one node)
   Pose2D door_in_place;  // with place_id >= 0: the door's pose in the frame place_<place_id>
+  double skew = 0.0;     // rad: the hallway's angle to that bin where a side door was seen (a wing's,
+                         // 30-60 deg off the building's axes; 0 along them). See direction().
+
+  /// The direction from the node's centre through the opening as it is (rad, map frame): a wing's
+  /// door faces across the wing, not across the bin its hallway was followed in.
+  double direction() const { return laser_features::normalizeAngle(bearing + skew); }
 };
 
 /// One entry of a fingerprint: a feature seen around the robot at the node.
