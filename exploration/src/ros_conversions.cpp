@@ -68,7 +68,7 @@ void fromMsg(const hybrid_slam_msgs::TopologicalMap& msg, TopoGraph* graph) {
     g.x = n.pose.x;
     g.y = n.pose.y;
     for (const auto& o : n.openings) {
-      g.openings.push_back(GraphOpening{o.bearing, o.width, bool(o.explored), o.place_id,
+      g.openings.push_back(GraphOpening{o.bin_bearing, o.width, bool(o.explored), o.place_id,
                                         {o.door_in_place.x, o.door_in_place.y, o.door_in_place.theta}});
     }
     graph->addNode(g);

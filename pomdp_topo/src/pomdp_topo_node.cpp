@@ -408,6 +408,8 @@ class TopoNodeRos {
     }
     NodeOpening o;
     o.bearing = req.bearing;
+    // A new opening is seen from the hallway the robot left (bearings come on the heading bins).
+    o.skew = paused_ ? paused_wing_offset_ : front_end_.wingOffset();
     o.offset = req.offset;
     o.width = req.width;
     o.explored = req.explored;

@@ -119,7 +119,8 @@ void toMsg(const TopologicalMap& map, const std_msgs::Header& header, hybrid_sla
     m.pose.theta = n.pose.theta;
     for (const NodeOpening& o : n.openings) {
       hybrid_slam_msgs::TopoOpening mo;
-      mo.bearing = o.bearing;
+      mo.bearing = o.direction();
+      mo.bin_bearing = o.bearing;
       mo.offset = o.offset;
       mo.width = o.width;
       mo.explored = o.explored;
@@ -229,7 +230,7 @@ void toMarkers(const TopologicalMap& map, const PomdpLocalizer& loc, const std_m
     for (const NodeOpening& o : n.openings) {
       const double len = std::max(0.5, o.offset);
       openings.points.push_back(point(n.pose.x, n.pose.y, 0.1));
-      openings.points.push_back(point(n.pose.x + len * std::cos(o.bearing), n.pose.y + len * std::sin(o.bearing), 0.1));
+      openings.points.push_back(point(n.pose.x + len * std::cos(o.direction()), n.pose.y + len * std::sin(o.direction()), 0.1));
     }
     auto text = make("node_ids", visualization_msgs::Marker::TEXT_VIEW_FACING, 0.4);
     text.id = text_id++;
