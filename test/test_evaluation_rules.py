@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""rostest: the evaluation's door rule on hand-made nodes (see the .test)."""
+"""rostest: the evaluation's rules on hand-made input: the door rule on nodes, lockstep stalls in
+a log (see the .test)."""
 import math
 import os
 import sys
@@ -10,6 +11,7 @@ import rostest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'scripts'))
 from evaluate_exploration import door_opening  # noqa: E402
+from lockstep_log import stalls  # noqa: E402
 
 NORTH, SOUTH = 0.5 * math.pi, -0.5 * math.pi
 
@@ -44,5 +46,28 @@ class DoorRule(unittest.TestCase):
         self.assertIsNone(door_opening(0.0, 0.0, NORTH, [near], {first}))
 
 
+
+class LockstepStalls(unittest.TestCase):
+    def test_the_simulators_and_a_participants_stalls_are_found_and_nothing_else(self):
+        log = [
+            '[ERROR] [1796386723.576311086, 0.150000000]: bullet_sim: lockstep: the step at 0.150 s waited 10 s '
+            'of wall time for the acknowledgement of /exploration; going on without it',
+            '[ERROR] [1796390860.730158423, 5.600000000]: /exploration: lockstep step at 0.150 s waited 10 s of '
+            'wall time for /topological_map: 4 of 5; going on without it',
+            '[ INFO] [1796401154.068325681, 0.000000014]: bullet_sim: lockstep with laser_features, pomdp_topo '
+            '(1.5 s to connect)',
+            '[ INFO] [1796401178.481818586, 98.300000000]: bullet_sim: sim time 98.3 s, real-time factor 4.0; '
+            'lockstep: 984 steps, 16 % of the wall time waiting for the nodes (4.08 ms a step)',
+        ]
+        self.assertEqual(stalls(log), [('bullet_sim', 0.15, 'the acknowledgement of /exploration'),
+                                       ('/exploration', 0.15, '/topological_map: 4 of 5')])
+        self.assertEqual(stalls(log[2:]), [])
+
+
+def suite():
+    load = unittest.defaultTestLoader.loadTestsFromTestCase
+    return unittest.TestSuite([load(DoorRule), load(LockstepStalls)])
+
+
 if __name__ == '__main__':
-    rostest.rosrun('hybrid_slam', 'evaluation_rules', DoorRule)
+    rostest.rosrun('hybrid_slam', 'evaluation_rules', '__main__.suite')
