@@ -26,6 +26,7 @@ import rospy
 import tf2_ros
 import yaml
 from hybrid_slam_msgs.msg import ExplorationStatus, TopologicalMap
+from lockstep import Participant
 from nav_msgs.msg import Odometry
 from world_geometry import inside, yaw_of
 
@@ -118,9 +119,13 @@ class ExplorationEvaluator:
         self.last_pose_check = -1e9
         self.tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(30.0))
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
-        rospy.Subscriber('ground_truth', Odometry, self.on_truth, queue_size=200)
-        rospy.Subscriber('exploration_status', ExplorationStatus, self.on_status, queue_size=50)
-        rospy.Subscriber('topological_map', TopologicalMap, self.on_map, queue_size=2)
+        # An observer of the lockstep (explore.launch names it): the simulator's first step waits until
+        # these are connected, so the trace starts with the run however long this node took to start
+        # (on a busy machine it once missed the first room); no later step waits for it.
+        self.lockstep = Participant(observer=True)
+        self.lockstep.subscribe('ground_truth', Odometry, self.on_truth, queue_size=200)
+        self.lockstep.subscribe('exploration_status', ExplorationStatus, self.on_status, queue_size=50)
+        self.lockstep.subscribe('topological_map', TopologicalMap, self.on_map, queue_size=2)
         rospy.on_shutdown(self.write)
 
     def reachable_regions(self):

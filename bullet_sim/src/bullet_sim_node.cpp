@@ -128,6 +128,7 @@ class SimNode {
     if (param(nh_, "lockstep/enabled", false)) {
       LockstepDriver::Options o;
       o.participants = commaList(param<std::string>(nh_, "lockstep/participants", ""));
+      o.observers = commaList(param<std::string>(nh_, "lockstep/observers", ""));
       o.timeout = param(nh_, "lockstep/timeout", o.timeout);
       o.stop_on_timeout = param(nh_, "lockstep/stop_on_timeout", o.stop_on_timeout);
       if (o.participants.empty()) {

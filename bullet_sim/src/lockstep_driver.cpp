@@ -16,10 +16,21 @@ std::string joined(const std::vector<std::string>& names) {
 
 }  // namespace
 
+namespace {
+
+std::vector<std::string> concatenated(std::vector<std::string> a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+}  // namespace
+
 LockstepDriver::LockstepDriver(ros::NodeHandle nh, const Options& options)
-    : nh_(nh), options_(options), barrier_(lockstep::resolveNodeNames(nh, options.participants)) {
+    : nh_(nh),
+      options_(options),
+      barrier_(lockstep::resolveNodeNames(nh, concatenated(options.participants, options.observers))) {
   step_pub_ = nh_.advertise<hybrid_slam_msgs::LockstepStep>("lockstep/step", 100);
-  for (const std::string& node : lockstep::resolveNodeNames(nh, options.participants))
+  for (const std::string& node : lockstep::resolveNodeNames(nh, concatenated(options.participants, options.observers)))
     ack_subs_.push_back(nh_.subscribe(lockstep::ackTopic(node), 100, &LockstepDriver::onAck, this, lockstep::kTransportHints));
 }
 
@@ -71,7 +82,11 @@ bool LockstepDriver::start(const std::function<void(const ros::Time&)>& publish_
     if (complete_rounds >= 2) {
       received_ = lockstep::maxCounts(received_, barrier_.published());  // what came before counts as received
       last_step_ = stamp.toNSec();
-      ROS_INFO("bullet_sim: lockstep with %s (%.1f s to connect)", joined(options_.participants).c_str(),
+      // An observer acknowledges start steps only (lockstep.Participant(observer=True)): excused, it
+      // stays so.
+      barrier_.excuse(lockstep::resolveNodeNames(nh_, options_.observers));
+      ROS_INFO("bullet_sim: lockstep with %s%s (%.1f s to connect)", joined(options_.participants).c_str(),
+               options_.observers.empty() ? "" : (", observed by " + joined(options_.observers)).c_str(),
                (ros::WallTime::now() - begin).toSec());
       return true;
     }

@@ -21,6 +21,7 @@ class LockstepDriver {
  public:
   struct Options {
     std::vector<std::string> participants;  // node names, resolved like topics
+    std::vector<std::string> observers;     // nodes the first step waits for, none after (an evaluation)
     double timeout = 10.0;                  // (s, wall) before a silent participant is reported
     bool stop_on_timeout = false;           // false: report it and go on
   };
@@ -37,8 +38,9 @@ class LockstepDriver {
   void watch(const ros::Subscriber& sub) { watched_.insert(sub.getTopic()); subs_.push_back(sub); }
   void received(const std::string& topic) { ++received_[topic]; }
 
-  /// Waits until every participant has connected (sim time stays at a few nanoseconds meanwhile,
-  /// published by `publish_clock`). False when ROS shuts down.
+  /// Waits until every participant and observer has connected (sim time stays at a few nanoseconds
+  /// meanwhile, published by `publish_clock`); then no step waits for the observers. False when ROS
+  /// shuts down.
   bool start(const std::function<void(const ros::Time&)>& publish_clock);
   /// A participant asked for a step at or before `now` (within `tolerance` seconds).
   bool wakeDue(const ros::Time& now, double tolerance) const;

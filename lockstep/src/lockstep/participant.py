@@ -20,8 +20,11 @@ def _counts(msg):
 
 
 class Participant(object):
-    def __init__(self, upstream=()):
+    def __init__(self, upstream=(), observer=False):
+        """observer: acknowledge the simulator's start steps only, once connected, never a later step
+        (a node the launch names in lockstep/observers: the first step waits for it, none after)."""
         self.enabled = bool(rospy.get_param('lockstep/enabled', False))
+        self._observer = observer
         self.lock = threading.RLock()  # held by every callback of a counted subscription and the hook
         self._received = collections.Counter()
         self._watched = collections.Counter()  # subscriptions per topic: each receives every message
@@ -42,7 +45,9 @@ class Participant(object):
         rospy.loginfo('%s: lockstep with the simulator', rospy.get_name())
 
     def subscribe(self, topic, msg_type, callback, queue_size=100):
-        """A counted subscription; the callback runs on arrival, under the participant's lock."""
+        """A counted subscription; the callback runs on arrival, under the participant's lock. In
+        lockstep its queue never drops (a dropped message would hold its step until the timeout);
+        otherwise it holds `queue_size` messages."""
         resolved = rospy.resolve_name(topic)
         self._watched[resolved] += 1
 
@@ -52,7 +57,8 @@ class Participant(object):
                 self._received[resolved] += 1
                 self._advance()
 
-        sub = rospy.Subscriber(topic, msg_type, counted, queue_size=queue_size, tcp_nodelay=True)
+        sub = rospy.Subscriber(topic, msg_type, counted, queue_size=None if self.enabled else queue_size,
+                               tcp_nodelay=True)
         self._subscribers.append(sub)
         return sub
 
@@ -74,6 +80,10 @@ class Participant(object):
                     if topic in self._watched:
                         self._received[topic] = max(self._received[topic], n * self._watched[topic])
             self._last_step = stamp
+            if self._observer:
+                if msg.start:  # connected: the run may start; no later step waits for an observer
+                    self._ack_pub.publish(LockstepAck(node=rospy.get_name(), stamp=msg.stamp))
+                return
             self._steps.append((stamp, announced, msg.stamp, msg.start))
             self._advance()
 
