@@ -63,7 +63,7 @@ std::optional<EntryOpening> DoorEntry::mayEnter(const TopoView& topo, const Topo
     if (!belief_trusted) return std::nullopt;
     const int n = graph.nearestNode(topo.position);
     if (n < 0 || uint32_t(n) != mission_door->node) return std::nullopt;
-    if (std::abs(normalizeAngle(mission_door->opening.bearing - bearing)) > 0.5) return std::nullopt;
+    if (!bins_.sameWay(mission_door->opening.bearing, bearing)) return std::nullopt;
     return EntryOpening{n, mission_door->opening.bearing};
   }
   if (topo.mode == "frontier") return EntryOpening{-1, bearing};  // a door on a new stretch is new: its node is pomdp_topo's current one
@@ -81,7 +81,7 @@ bool DoorEntry::sameOpening(const GraphOpening& o, double bearing, double width)
   // A door beside a junction's branch on the same side is not that branch; a door measured
   // another width is that door (as pomdp_topo's TopologicalMap::differentOpenings).
   if (rules_.differentOpenings(o.width, width)) return false;
-  return std::abs(normalizeAngle(o.bearing - bearing)) < 0.5;
+  return bins_.sameWay(o.bearing, bearing);
 }
 
 bool DoorEntry::exploredAtFrontierNode(const TopoView& topo, const TopoGraph& graph, const DoorTrack& door,

@@ -43,9 +43,9 @@ size_t RoutePolicy::retrySetAside() {
   return n;
 }
 
-bool RoutePolicy::named(const std::vector<std::pair<uint32_t, double>>& list, uint32_t node, double bearing) {
+bool RoutePolicy::named(const std::vector<std::pair<uint32_t, double>>& list, uint32_t node, double bearing) const {
   return std::any_of(list.begin(), list.end(), [&](const std::pair<uint32_t, double>& o) {
-    return o.first == node && std::abs(laser_features::normalizeAngle(o.second - bearing)) < kSameBearing;
+    return o.first == node && bins_.sameWay(o.second, bearing);
   });
 }
 

@@ -294,3 +294,32 @@ TEST(HallwayDoors, DoorsBesideEachOtherSeenAbeamAreTwoDoorsAndAGrazingTrackOfOne
   EXPECT_EQ(doorsPassed({3.0, 5.0}), 2);
   EXPECT_EQ(doorsPassed({3.0}, 0.0, 1.2), 1);
 }
+
+// A door seen on the known graph is the node's unexplored opening the same way as the graph has it
+// (laser_features::HeadingBins::sameWay, pomdp_topo's own rule): within a quarter of a heading bin
+// of its bearing, however many bins the building's axes are cut into.
+TEST(DoorEntry, ADoorIsTheGraphsOpeningWithinAQuarterOfAHeadingBin) {
+  exploration::TopoGraph graph;
+  exploration::GraphNode n;
+  n.id = 4;
+  n.openings.push_back({0.5 * kPi, 0.9, false});
+  graph.addNode(n);
+  exploration::TopoView topo;
+  topo.valid = true;
+  topo.mode = "localized";
+  topo.confident = true;
+  topo.position.valid = true;
+  topo.position.at_node = true;
+  topo.position.id = 4;
+  for (const int bins : {4, 8}) {
+    DoorEntry entry{HallwayDoorParams(), BuildingRules()};
+    entry.setHeadingBins({0.0, bins});
+    const double quarter = 0.25 * 2.0 * kPi / bins;
+    const DoorTrack d = door(0.0, 1.1, 0.5 * kPi);
+    const auto within = entry.mayEnter(topo, graph, d, 0.5 * kPi + 0.9 * quarter, true, nullptr);
+    ASSERT_TRUE(within.has_value()) << bins << " bins";
+    EXPECT_EQ(within->node, 4) << bins << " bins";
+    EXPECT_DOUBLE_EQ(within->bearing, 0.5 * kPi) << bins << " bins";
+    EXPECT_FALSE(entry.mayEnter(topo, graph, d, 0.5 * kPi + 1.1 * quarter, true, nullptr).has_value()) << bins << " bins";
+  }
+}

@@ -178,5 +178,22 @@ TEST(HeadingBins, BinsRunAlongTheAxisAndRoundTrip) {
   EXPECT_EQ(eight.bin(-kPi / 4), 7);
 }
 
+// Two directions on the bins are one way out of a node within a quarter of a bin, on either side
+// of the wrap at pi; half a bin apart is never one way, whatever the number of bins.
+TEST(HeadingBins, TwoDirectionsAreOneWayWithinAQuarterOfABin) {
+  for (const int n : {4, 8}) {
+    const HeadingBins bins{0.6, n};
+    const double quarter = 0.25 * bins.width();
+    EXPECT_DOUBLE_EQ(bins.sameWayTolerance(), quarter);
+    for (int b = 0; b < n; ++b) {
+      const double h = bins.heading(b);
+      EXPECT_TRUE(bins.sameWay(h, h + 0.9 * quarter)) << n << " bins, bin " << b;
+      EXPECT_TRUE(bins.sameWay(h - 0.9 * quarter, h + 2.0 * kPi)) << n << " bins, bin " << b;
+      EXPECT_FALSE(bins.sameWay(h, h + 1.1 * quarter)) << n << " bins, bin " << b;
+      EXPECT_FALSE(bins.sameWay(h, bins.heading(b + 1) - 0.5 * bins.width())) << n << " bins, bin " << b;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace laser_features

@@ -11,7 +11,6 @@ using laser_features::kPi;
 using laser_features::normalizeAngle;
 
 namespace {
-constexpr double kSameBearing = 0.4;  // rad: two openings of a node this close in bearing are one
 double sideOf(double lateral) { return lateral >= 0.0 ? 1.0 : -1.0; }
 // The node opening a side landmark passed while travelling along the bin heading `heading` (map
 // frame) stands for: across the bin, with the skew of the hallway it was passed in.
@@ -28,6 +27,7 @@ NodeOpening sideOpening(double heading, const PassedLandmark& p) {
 MapBuilder::MapBuilder(TopologicalMap* map, PomdpLocalizer* localizer, const MapBuilderParams& params)
     : map_(map), localizer_(localizer), params_(params) {
   map_->setBuildingRules(params_.rules);
+  map_->setHeadingBins(headingBins());
 }
 
 const char* MapBuilder::toString(Mode mode) {
@@ -91,6 +91,7 @@ double MapBuilder::loopLogOdds() const {
 
 void MapBuilder::start(const FrontEnd& fe) {
   fe_params_ = fe.params();
+  map_->setHeadingBins(headingBins());
   candidates_.clear();
   buffer_.clear();
   relocation_pending_ = false;
@@ -152,7 +153,7 @@ void MapBuilder::odometryJump(const FrontEnd& fe) {
     if (n != nullptr) {
       bool found = false;
       for (NodeOpening& o : n->openings) {
-        if (std::abs(normalizeAngle(o.bearing - bearing)) < 0.4) {
+        if (headingBins().sameWay(o.bearing, bearing)) {
           o.explored = false;
           found = true;
         }
@@ -310,7 +311,7 @@ void MapBuilder::frontierTurn(int k, const Scan& scan, const FrontEnd& fe) {
   } else {
     TopoNode* node = map_->node(n);
     const bool present = std::any_of(node->openings.begin(), node->openings.end(), [&](const NodeOpening& o) {
-      return std::abs(normalizeAngle(o.bearing - branch.bearing)) < kSameBearing;
+      return headingBins().sameWay(o.bearing, branch.bearing);
     });
     if (!present) node->openings.push_back(branch);
     if (node->type == NodeType::Start || node->type == NodeType::Door) node->type = NodeType::Junction;
@@ -339,7 +340,7 @@ uint32_t MapBuilder::createNode(NodeType type, double pos, const Scan& scan, con
     const double slack = last->type == NodeType::Junction ? params_.min_node_separation : 0.0;
     for (const NodeOpening& o : openings) {
       for (const NodeOpening& k : last->openings) {
-        if (std::abs(normalizeAngle(k.bearing - o.bearing)) >= kSameBearing || o.width <= 0.0 || k.width <= 0.0) continue;
+        if (!headingBins().sameWay(k.bearing, o.bearing) || o.width <= 0.0 || k.width <= 0.0) continue;
         join = std::max(join, 0.5 * (o.width + k.width) + (map_->differentOpenings(o.width, k.width) ? 0.0 : slack));
       }
     }
@@ -359,7 +360,7 @@ uint32_t MapBuilder::createNode(NodeType type, double pos, const Scan& scan, con
     TopoNode* node = map_->node(from_node_);
     for (const NodeOpening& o : openings) {
       const bool present = std::any_of(node->openings.begin(), node->openings.end(), [&](const NodeOpening& k) {
-        return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameBearing;
+        return headingBins().sameWay(k.bearing, o.bearing);
       });
       if (!present) node->openings.push_back(o);
     }
@@ -472,10 +473,10 @@ bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const
     bool openings_match = true, seen_from_another_way = false;
     for (const NodeOpening& o : fresh->openings) {
       const bool opening = std::any_of(m.openings.begin(), m.openings.end(), [&](const NodeOpening& k) {
-        return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameBearing;
+        return headingBins().sameWay(k.bearing, o.bearing);
       });
       EdgeExit way;
-      const bool edge = !opening && map_->exitWithHeading(m.id, o.bearing, kSameBearing, &way);
+      const bool edge = !opening && map_->exitWithHeading(m.id, o.bearing, headingBins().sameWayTolerance(), &way);
       openings_match = openings_match && (opening || edge);
       seen_from_another_way = seen_from_another_way || edge;
     }
@@ -597,7 +598,7 @@ void MapBuilder::processLoopCheck(const Scan& scan, const FrontEnd& fe) {
           const TopoNode* n = map_->node(at);
           possible = map_->exitWithHeading(at, new_heading, 0.25 * kPi, &x) ||
                      std::any_of(n->openings.begin(), n->openings.end(), [&](const NodeOpening& o) {
-                       return std::abs(normalizeAngle(o.bearing - new_heading)) < kSameBearing;
+                       return headingBins().sameWay(o.bearing, new_heading);
                      });
         }
         EdgeExit x;
@@ -796,7 +797,7 @@ void MapBuilder::processLocalized(const Scan& scan) {
         const TopoNode* at = map_->node(st.id);
         const auto end = end_beyond_.find({st.id, binOf(st.heading)});
         const bool opening = std::any_of(at->openings.begin(), at->openings.end(), [&](const NodeOpening& o) {
-          return std::abs(normalizeAngle(o.bearing - st.heading)) < kSameBearing;
+          return headingBins().sameWay(o.bearing, st.heading);
         });
         const bool closed = !opening && (at->type == NodeType::HallwayEnd || end != end_beyond_.end() ||
                                          (at->type == NodeType::Start && params_.start_node_closed));
@@ -925,7 +926,7 @@ bool MapBuilder::knownOpeningNear(std::vector<std::pair<uint32_t, double>> todo,
     const TopoNode* n = map_->node(id);
     if (n == nullptr) continue;
     for (const NodeOpening& o : n->openings) {
-      if (!map_->differentOpenings(o.width, width) && std::abs(normalizeAngle(o.bearing - bearing)) < kSameBearing) return true;
+      if (!map_->differentOpenings(o.width, width) && headingBins().sameWay(o.bearing, bearing)) return true;
     }
     for (const EdgeExit& x : map_->exits(id)) {
       const TopoEdge* next = map_->edge(x.edge);
@@ -1044,7 +1045,7 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       if (n->type != NodeType::Junction && !p.landmark.door) continue;
       const NodeOpening o = sideOpening(st.heading, p);
       const bool present = std::any_of(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {
-        return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameBearing;
+        return headingBins().sameWay(k.bearing, o.bearing);
       });
       if (!present && !farFromNode(*n, p, scan)) {
         n->openings.push_back(o);

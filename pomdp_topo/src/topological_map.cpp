@@ -10,7 +10,6 @@ using laser_features::normalizeAngle;
 
 namespace {
 constexpr double kMinSplit = 0.5;  // m, a stretch this much longer than another one from a node the same way contains it
-constexpr double kSameDirection = 0.35;  // rad (20 deg): two bearings or headings this close are one
 }
 
 const char* toString(NodeType type) {
@@ -87,10 +86,9 @@ bool TopologicalMap::removeNode(uint32_t id) {
   return true;
 }
 
-std::vector<NodeOpening>::iterator TopologicalMap::findOpening(TopoNode* n, const NodeOpening& opening,
-                                                              double same_bearing) {
+std::vector<NodeOpening>::iterator TopologicalMap::findOpening(TopoNode* n, const NodeOpening& opening) {
   return std::find_if(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {
-    return std::abs(normalizeAngle(k.bearing - opening.bearing)) < same_bearing && !differentOpenings(k.width, opening.width);
+    return bins_.sameWay(k.bearing, opening.bearing) && !differentOpenings(k.width, opening.width);
   });
 }
 
@@ -99,7 +97,7 @@ bool TopologicalMap::linkPlace(uint32_t id, const NodeOpening& door, int32_t pla
   TopoNode* n = node(id);
   if (linked) *linked = -1;
   if (n == nullptr || place_id < 0) return false;
-  auto it = findOpening(n, door, 0.4);
+  auto it = findOpening(n, door);
   if (it == n->openings.end()) return false;
   if (linked) *linked = it->place_id >= 0 ? it->place_id : place_id;
   if (it->place_id >= 0 && it->place_id != place_id) return false;  // one place per door: the first stays
@@ -116,10 +114,10 @@ const NodeOpening* TopologicalMap::placeDoor(const TopoNode& node, int32_t place
   return nullptr;
 }
 
-bool TopologicalMap::recordOpening(uint32_t id, const NodeOpening& opening, double same_bearing) {
+bool TopologicalMap::recordOpening(uint32_t id, const NodeOpening& opening) {
   TopoNode* n = node(id);
   if (n == nullptr || !std::isfinite(opening.bearing)) return false;
-  auto it = findOpening(n, opening, same_bearing);
+  auto it = findOpening(n, opening);
   if (it == n->openings.end()) {
     NodeOpening o = opening;
     o.bearing = normalizeAngle(o.bearing);
@@ -145,7 +143,7 @@ bool TopologicalMap::mergeNodes(uint32_t keep, uint32_t drop, std::vector<std::p
   const TopoNode& dropped = nodes_.at(drop);
   for (const NodeOpening& o : dropped.openings) {
     // An opening explored from either copy stays explored; a room linked at either stays linked.
-    recordOpening(keep, o, kSameDirection);
+    recordOpening(keep, o);
   }
   for (auto& entry : edges_) {
     TopoEdge& e = entry.second;
@@ -166,10 +164,9 @@ bool TopologicalMap::mergeNodes(uint32_t keep, uint32_t drop, std::vector<std::p
     for (auto b = std::next(a); b != edges_.end();) {
       const TopoEdge& ea = a->second;
       const TopoEdge& eb = b->second;
-      const bool same = ea.source == eb.source && ea.target == eb.target &&
-                        std::abs(normalizeAngle(ea.heading - eb.heading)) < kSameDirection;
+      const bool same = ea.source == eb.source && ea.target == eb.target && bins_.sameWay(ea.heading, eb.heading);
       const bool reversed = ea.source == eb.target && ea.target == eb.source &&
-                            std::abs(normalizeAngle(ea.heading - eb.heading - laser_features::kPi)) < kSameDirection;
+                            bins_.sameWay(ea.heading, eb.heading + laser_features::kPi);
       if (same || reversed) {
         a->second.length = 0.5 * (ea.length + eb.length);
         b = edges_.erase(b);
@@ -204,7 +201,7 @@ void TopologicalMap::splitCollinearEdges(uint32_t n, std::vector<std::pair<uint3
       for (const auto& eb : edges_) {
         const TopoEdge& b = eb.second;
         if (eb.first == ea.first || (b.source != n && b.target != n)) continue;
-        if (far(a) == far(b) || std::abs(normalizeAngle(away(a) - away(b))) >= kSameDirection) continue;
+        if (far(a) == far(b) || !bins_.sameWay(away(a), away(b))) continue;
         if (std::abs(a.length - b.length) <= kMinSplit) {
           // Both stretches end at the same place: one node recorded twice (a loop hypothesis
           // rejected one node before the loop closed at the next). Zip them, the older one kept,
@@ -258,7 +255,7 @@ bool TopologicalMap::sameKind(uint32_t a, uint32_t b) const {
   // At least one opening on the same side (a door seen from both stretches).
   return std::any_of(na->openings.begin(), na->openings.end(), [&](const NodeOpening& o) {
     return std::any_of(nb->openings.begin(), nb->openings.end(), [&](const NodeOpening& k) {
-      return std::abs(normalizeAngle(k.bearing - o.bearing)) < kSameDirection;
+      return bins_.sameWay(k.bearing, o.bearing);
     });
   });
 }

@@ -15,6 +15,7 @@
 #include "exploration/coordinator_io.h"
 #include "exploration/hallway_doors.h"
 #include "exploration/topo_route.h"
+#include "laser_features/building_axes.h"
 #include "laser_features/building_rules.h"
 
 #include <optional>
@@ -34,6 +35,9 @@ class DoorEntry {
   /// `doors.same_distance` and `rules` (BuildingRules::differentOpenings) tell one door from another.
   DoorEntry(const HallwayDoorParams& doors, const laser_features::BuildingRules& rules)
       : doors_(doors), rules_(rules) {}
+  /// The heading bins of the topological map's bearings (the building's axes): a door is a graph
+  /// opening the same way (HeadingBins::sameWay), as pomdp_topo matches openings.
+  void setHeadingBins(const laser_features::HeadingBins& bins) { bins_ = bins; }
 
   /// Each tick: the node pomdp_topo's frontier stands at, and the travel (m) since when.
   void observe(const TopoView& topo, double travel);
@@ -63,6 +67,7 @@ class DoorEntry {
 
   HallwayDoorParams doors_;
   laser_features::BuildingRules rules_;
+  laser_features::HeadingBins bins_;  // see setHeadingBins
   // The doors the robot came out of within the last kLeftDoorsTravel of travel, and the travel then:
   // none is entered again from just outside it (two doors facing the robot in turn at a hallway's
   // end would otherwise be entered again and again).

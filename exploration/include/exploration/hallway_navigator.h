@@ -70,7 +70,11 @@ class HallwayNavigator {
   const RouteStats& routeStats() const { return route_.stats(); }
 
   /// The building's axes (pomdp_topo's building_axes): the discrete headings of the hallways.
-  void setHeadingBins(const laser_features::HeadingBins& bins) { follower_.setHeadingBins(bins); }
+  void setHeadingBins(const laser_features::HeadingBins& bins) {
+    follower_.setHeadingBins(bins);
+    door_entry_.setHeadingBins(bins);
+    route_.setHeadingBins(bins);
+  }
   const laser_features::HeadingBins& headingBins() const { return follower_.headingBins(); }
 
   /// Each tick, whatever the state: the node pomdp_topo's frontier stands at, and the travel (m).

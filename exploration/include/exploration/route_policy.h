@@ -14,6 +14,7 @@
 #include "exploration/coordinator_io.h"
 #include "exploration/hallway_doors.h"
 #include "exploration/topo_route.h"
+#include "laser_features/building_axes.h"
 #include "laser_features/building_rules.h"
 
 #include <cstdint>
@@ -74,6 +75,8 @@ class RoutePolicy {
   RoutePolicy(const RoutePolicyParams& params, const laser_features::BuildingRules& rules)
       : params_(params), rules_(rules) {}
   const RouteStats& stats() const { return stats_; }
+  /// The heading bins of the topological map's bearings (the building's axes).
+  void setHeadingBins(const laser_features::HeadingBins& bins) { bins_ = bins; }
 
   /// The route from `pos`: to `mission_door` if a mission runs, else to the nearest unexplored opening.
   RouteStep plan(const TopoGraph& graph, const GraphPosition& pos, const PlaceDoor* mission_door) const;
@@ -121,12 +124,12 @@ class RoutePolicy {
   /// The opening `o` of `node` is left out of routes and of the openings left: set aside for now,
   /// or given up.
   bool leftOut(uint32_t node, const GraphOpening& o) const;
-  /// (`node`, `bearing`) names an opening of `list` (same node, bearing within kSameBearing).
-  static bool named(const std::vector<std::pair<uint32_t, double>>& list, uint32_t node, double bearing);
-  static constexpr double kSameBearing = 0.3;  // rad: pomdp_topo's map keeps a node's openings' bearings to the axes
+  /// (`node`, `bearing`) names an opening of `list` (same node, the same way: HeadingBins::sameWay).
+  bool named(const std::vector<std::pair<uint32_t, double>>& list, uint32_t node, double bearing) const;
 
   RoutePolicyParams params_;
   laser_features::BuildingRules rules_;
+  laser_features::HeadingBins bins_;  // see setHeadingBins
   RouteStats stats_;
   int route_behind_ticks_ = 0;     // consecutive ticks the route pointed back (U-turn hysteresis)
   double last_turn_travel_ = -1e9;  // m, travel at the last turn

@@ -35,6 +35,11 @@ struct HeadingBins {
   double heading(int bin) const { return normalizeAngle(axis + wrap(bin) * width()); }
   /// The bin nearest to `heading` (rad).
   int bin(double heading) const { return wrap(int(std::lround(normalizeAngle(heading - axis) / width()))); }
+  /// Two directions (rad) on the bins name the same way out of a node (one opening, branch or edge)
+  /// within a quarter of a bin (22.5 deg with 4 bins): different ways lie a bin apart, and a measured
+  /// direction (a door's normal from its hallway's walls, a heading) within a few degrees of its bin.
+  double sameWayTolerance() const { return 0.25 * width(); }
+  bool sameWay(double a, double b) const { return std::abs(normalizeAngle(a - b)) < sameWayTolerance(); }
 };
 
 /// The direction a hallway is followed in: a heading bin of the building's axes, and the hallway's

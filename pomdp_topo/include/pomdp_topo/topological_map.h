@@ -10,6 +10,7 @@
 // S, W) only enter through TopoParams::heading_bins of the localizer, not here.
 #pragma once
 
+#include "laser_features/building_axes.h"
 #include "laser_features/building_rules.h"
 #include "laser_features/geometry.h"
 
@@ -132,14 +133,18 @@ class TopologicalMap {
   bool differentOpenings(double width_a, double width_b) const { return rules_.differentOpenings(width_a, width_b); }
   /// The building rules that tell a door's width from a junction's (MapBuilder sets its own).
   void setBuildingRules(const laser_features::BuildingRules& rules) { rules_ = rules; }
-  /// Records an opening of node `id` (the exploration's bookkeeping): the opening within
-  /// `same_bearing` (rad) of `opening.bearing` is updated (explored stays once set; offset and
+  /// The heading bins the map's bearings and headings lie on (MapBuilder sets its own): two of
+  /// them are one way within HeadingBins::sameWayTolerance.
+  void setHeadingBins(const laser_features::HeadingBins& bins) { bins_ = bins; }
+  const laser_features::HeadingBins& headingBins() const { return bins_; }
+  /// Records an opening of node `id` (the exploration's bookkeeping): the opening the same way
+  /// (HeadingBins::sameWay) as `opening.bearing` is updated (explored stays once set; offset and
   /// width are taken when it had no width), else `opening` is added; two widths that
   /// differentOpenings tells apart are two openings (a door beside a junction's branch on the same
   /// side must not mark the branch explored); the node's `explored` flag
   /// becomes "every opening explored". No structural change: the revision is not bumped (the
   /// localizer's states stay). False for an unknown node or a non-finite bearing.
-  bool recordOpening(uint32_t id, const NodeOpening& opening, double same_bearing = 0.4);
+  bool recordOpening(uint32_t id, const NodeOpening& opening);
   /// Links place `place_id` (its door at `door_in_place` in the place's frame) to the opening of
   /// node `id` that matches `door` (as recordOpening matches; record it first). A door links one
   /// place, the first: false (no change) when it links another already, for an unknown node, no
@@ -182,7 +187,7 @@ class TopologicalMap {
  private:
   void splitCollinearEdges(uint32_t node, std::vector<std::pair<uint32_t, uint32_t>>* also_merged,
                            double max_zip_distance);
-  std::vector<NodeOpening>::iterator findOpening(TopoNode* n, const NodeOpening& opening, double same_bearing);
+  std::vector<NodeOpening>::iterator findOpening(TopoNode* n, const NodeOpening& opening);
   /// Same node type, and an opening on the same side (or neither has one).
   bool sameKind(uint32_t a, uint32_t b) const;
 
@@ -192,6 +197,7 @@ class TopologicalMap {
   uint32_t next_edge_id_ = 0;
   uint64_t revision_ = 0;
   laser_features::BuildingRules rules_;  // see setBuildingRules
+  laser_features::HeadingBins bins_;     // see setHeadingBins
 };
 
 }  // namespace pomdp_topo
