@@ -120,8 +120,8 @@ class ExplorationEvaluator:
         self.tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(30.0))
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
         # An observer of the lockstep (explore.launch names it): the simulator's first step waits until
-        # these are connected, so the trace starts with the run however long this node took to start
-        # (on a busy machine it once missed the first room); no later step waits for it.
+        # these are connected, so the trace starts with the run however long this node takes to start;
+        # no later step waits for it.
         self.lockstep = Participant(observer=True)
         self.lockstep.subscribe('ground_truth', Odometry, self.on_truth, queue_size=200)
         self.lockstep.subscribe('exploration_status', ExplorationStatus, self.on_status, queue_size=50)
