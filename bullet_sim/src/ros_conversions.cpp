@@ -120,19 +120,21 @@ visualization_msgs::MarkerArray worldMarkers(const World& world, const std::stri
     m.pose.orientation.w = 1.0;
     return m;
   };
-  const size_t wall_boxes = world.solidBoxes().size() - world.boxes.size();
-  const auto boxes = world.solidBoxes();
+  std::vector<SolidSource> sources;
+  const auto boxes = world.solidBoxes(&sources);
+  auto rgbaOf = [](const std::optional<Rgb>& c, std_msgs::ColorRGBA fallback) {
+    return c ? rgba(c->r / 255.0f, c->g / 255.0f, c->b / 255.0f, 1.0f) : fallback;
+  };
   for (size_t i = 0; i < boxes.size(); ++i) {
-    const bool wall = i < wall_boxes;
+    const bool furniture = sources[i].kind == SolidSource::Box;
     const OrientedBox& b = boxes[i];
-    const double h = wall ? world.wall_height : 0.75;  // furniture drawn table-high
-    auto m = base(wall ? "walls" : "furniture", visualization_msgs::Marker::CUBE);
-    m.pose.position = point(b.center.x, b.center.y, h / 2);
+    auto m = base(furniture ? "furniture" : "walls", visualization_msgs::Marker::CUBE);
+    m.pose.position = point(b.center.x, b.center.y, b.height / 2);
     m.pose.orientation = yawToQuaternion(b.yaw);
     m.scale.x = 2 * b.half_x;
     m.scale.y = 2 * b.half_y;
-    m.scale.z = h;
-    m.color = wall ? rgba(0.75f, 0.75f, 0.78f, 1.0f) : rgba(0.65f, 0.45f, 0.25f, 1.0f);
+    m.scale.z = b.height;
+    m.color = rgbaOf(b.color, furniture ? rgba(0.65f, 0.45f, 0.25f, 1.0f) : rgba(0.75f, 0.75f, 0.78f, 1.0f));
     out.markers.push_back(m);
   }
   for (const Cylinder& c : world.cylinders) {
@@ -140,7 +142,7 @@ visualization_msgs::MarkerArray worldMarkers(const World& world, const std::stri
     m.pose.position = point(c.center.x, c.center.y, world.wall_height / 2);
     m.scale.x = m.scale.y = 2 * c.radius;
     m.scale.z = world.wall_height;
-    m.color = rgba(0.5f, 0.5f, 0.55f, 1.0f);
+    m.color = rgbaOf(c.color, rgba(0.5f, 0.5f, 0.55f, 1.0f));
     out.markers.push_back(m);
   }
   for (const Region& r : world.regions) {

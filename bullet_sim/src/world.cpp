@@ -88,6 +88,18 @@ class ErrorContext {
     return out;
   }
 
+  Rgb color(const YAML::Node& node, const std::string& key) const {
+    if (!node.IsSequence() || node.size() != 3) fail(node, key, "must be a colour [r, g, b], each 0-255");
+    int c[3];
+    for (size_t i = 0; i < 3; ++i) {
+      const double v = number(node[i], key);
+      if (v < 0.0 || v > 255.0 || v != std::floor(v))
+        fail(node[i], key, "colour components are whole numbers 0-255, got " + node[i].Scalar());
+      c[i] = static_cast<int>(v);
+    }
+    return Rgb{uint8_t(c[0]), uint8_t(c[1]), uint8_t(c[2])};
+  }
+
   Vec2 point(const YAML::Node& node, const std::string& key) const {
     const auto v = numbers(node, key, 2);
     return {v[0], v[1]};
@@ -107,6 +119,31 @@ class ErrorContext {
 };
 
 std::string indexed(const std::string& key, size_t i) { return key + "[" + std::to_string(i) + "]"; }
+
+// A wall's coloured stretches: along the polyline within its length, between the floor and the
+// wall's top (`top` defaults to wall_height, `bottom` to 0).
+std::vector<WallStripe> parseStripes(const ErrorContext& ctx, const YAML::Node& node, const std::string& key,
+                                     const WallPolyline& wall, const World& w) {
+  if (!node.IsSequence()) ctx.fail(node, key, "must be a list");
+  const double length = wall.length();
+  std::vector<WallStripe> out;
+  for (size_t j = 0; j < node.size(); ++j) {
+    const std::string k = indexed(key, j);
+    ctx.allowKeys(node[j], k, {"from", "to", "bottom", "top", "color"});
+    WallStripe s;
+    s.from = ctx.number(ctx.required(node[j], k, "from"), k + ".from");
+    s.to = ctx.number(ctx.required(node[j], k, "to"), k + ".to");
+    s.bottom = node[j]["bottom"] ? ctx.number(node[j]["bottom"], k + ".bottom") : 0.0;
+    s.top = node[j]["top"] ? ctx.number(node[j]["top"], k + ".top") : w.wall_height;
+    s.color = ctx.color(ctx.required(node[j], k, "color"), k + ".color");
+    if (!(s.from >= 0.0 && s.from < s.to && s.to <= length + 1e-9))
+      ctx.fail(node[j], k, "needs 0 <= from < to <= the wall's length (" + std::to_string(length) + " m)");
+    if (!(s.bottom >= 0.0 && s.bottom < s.top && s.top <= w.wall_height + 1e-9))
+      ctx.fail(node[j], k, "needs 0 <= bottom < top <= wall_height (" + std::to_string(w.wall_height) + " m)");
+    out.push_back(s);
+  }
+  return out;
+}
 
 double distanceToBox(const OrientedBox& b, const Vec2& p) {
   const double c = std::cos(b.yaw), s = std::sin(b.yaw);
@@ -129,9 +166,16 @@ bool polygonContains(const std::vector<Vec2>& poly, const Vec2& p) {
 
 }  // namespace
 
-std::vector<OrientedBox> World::solidBoxes() const {
+std::vector<OrientedBox> World::solidBoxes(std::vector<SolidSource>* sources) const {
   std::vector<OrientedBox> out;
-  for (const auto& w : walls) {
+  auto add = [&](const OrientedBox& box, SolidSource::Kind kind, size_t index, size_t segment, double along) {
+    out.push_back(box);
+    if (sources) sources->push_back(SolidSource{kind, index, segment, along});
+  };
+  if (sources) sources->clear();
+  for (size_t k = 0; k < walls.size(); ++k) {
+    const WallPolyline& w = walls[k];
+    double along = 0.0;
     for (size_t i = 0; i + 1 < w.points.size(); ++i) {
       const Vec2& a = w.points[i];
       const Vec2& b = w.points[i + 1];
@@ -140,14 +184,23 @@ std::vector<OrientedBox> World::solidBoxes() const {
       box.half_x = std::hypot(b.x - a.x, b.y - a.y) / 2;
       box.half_y = w.thickness / 2;
       box.yaw = std::atan2(b.y - a.y, b.x - a.x);
-      if (box.half_x > 0.0) out.push_back(box);
+      box.height = wall_height;
+      box.color = w.color;
+      if (box.half_x > 0.0) add(box, SolidSource::Wall, k, i, along);
+      along += 2.0 * box.half_x;
     }
   }
-  out.insert(out.end(), boxes.begin(), boxes.end());
-  for (const auto& d : doors) {
-    if (d.closed) out.push_back(doorLeaf(d));
+  for (size_t k = 0; k < boxes.size(); ++k) add(boxes[k], SolidSource::Box, k, 0, 0.0);
+  for (size_t k = 0; k < doors.size(); ++k) {
+    if (doors[k].closed) add(doorLeaf(doors[k]), SolidSource::DoorLeaf, k, 0, 0.0);
   }
   return out;
+}
+
+double WallPolyline::length() const {
+  double l = 0.0;
+  for (size_t i = 0; i + 1 < points.size(); ++i) l += std::hypot(points[i + 1].x - points[i].x, points[i + 1].y - points[i].y);
+  return l;
 }
 
 OrientedBox World::doorLeaf(const Door& door) const {
@@ -179,6 +232,7 @@ OrientedBox World::doorLeaf(const Door& door) const {
   leaf.half_x = (door.width + wall_thickness) / 2;
   leaf.half_y = wall_thickness / 4;
   leaf.yaw = yaw;
+  leaf.height = wall_height;
   return leaf;
 }
 
@@ -254,24 +308,33 @@ World parseWorld(const std::string& yaml_text, const std::string& source) {
   if (!root.IsMap()) {
     throw WorldError(source + ":1: (document): not a world file: expected a YAML mapping with at least 'name'");
   }
-  ctx.allowKeys(root, "", {"name", "wall_thickness", "wall_height", "walls", "boxes", "cylinders", "robot", "regions", "doors"});
+  ctx.allowKeys(root, "", {"name", "wall_thickness", "wall_height", "colors", "walls", "boxes", "cylinders", "robot",
+                           "regions", "doors"});
 
   World w;
   w.source = source;
   w.name = ctx.text(ctx.required(root, "", "name"), "name");
   if (root["wall_thickness"]) w.wall_thickness = ctx.positive(root["wall_thickness"], "wall_thickness");
   if (root["wall_height"]) w.wall_height = ctx.positive(root["wall_height"], "wall_height");
+  if (const YAML::Node colors = root["colors"]) {
+    ctx.allowKeys(colors, "colors", {"floor", "ceiling", "wall_ends"});
+    if (colors["floor"]) w.floor_color = ctx.color(colors["floor"], "colors.floor");
+    if (colors["ceiling"]) w.ceiling_color = ctx.color(colors["ceiling"], "colors.ceiling");
+    if (colors["wall_ends"]) w.wall_ends_color = ctx.color(colors["wall_ends"], "colors.wall_ends");
+  }
 
   if (const YAML::Node walls = root["walls"]) {
     if (!walls.IsSequence()) ctx.fail(walls, "walls", "must be a list");
     for (size_t i = 0; i < walls.size(); ++i) {
       const std::string key = indexed("walls", i);
-      ctx.allowKeys(walls[i], key, {"points", "thickness"});
+      ctx.allowKeys(walls[i], key, {"points", "thickness", "color", "stripes"});
       WallPolyline poly;
       const YAML::Node pts = ctx.required(walls[i], key, "points");
       poly.points = ctx.points(pts, key + ".points");
       if (poly.points.size() < 2) ctx.fail(pts, key + ".points", "a wall polyline needs at least two points");
       poly.thickness = walls[i]["thickness"] ? ctx.positive(walls[i]["thickness"], key + ".thickness") : w.wall_thickness;
+      if (walls[i]["color"]) poly.color = ctx.color(walls[i]["color"], key + ".color");
+      if (const YAML::Node stripes = walls[i]["stripes"]) poly.stripes = parseStripes(ctx, stripes, key + ".stripes", poly, w);
       w.walls.push_back(poly);
     }
   }
@@ -279,7 +342,7 @@ World parseWorld(const std::string& yaml_text, const std::string& source) {
     if (!boxes.IsSequence()) ctx.fail(boxes, "boxes", "must be a list");
     for (size_t i = 0; i < boxes.size(); ++i) {
       const std::string key = indexed("boxes", i);
-      ctx.allowKeys(boxes[i], key, {"center", "size", "yaw"});
+      ctx.allowKeys(boxes[i], key, {"center", "size", "yaw", "height", "color"});
       OrientedBox b;
       b.center = ctx.point(ctx.required(boxes[i], key, "center"), key + ".center");
       const YAML::Node size = ctx.required(boxes[i], key, "size");
@@ -288,6 +351,8 @@ World parseWorld(const std::string& yaml_text, const std::string& source) {
       b.half_x = sz[0] / 2;
       b.half_y = sz[1] / 2;
       if (boxes[i]["yaw"]) b.yaw = ctx.number(boxes[i]["yaw"], key + ".yaw");
+      b.height = boxes[i]["height"] ? ctx.positive(boxes[i]["height"], key + ".height") : kFurnitureHeight;
+      if (boxes[i]["color"]) b.color = ctx.color(boxes[i]["color"], key + ".color");
       w.boxes.push_back(b);
     }
   }
@@ -295,10 +360,11 @@ World parseWorld(const std::string& yaml_text, const std::string& source) {
     if (!cyls.IsSequence()) ctx.fail(cyls, "cylinders", "must be a list");
     for (size_t i = 0; i < cyls.size(); ++i) {
       const std::string key = indexed("cylinders", i);
-      ctx.allowKeys(cyls[i], key, {"center", "radius"});
+      ctx.allowKeys(cyls[i], key, {"center", "radius", "color"});
       Cylinder c;
       c.center = ctx.point(ctx.required(cyls[i], key, "center"), key + ".center");
       c.radius = ctx.positive(ctx.required(cyls[i], key, "radius"), key + ".radius");
+      if (cyls[i]["color"]) c.color = ctx.color(cyls[i]["color"], key + ".color");
       w.cylinders.push_back(c);
     }
   }

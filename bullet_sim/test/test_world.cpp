@@ -200,3 +200,64 @@ TEST(World, ClosedKeyInTheWorldFile) {
   const std::string far = errorOf(replace(with_door, "center: [6, 2]", "center: [3, 2]"));
   EXPECT_NE(far.find("cannot close this door"), std::string::npos) << far;
 }
+
+// The camera's keys: colours of walls, boxes and cylinders, coloured stretches of wall, the floor's
+// and ceiling's; a box's height. Optional: a world without them loads as before.
+TEST(World, ColoursAndStripesLoad) {
+  const std::string text = replace(replace(replace(kValid, "walls:\n  - points: [[0, 0], [6, 0], [6, 4], [0, 4], [0, 0]]",
+      "colors: {floor: [90, 80, 70], ceiling: [240, 240, 235]}\nwalls:\n"
+      "  - points: [[0, 0], [6, 0], [6, 4], [0, 4], [0, 0]]\n    color: [200, 40, 30]\n"
+      "    stripes:\n      - {from: 7.0, to: 8.0, bottom: 0.5, top: 1.5, color: [0, 0, 255]}\n"
+      "      - {from: 19.0, to: 20.0, color: [255, 255, 0]}"),
+      "yaw: 0.3}", "yaw: 0.3, height: 1.8, color: [10, 20, 30]}"), "radius: 0.1}", "radius: 0.1, color: [1, 2, 3]}");
+  const World w = bullet_sim::parseWorld(text, "colours.yaml");
+  ASSERT_TRUE(w.floor_color && w.ceiling_color);
+  EXPECT_EQ(*w.floor_color, (bullet_sim::Rgb{90, 80, 70}));
+  ASSERT_TRUE(w.walls[0].color);
+  EXPECT_EQ(*w.walls[0].color, (bullet_sim::Rgb{200, 40, 30}));
+  ASSERT_EQ(w.walls[0].stripes.size(), 2u);
+  EXPECT_NEAR(w.walls[0].stripes[0].top, 1.5, 1e-12);
+  EXPECT_NEAR(w.walls[0].stripes[1].top, w.wall_height, 1e-12);  // top defaults to the wall's
+  EXPECT_NEAR(w.walls[0].length(), 20.0, 1e-12);
+  EXPECT_NEAR(w.boxes[0].height, 1.8, 1e-12);
+  EXPECT_EQ(*w.cylinders[0].color, (bullet_sim::Rgb{1, 2, 3}));
+  // Each solid knows where it comes from: the wall's four segments, then the box.
+  std::vector<bullet_sim::SolidSource> sources;
+  const auto solids = w.solidBoxes(&sources);
+  ASSERT_EQ(sources.size(), solids.size());
+  EXPECT_EQ(sources[2].kind, bullet_sim::SolidSource::Wall);
+  EXPECT_EQ(sources[2].segment, 2u);
+  EXPECT_NEAR(sources[2].along, 10.0, 1e-12);
+  EXPECT_EQ(sources[4].kind, bullet_sim::SolidSource::Box);
+  EXPECT_NEAR(solids[0].height, w.wall_height, 1e-12);
+
+  const World plain = bullet_sim::parseWorld(kValid, "valid.yaml");
+  EXPECT_FALSE(plain.floor_color || plain.walls[0].color || plain.boxes[0].color);
+  EXPECT_NEAR(plain.boxes[0].height, bullet_sim::kFurnitureHeight, 1e-12);
+}
+
+TEST(World, BadColoursAndStripesAreRefusedNamingTheKey) {
+  const std::string wall = "  - points: [[0, 0], [6, 0], [6, 4], [0, 4], [0, 0]]";
+  auto withWall = [&](const std::string& extra) { return replace(kValid, wall, wall + "\n" + extra); };
+  EXPECT_NE(errorOf(withWall("    color: [300, 0, 0]")).find("walls[0].color: colour components are whole numbers 0-255"),
+            std::string::npos);
+  EXPECT_NE(errorOf(withWall("    color: [1, 2]")).find("walls[0].color: must be a colour [r, g, b]"), std::string::npos);
+  EXPECT_NE(errorOf(withWall("    color: [0.5, 2, 3]")).find("walls[0].color"), std::string::npos);
+  EXPECT_NE(errorOf(withWall("    stripes:\n      - {from: 3.0, to: 2.0, color: [0, 0, 0]}")).find(
+                "walls[0].stripes[0]: needs 0 <= from < to <= the wall's length (20"),
+            std::string::npos);
+  EXPECT_NE(errorOf(withWall("    stripes:\n      - {from: 19.0, to: 21.0, color: [0, 0, 0]}")).find("walls[0].stripes[0]"),
+            std::string::npos);
+  EXPECT_NE(errorOf(withWall("    stripes:\n      - {from: 1.0, to: 2.0, top: 2.5, color: [0, 0, 0]}")).find(
+                "needs 0 <= bottom < top <= wall_height"),
+            std::string::npos);
+  EXPECT_NE(errorOf(withWall("    stripes:\n      - {from: 1.0, to: 2.0}")).find("walls[0].stripes[0].color: missing required key"),
+            std::string::npos);
+  EXPECT_NE(errorOf(withWall("    stripes:\n      - {from: 1.0, to: 2.0, colour: [0, 0, 0]}")).find("unknown key"),
+            std::string::npos);
+  EXPECT_NE(errorOf(replace(kValid, "wall_thickness: 0.1", "wall_thickness: 0.1\ncolors: {walls: [1, 2, 3]}")).find(
+                "colors.walls: unknown key (allowed: ceiling, floor, wall_ends)"),
+            std::string::npos);
+  EXPECT_NE(errorOf(replace(kValid, "yaw: 0.3}", "yaw: 0.3, height: -1}")).find("boxes[0].height: must be positive"),
+            std::string::npos);
+}
