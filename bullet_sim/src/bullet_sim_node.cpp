@@ -48,6 +48,18 @@ SimParams readSimParams(const ros::NodeHandle& pnh) {
   return p;
 }
 
+CameraParams readCameraParams(const ros::NodeHandle& pnh) {
+  CameraParams d;  // defaults of config/bullet_sim.yaml
+  CameraParams p;
+  p.width = param(pnh, "camera_width", d.width);
+  p.height = param(pnh, "camera_height", d.height);
+  p.vertical_fov = param(pnh, "camera_vertical_fov", d.vertical_fov);
+  p.max_range = param(pnh, "camera_max_range", d.max_range);
+  p.noise_stddev = param(pnh, "camera_noise_stddev", d.noise_stddev);
+  p.ambient = param(pnh, "camera_ambient", d.ambient);
+  return p;
+}
+
 // Fires every `period` of sim time, on the step at or after each multiple of it.
 class Every {
  public:
@@ -96,6 +108,9 @@ class SimNode {
     }
     base_frame_ = param<std::string>(pnh_, "base_frame", "base_link");
     laser_frame_ = param<std::string>(pnh_, "laser_frame", "laser");
+    const bool camera = param(pnh_, "camera", false);
+    camera_frame_ = param<std::string>(pnh_, "camera_frame", "camera");
+    camera_rate_ = param(pnh_, "camera_rate", 5.0);
     odom_frame_ = param<std::string>(pnh_, "odom_frame", "odom");
     map_frame_ = param<std::string>(pnh_, "map_frame", "map");
     world_frame_ = param<std::string>(pnh_, "world_frame", "world");
@@ -107,15 +122,25 @@ class SimNode {
     publish_world_to_map_ = param(pnh_, "publish_world_to_map", true);
     fake_localization_ = param(pnh_, "fake_localization", false);
     max_sim_time_ = param(pnh_, "max_sim_time", 0.0);
-    if (!(scan_rate_ > 0) || !(odom_rate_ > 0) || !(clock_rate_ > 0)) {
-      ROS_FATAL("bullet_sim: scan_rate, odom_rate and clock_rate must be positive");
+    if (!(scan_rate_ > 0) || !(odom_rate_ > 0) || !(clock_rate_ > 0) || !(camera_rate_ > 0)) {
+      ROS_FATAL("bullet_sim: scan_rate, odom_rate, clock_rate and camera_rate must be positive");
       return false;
     }
     try {
       World world = loadWorldFile(world_file);
       world.closeDoors(commaList(param<std::string>(pnh_, "closed_doors", "")));
-      const RobotModel robot = robotModelFromUrdf(urdf, base_frame_, laser_frame_);
-      sim_ = std::make_unique<Simulator>(world, robot, readSimParams(pnh_));
+      robot_ = robotModelFromUrdf(urdf, base_frame_, laser_frame_, camera ? camera_frame_ : "");
+      const SimParams sim_params = readSimParams(pnh_);
+      sim_ = std::make_unique<Simulator>(world, robot_, sim_params);
+      if (camera) {
+        // Its own noise generator: turning the camera on changes no scan or odometry message.
+        camera_ = std::make_unique<PanoramicCamera>(sim_->world(), sim_->rayCaster(), readCameraParams(pnh_),
+                                                    sim_params.seed ^ 0x63616d657261ull);
+        if (!(robot_.camera_z > 0.0 && robot_.camera_z < sim_->world().wall_height))
+          throw std::invalid_argument("the camera link '" + camera_frame_ + "' is " + std::to_string(robot_.camera_z) +
+                                      " m high: it must be above the floor and below the walls' top (" +
+                                      std::to_string(sim_->world().wall_height) + " m)");
+      }
     } catch (const std::exception& e) {
       ROS_FATAL("bullet_sim: %s", e.what());
       return false;
@@ -142,6 +167,12 @@ class SimNode {
     odom_pub_ = advertise<nav_msgs::Odometry>("odom", 50);
     truth_pub_ = advertise<nav_msgs::Odometry>("ground_truth", 50);
     bumper_pub_ = advertise<std_msgs::Bool>("bumper", 10, true);
+    if (camera_) {
+      image_pub_ = advertise<sensor_msgs::Image>("camera/image_raw", 2);
+      info_pub_ = advertise<sensor_msgs::CameraInfo>("camera/camera_info", 2);
+      ROS_INFO("bullet_sim: panoramic camera %d x %d at %.1f Hz (frame '%s', %.2f m high)", camera_->params().width,
+               camera_->params().height, camera_rate_, camera_frame_.c_str(), robot_.camera_z);
+    }
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("world_markers", 1, true);
     // In lockstep a dropped cmd_vel would stall the step that counts it (lockstep::kUnboundedQueue).
     cmd_sub_ = nh_.subscribe("cmd_vel", lockstep_ ? lockstep::kUnboundedQueue : 10, &SimNode::onCmdVel, this,
@@ -165,7 +196,7 @@ class SimNode {
     if (lockstep_ && !lockstep_->start([this](const ros::Time& t) { publishClock(t); })) return;
     const ros::WallTime wall_start = ros::WallTime::now();
     ros::WallTime last_report = wall_start;
-    Every clock_due(clock_rate_), odom_due(odom_rate_), scan_due(scan_rate_);
+    Every clock_due(clock_rate_), odom_due(odom_rate_), scan_due(scan_rate_), camera_due(camera_ ? camera_rate_ : 0.0);
     while (ros::ok()) {
       ros::spinOnce();
       const double t = sim_->time();
@@ -174,10 +205,12 @@ class SimNode {
       const double now = sim_->time();
       const ros::Time stamp(now);
       const bool scan_now = scan_due.due(now);
-      // A lockstep step: a scan, or a participant's own wake-up (its control period), due within
-      // half a physics step; the step's odometry and tf go out with it, so it can look them up at
-      // exactly the step's stamp.
-      const bool lockstep_step = lockstep_ && (scan_now || lockstep_->wakeDue(stamp, 0.5 / sim_->params().physics_rate));
+      const bool camera_now = camera_due.due(now);
+      // A lockstep step: a scan or an image, or a participant's own wake-up (its control period), due
+      // within half a physics step; the step's odometry and tf go out with it, so it can look them
+      // up at exactly the step's stamp.
+      const bool lockstep_step = lockstep_ && (scan_now || camera_now ||
+                                               lockstep_->wakeDue(stamp, 0.5 / sim_->params().physics_rate));
       // In lockstep, time and odometry matter to the nodes only at the steps: publishing them in
       // between would only wake every node more often.
       const bool clock_now = clock_due.due(now), odom_now = odom_due.due(now);
@@ -195,6 +228,7 @@ class SimNode {
         toLaserScan(*sim_, ranges_, stamp, 1.0 / scan_rate_, laser_frame_, &scan_msg_);
         scan_pub_.publish(scan_msg_);
       }
+      if (camera_now) publishImage(stamp);
       if (lockstep_step && !lockstep_->step(stamp)) break;
       const ros::WallTime wall_now = ros::WallTime::now();
       if ((wall_now - last_report).toSec() > 10.0) {
@@ -245,6 +279,17 @@ class SimNode {
     tf_.sendTransform(tfs);
   }
 
+  void publishImage(const ros::Time& stamp) {
+    const Pose2& base = sim_->truePose();
+    const double c = std::cos(base.yaw), s = std::sin(base.yaw);
+    const Pose2 camera{base.x + c * robot_.camera_x - s * robot_.camera_y, base.y + s * robot_.camera_x + c * robot_.camera_y,
+                       base.yaw + robot_.camera_yaw};
+    camera_->render(camera, robot_.camera_z, &rgb_);
+    toImage(rgb_, camera_->params(), stamp, camera_frame_, &image_msg_);
+    image_pub_.publish(image_msg_);
+    info_pub_.publish(toCameraInfo(camera_->params(), stamp, camera_frame_));
+  }
+
   void onCmdVel(const geometry_msgs::Twist& msg) {
     if (lockstep_) lockstep_->received(cmd_sub_.getTopic());
     if (!std::isfinite(msg.linear.x) || !std::isfinite(msg.angular.z)) {
@@ -271,7 +316,12 @@ class SimNode {
 
   ros::NodeHandle nh_, pnh_;
   std::unique_ptr<Simulator> sim_;
-  std::string base_frame_, laser_frame_, odom_frame_, map_frame_, world_frame_;
+  std::string base_frame_, laser_frame_, camera_frame_, odom_frame_, map_frame_, world_frame_;
+  RobotModel robot_;
+  std::unique_ptr<PanoramicCamera> camera_;  // ~camera: true
+  double camera_rate_ = 5.0;
+  std::vector<uint8_t> rgb_;
+  sensor_msgs::Image image_msg_;
   double rate_ = 1.0, scan_rate_ = 10.0, odom_rate_ = 50.0, clock_rate_ = 100.0, cmd_timeout_ = 0.5;
   double max_sim_time_ = 0.0;
   bool publish_world_to_map_ = true, fake_localization_ = false;
@@ -281,7 +331,7 @@ class SimNode {
   sensor_msgs::LaserScan scan_msg_;
   std::unique_ptr<LockstepDriver> lockstep_;  // rate 0: deterministic lockstep with the nodes
   ros::Publisher clock_pub_, markers_pub_;
-  lockstep::Publisher scan_pub_, odom_pub_, truth_pub_, bumper_pub_;
+  lockstep::Publisher scan_pub_, odom_pub_, truth_pub_, bumper_pub_, image_pub_, info_pub_;
   ros::Subscriber cmd_sub_;
   ros::ServiceServer reset_srv_, teleport_srv_;
   tf2_ros::TransformBroadcaster tf_;

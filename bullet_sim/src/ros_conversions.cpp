@@ -107,6 +107,32 @@ void toLaserScan(const Simulator& sim, const std::vector<float>& ranges, const r
   msg->ranges.assign(ranges.begin(), ranges.end());
 }
 
+void toImage(const std::vector<uint8_t>& rgb, const CameraParams& params, const ros::Time& stamp,
+             const std::string& frame, sensor_msgs::Image* msg) {
+  msg->header.stamp = stamp;
+  msg->header.frame_id = frame;
+  msg->width = uint32_t(params.width);
+  msg->height = uint32_t(params.height);
+  msg->encoding = "rgb8";
+  msg->is_bigendian = 0;
+  msg->step = uint32_t(params.width) * 3;
+  msg->data = rgb;
+}
+
+sensor_msgs::CameraInfo toCameraInfo(const CameraParams& params, const ros::Time& stamp, const std::string& frame) {
+  sensor_msgs::CameraInfo info;
+  info.header.stamp = stamp;
+  info.header.frame_id = frame;
+  info.width = uint32_t(params.width);
+  info.height = uint32_t(params.height);
+  info.distortion_model = "";  // equirectangular (PanoramicCamera::columnBearing, rowElevation)
+  const double fx = params.width / (2.0 * M_PI), fy = params.height / params.vertical_fov;
+  info.K = {fx, 0.0, 0.5 * params.width, 0.0, fy, 0.5 * params.height, 0.0, 0.0, 1.0};
+  info.R = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
+  info.P = {fx, 0.0, 0.5 * params.width, 0.0, 0.0, fy, 0.5 * params.height, 0.0, 0.0, 0.0, 1.0, 0.0};
+  return info;
+}
+
 visualization_msgs::MarkerArray worldMarkers(const World& world, const std::string& frame) {
   visualization_msgs::MarkerArray out;
   int id = 0;

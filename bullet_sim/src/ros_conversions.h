@@ -5,12 +5,15 @@
 #include <tf2/LinearMath/Transform.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/time.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/Image.h>
 #include <sensor_msgs/LaserScan.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include <string>
 #include <vector>
 
+#include "bullet_sim/panoramic_camera.h"
 #include "bullet_sim/simulator.h"
 
 namespace bullet_sim {
@@ -30,6 +33,13 @@ nav_msgs::Odometry toGroundTruth(const Simulator& sim, const ros::Time& stamp, c
 // Fills `msg` (kept between calls so that ranges are not reallocated) with a scan.
 void toLaserScan(const Simulator& sim, const std::vector<float>& ranges, const ros::Time& stamp, double scan_period,
                  const std::string& frame, sensor_msgs::LaserScan* msg);
+
+// The panoramic camera's image (rgb8; `msg` keeps its buffer between calls) and its camera_info: the
+// image is equirectangular, which no distortion model of camera_info describes: K holds the pixels per
+// radian (fx around, fy up and down) and the centre pixel (the horizon ahead); D is empty.
+void toImage(const std::vector<uint8_t>& rgb, const CameraParams& params, const ros::Time& stamp,
+             const std::string& frame, sensor_msgs::Image* msg);
+sensor_msgs::CameraInfo toCameraInfo(const CameraParams& params, const ros::Time& stamp, const std::string& frame);
 
 // Walls, furniture, pillars, and the ground-truth regions and doors, for rviz.
 visualization_msgs::MarkerArray worldMarkers(const World& world, const std::string& frame);

@@ -14,6 +14,10 @@ struct RobotModel {
   double laser_yaw = 0.0;      // rad
   std::string base_frame = "base_link";
   std::string laser_frame = "laser";
+  // The panoramic camera (PanoramicCamera), when asked for: its pose in the base frame.
+  bool has_camera = false;
+  double camera_x = 0.0, camera_y = 0.0, camera_z = 0.0, camera_yaw = 0.0;  // m, m, m, rad
+  std::string camera_frame;
 };
 
 class RobotModelError : public std::runtime_error {
@@ -22,7 +26,9 @@ class RobotModelError : public std::runtime_error {
 };
 
 // Reads the footprint radius from the cylinder collision of `base_link` and the laser pose from the
-// chain of fixed joints from `base_link` to `laser_link`. Throws RobotModelError naming what is missing.
-RobotModel robotModelFromUrdf(const std::string& urdf_xml, const std::string& base_link, const std::string& laser_link);
+// chain of fixed joints from `base_link` to `laser_link` (and the camera's to `camera_link`, unless
+// empty). Throws RobotModelError naming what is missing.
+RobotModel robotModelFromUrdf(const std::string& urdf_xml, const std::string& base_link, const std::string& laser_link,
+                              const std::string& camera_link = "");
 
 }  // namespace bullet_sim
