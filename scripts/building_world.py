@@ -1,6 +1,7 @@
 """A drawn building (building_layout.Building) as a world file and as the loader's dictionary, and
 the check that the robot can reach every room (furniture that blocks a room is taken out)."""
 import math
+import random
 
 from building_layout import floor_area
 from building_raster import WorldRaster
@@ -24,7 +25,19 @@ def to_world(b):
     for a, bb, c, width in b.doors:
         w.door(a, bb, c, width, 'doors', junction=True)
     w.start = b.start
+    w.colors = surface_colors(b.name)
     return w
+
+
+def surface_colors(name):
+    """The camera's floor, ceiling and door-frame colours, drawn per building from common finishes (a
+    generator of its own, seeded by the name: the layout's draws stay as they were)."""
+    rng = random.Random('colors:' + name)
+    return {
+        'floor': rng.choice([(95, 95, 100), (170, 160, 135), (140, 100, 65), (150, 150, 140)]),  # carpet, linoleum, wood, terrazzo
+        'ceiling': rng.choice([(235, 235, 230), (225, 225, 215), (215, 220, 225)]),
+        'wall_ends': rng.choice([(110, 75, 45), (90, 95, 100), (235, 235, 230)]),  # wooden, steel, painted frames
+    }
 
 
 def world_dict(b):

@@ -61,6 +61,7 @@ class World:
         self.doors = []      # (group, a, b, center, width, comment)
         self.start = None
         self.header = []
+        self.colors = {}     # the camera's: floor, ceiling, wall_ends -> (r, g, b), 0-255
 
     # -- walls ------------------------------------------------------------
     def polyline(self, points, group, thickness=None):
@@ -137,6 +138,8 @@ class World:
         o.append("name: %s" % self.name)
         o.append("wall_thickness: %s" % fmt(self.wall_thickness))
         o.append("wall_height: %s" % fmt(self.wall_height))
+        if self.colors:
+            o.append("colors: {%s}" % ", ".join("%s: [%d, %d, %d]" % ((k,) + tuple(v)) for k, v in sorted(self.colors.items())))
         o.append("walls:")
         last = None
 

@@ -95,8 +95,9 @@ class Generator(unittest.TestCase):
             with open(out) as f:
                 w = yaml.safe_load(f)
             self.assertEqual(w['name'], 'building_medium_4')
-            self.assertEqual(set(w), {'name', 'wall_thickness', 'wall_height', 'walls', 'boxes', 'cylinders', 'robot',
-                                      'regions', 'doors'})
+            self.assertEqual(set(w), {'name', 'wall_thickness', 'wall_height', 'colors', 'walls', 'boxes', 'cylinders',
+                                      'robot', 'regions', 'doors'})
+            self.assertEqual(set(w['colors']), {'floor', 'ceiling', 'wall_ends'})
 
     def test_the_heading_into_a_room_behind_a_wall_at_37_degrees(self):
         t = math.radians(37.0)
