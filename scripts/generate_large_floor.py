@@ -158,12 +158,13 @@ def furnish(world, rng, f, ud, wd, group, connected_sides):
     elif opts < 0.75 and M(ud) + 0.7 < W - 2.4:
         world.box(f.pt(M(W - 1.6), D * 0.5), f.size(1.6, 0.9), 0.0, group, "table")
     if rng.rand() < 0.35 and M(ud) + wd / 2.0 + 0.2 < W - 0.6:
-        world.cylinder(f.pt(M(W - 0.35), 0.35), 0.18, group, "plant")
+        world.cylinder(f.pt(M(W - 0.35), 0.35), 0.18, group, "plant", height=1.2)
 
 
 def build_large_floor():
     rng = Lcg(20010927)
     w = World("large_floor")
+    w.colors = {'floor': (170, 160, 135), 'ceiling': (235, 235, 230), 'wall_ends': (90, 95, 100)}  # the camera's
     w.header = [
         "large_floor: a 100 m x 60 m office floor for scaling tests (generated, do not edit:",
         "  python3 scripts/generate_large_floor.py > worlds/large_floor.yaml).",

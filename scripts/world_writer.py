@@ -56,7 +56,7 @@ class World:
         self.lines = []      # dicts: p0, p1, thickness, group, gaps
         self.polylines = []  # (group, points, thickness): walls without doors
         self.boxes = []      # (group, center, size, yaw, comment)
-        self.cylinders = []  # (group, center, radius, comment)
+        self.cylinders = []  # (group, center, radius, height or None, comment)
         self.regions = []    # (group, name, kind, polygon, comment)
         self.doors = []      # (group, a, b, center, width, comment)
         self.start = None
@@ -112,8 +112,9 @@ class World:
     def box(self, center, size, yaw=0.0, group="", comment=""):
         self.boxes.append((group, tuple(center), tuple(size), yaw, comment))
 
-    def cylinder(self, center, radius, group="", comment=""):
-        self.cylinders.append((group, tuple(center), radius, comment))
+    def cylinder(self, center, radius, group="", comment="", height=None):
+        """height: m (None: the file says none, a pillar up to the wall's height)."""
+        self.cylinders.append((group, tuple(center), radius, height, comment))
 
     # -- output ----------------------------------------------------------
     def _wall_segments(self, line):
@@ -174,8 +175,8 @@ class World:
 
         section("boxes:", self.boxes, lambda c, s, yaw, com: "  - {center: %s, size: %s, yaw: %s}%s"
                 % (fpt(c), fpt(s), fmt(yaw), note(com)))
-        section("cylinders:", self.cylinders, lambda c, r, com: "  - {center: %s, radius: %s}%s"
-                % (fpt(c), fmt(r), note(com)))
+        section("cylinders:", self.cylinders, lambda c, r, h, com: "  - {center: %s, radius: %s%s}%s"
+                % (fpt(c), fmt(r), "" if h is None else ", height: %s" % fmt(h), note(com)))
         o.append("robot:")
         o.append("  start: [%s, %s, %s]" % tuple(fmt(v) for v in self.start))
         o.append("# Ground truth for evaluation only - never read by mapping or localization:")

@@ -125,7 +125,7 @@ void PanoramicCamera::castColumn(double ox, double oy, double dx, double dy, std
       nx = -(p.by - p.ay);
       ny = p.bx - p.ax;
     } else {
-      h.top = world_.wall_height;
+      h.top = std::min(world_.cylinders[index - solid_primitives].height, world_.wall_height);
       nx = h.hx - p.ax;
       ny = h.hy - p.ay;
     }

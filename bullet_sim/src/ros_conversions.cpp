@@ -165,9 +165,9 @@ visualization_msgs::MarkerArray worldMarkers(const World& world, const std::stri
   }
   for (const Cylinder& c : world.cylinders) {
     auto m = base("pillars", visualization_msgs::Marker::CYLINDER);
-    m.pose.position = point(c.center.x, c.center.y, world.wall_height / 2);
+    m.pose.position = point(c.center.x, c.center.y, c.height / 2);
     m.scale.x = m.scale.y = 2 * c.radius;
-    m.scale.z = world.wall_height;
+    m.scale.z = c.height;
     m.color = rgbaOf(c.color, rgba(0.5f, 0.5f, 0.55f, 1.0f));
     out.markers.push_back(m);
   }

@@ -360,10 +360,11 @@ World parseWorld(const std::string& yaml_text, const std::string& source) {
     if (!cyls.IsSequence()) ctx.fail(cyls, "cylinders", "must be a list");
     for (size_t i = 0; i < cyls.size(); ++i) {
       const std::string key = indexed("cylinders", i);
-      ctx.allowKeys(cyls[i], key, {"center", "radius", "color"});
+      ctx.allowKeys(cyls[i], key, {"center", "radius", "height", "color"});
       Cylinder c;
       c.center = ctx.point(ctx.required(cyls[i], key, "center"), key + ".center");
       c.radius = ctx.positive(ctx.required(cyls[i], key, "radius"), key + ".radius");
+      c.height = cyls[i]["height"] ? ctx.positive(cyls[i]["height"], key + ".height") : w.wall_height;
       if (cyls[i]["color"]) c.color = ctx.color(cyls[i]["color"], key + ".color");
       w.cylinders.push_back(c);
     }

@@ -174,6 +174,20 @@ TEST(PanoramicCamera, ALowBoxIsSeenOverAndItsTopFromAbove) {
   EXPECT_EQ(top.r, shaded(255 / 4, flat));
 }
 
+TEST(PanoramicCamera, ALowCylinderIsSeenOverAPillarIsNot) {
+  const World w = room("cylinders:\n  - {center: [4.5, 2.0], radius: 0.2, height: 0.45, color: [0, 0, 0]}\n"
+                       "  - {center: [3.0, 0.8], radius: 0.2, color: [0, 0, 0]}");
+  const RayCaster2D caster(w);
+  PanoramicCamera cam(w, caster, noiseless(), 1);
+  std::vector<uint8_t> rgb;
+  cam.render({3.0, 2.0, 0.0}, 0.8, &rgb);
+  const Image img{rgb, 720};
+  const int ahead = columnAt(cam, 0.0);
+  EXPECT_EQ(img.at(rowAt(cam, 0.8, 1.3, 0.2), ahead).r, 0);       // the leg, black
+  EXPECT_NEAR(img.at(rowAt(cam, 0.8, 3.0, 1.5), ahead).r, 200, 1);  // the wall over it
+  EXPECT_EQ(img.at(rowAt(cam, 0.8, 1.0, 1.5), columnAt(cam, -M_PI / 2)).r, 0);  // the pillar, full height
+}
+
 TEST(PanoramicCamera, AWallsEndsAreItsDoorFrames) {
   // A door 1 m wide in the north wall (x 2.5-3.5): from south-west of it, the robot sees the
   // east jamb's face (the end of the wall piece east of the door, at x = 3.5).

@@ -209,7 +209,8 @@ TEST(World, ColoursAndStripesLoad) {
       "  - points: [[0, 0], [6, 0], [6, 4], [0, 4], [0, 0]]\n    color: [200, 40, 30]\n"
       "    stripes:\n      - {from: 7.0, to: 8.0, bottom: 0.5, top: 1.5, color: [0, 0, 255]}\n"
       "      - {from: 19.0, to: 20.0, color: [255, 255, 0]}"),
-      "yaw: 0.3}", "yaw: 0.3, height: 1.8, color: [10, 20, 30]}"), "radius: 0.1}", "radius: 0.1, color: [1, 2, 3]}");
+      "yaw: 0.3}", "yaw: 0.3, height: 1.8, color: [10, 20, 30]}"), "radius: 0.1}",
+      "radius: 0.1, height: 0.4, color: [1, 2, 3]}");
   const World w = bullet_sim::parseWorld(text, "colours.yaml");
   ASSERT_TRUE(w.floor_color && w.ceiling_color);
   EXPECT_EQ(*w.floor_color, (bullet_sim::Rgb{90, 80, 70}));
@@ -221,6 +222,7 @@ TEST(World, ColoursAndStripesLoad) {
   EXPECT_NEAR(w.walls[0].length(), 20.0, 1e-12);
   EXPECT_NEAR(w.boxes[0].height, 1.8, 1e-12);
   EXPECT_EQ(*w.cylinders[0].color, (bullet_sim::Rgb{1, 2, 3}));
+  EXPECT_NEAR(w.cylinders[0].height, 0.4, 1e-12);
   // Each solid knows where it comes from: the wall's four segments, then the box.
   std::vector<bullet_sim::SolidSource> sources;
   const auto solids = w.solidBoxes(&sources);
@@ -234,6 +236,7 @@ TEST(World, ColoursAndStripesLoad) {
   const World plain = bullet_sim::parseWorld(kValid, "valid.yaml");
   EXPECT_FALSE(plain.floor_color || plain.walls[0].color || plain.boxes[0].color);
   EXPECT_NEAR(plain.boxes[0].height, bullet_sim::kFurnitureHeight, 1e-12);
+  EXPECT_NEAR(plain.cylinders[0].height, plain.wall_height, 1e-12);  // a pillar
 }
 
 TEST(World, BadColoursAndStripesAreRefusedNamingTheKey) {

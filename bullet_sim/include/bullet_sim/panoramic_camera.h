@@ -6,7 +6,8 @@
 // pixel's ray is exact from ONE 2D ray per column: the column's cast (RayCaster2D) gives the surfaces
 // it meets in order, and each row's elevation says at which height it meets each of them, or the
 // floor or the ceiling before. A low box (furniture, `height` below wall_height) is seen over: the
-// column's cast goes on behind it, and its top is seen from above. 720 casts a frame instead of one
+// column's cast goes on behind it, and its top is seen from above (a low cylinder's - a chair or
+// table leg - is not: the legs are thin). 720 casts a frame instead of one
 // per pixel.
 //
 // Image: column c looks at bearing pi - (c + 0.5) 2 pi / width in the camera frame (the middle

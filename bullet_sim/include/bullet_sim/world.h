@@ -45,6 +45,7 @@ constexpr double kFurnitureHeight = 0.75;
 struct Cylinder {
   Vec2 center;
   double radius = 0.0;  // m
+  double height = 0.0;  // m above the floor (default: the world's wall_height, a pillar)
   std::optional<Rgb> color;
 };
 
