@@ -55,7 +55,8 @@ CameraParams readCameraParams(const ros::NodeHandle& pnh) {
   p.height = param(pnh, "camera_height", d.height);
   p.vertical_fov = param(pnh, "camera_vertical_fov", d.vertical_fov);
   p.max_range = param(pnh, "camera_max_range", d.max_range);
-  p.noise_stddev = param(pnh, "camera_noise_stddev", d.noise_stddev);
+  // The camera's noise is shared with the nodes that read its images (config/camera.yaml, namespace camera).
+  p.noise_stddev = param(ros::NodeHandle(), "camera/noise_stddev", d.noise_stddev);
   p.ambient = param(pnh, "camera_ambient", d.ambient);
   return p;
 }

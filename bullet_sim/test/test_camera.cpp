@@ -9,6 +9,8 @@
 #include "bullet_sim/panoramic_camera.h"
 #include "bullet_sim/robot_model.h"
 
+#include <yaml-cpp/yaml.h>
+
 using namespace bullet_sim;
 
 namespace {
@@ -294,4 +296,11 @@ TEST(PanoramicCamera, TheCamerasPoseIsReadFromTheUrdf) {
   EXPECT_NEAR(m.camera_x, -0.05, 1e-9);
   EXPECT_FALSE(robotModelFromUrdf(s.str(), "base_link", "laser").has_camera);
   EXPECT_THROW(robotModelFromUrdf(s.str(), "base_link", "laser", "no_camera"), RobotModelError);
+}
+
+TEST(PanoramicCamera, TheNoiseDefaultIsTheSharedCameraYamls) {
+  // bullet_sim_node reads camera/noise_stddev (config/camera.yaml, shared with the fingerprint node).
+  const std::string robot_yaml = ROBOT_YAML;
+  const YAML::Node camera = YAML::LoadFile(robot_yaml.substr(0, robot_yaml.rfind('/')) + "/camera.yaml");
+  EXPECT_NEAR(camera["noise_stddev"].as<double>(), CameraParams().noise_stddev, 1e-12);
 }
