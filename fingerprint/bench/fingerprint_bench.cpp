@@ -1,11 +1,13 @@
-// Fingerprint benchmarks: the visual features of one 720 x 120 panorama (target <= 2 ms), and a
-// whole fingerprint with 40 laser features.
+// Fingerprint benchmarks: the visual features of one 720 x 120 panorama (target <= 2 ms), a whole
+// fingerprint with 40 laser features, and matching two fingerprints of about 30 features (one
+// node's likelihood).
 //   rosrun fingerprint fingerprint_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
 #include <random>
 
 #include "fingerprint/fingerprint.h"
+#include "fingerprint/matcher.h"
 
 using namespace fingerprint;
 
@@ -68,8 +70,28 @@ void BM_WholeFingerprint(benchmark::State& state) {
   }
 }
 
+// Two views of the walls panorama 0.3 rad apart with the laser's corners: about 30 features each.
+void BM_MatchTwoFingerprints(benchmark::State& state) {
+  VisualFeatureExtractor x;
+  const PanoramaModel m;
+  const cv::Mat image = wallsPanorama(3);
+  std::vector<Feature> a;
+  x.extract(image, m, &a);
+  const Eigen::Matrix2d cov = Eigen::Matrix2d::Identity() * 1e-4;
+  for (int k = 0; k < 8; ++k)
+    a.push_back(laserCorner(Pose2{0.05, 0.0, 0.0}, Eigen::Vector2d(3.0 * std::cos(k), 3.0 * std::sin(k)), cov, 0.9));
+  sortByBearing(&a);
+  std::vector<Feature> b = a;
+  for (Feature& f : b) f.bearing = std::remainder(f.bearing + 0.3, 2.0 * M_PI);
+  sortByBearing(&b);
+  const FingerprintMatcher matcher;
+  for (auto _ : state) benchmark::DoNotOptimize(matcher.match(a, b).cost);
+  state.counters["features"] = double(a.size());
+}
+
 }  // namespace
 
+BENCHMARK(BM_MatchTwoFingerprints)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_VisualFeatures)->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_WholeFingerprint)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
