@@ -58,6 +58,18 @@ struct Image {
   }
 };
 
+// The noiseless view from `pose`, 0.8 m high, in `world`.
+struct View {
+  World world;
+  RayCaster2D caster;
+  PanoramicCamera cam;
+  std::vector<uint8_t> rgb;
+  View(const World& w, const Pose2& pose = {3.0, 2.0, 0.0}) : world(w), caster(world), cam(world, caster, noiseless(), 1) {
+    cam.render(pose, 0.8, &rgb);
+  }
+  Image image() const { return Image{rgb, cam.params().width}; }
+};
+
 // The column whose bearing (camera frame) is nearest `bearing`.
 int columnAt(const PanoramicCamera& cam, double bearing) {
   int best = 0;
@@ -82,9 +94,8 @@ uint8_t shaded(uint8_t v, double shade) { return uint8_t(std::lround(v * shade))
 }  // namespace
 
 TEST(PanoramicCamera, ImageAxes) {
-  const World w = room();
-  const RayCaster2D caster(w);
-  const PanoramicCamera cam(w, caster, noiseless(), 1);
+  const View v(room());
+  const PanoramicCamera& cam = v.cam;
   EXPECT_NEAR(cam.columnBearing(360), -M_PI / 720, 1e-12);  // the middle column looks ahead
   EXPECT_NEAR(cam.columnBearing(180), M_PI / 2 - M_PI / 720, 1e-12);  // a quarter in: the robot's left
   EXPECT_NEAR(cam.rowElevation(0), M_PI / 6 - M_PI / 720, 1e-9);      // row 0 looks up
@@ -92,13 +103,10 @@ TEST(PanoramicCamera, ImageAxes) {
 }
 
 TEST(PanoramicCamera, EachWallIsSeenWhereItIsWithItsColourShadedByItsAngle) {
-  const World w = room();
-  const RayCaster2D caster(w);
-  PanoramicCamera cam(w, caster, noiseless(), 1);
-  std::vector<uint8_t> rgb;
-  cam.render({3.0, 2.0, 0.0}, 0.8, &rgb);
-  ASSERT_EQ(rgb.size(), 720u * 120u * 3u);
-  const Image img{rgb, 720};
+  const View v(room());
+  const PanoramicCamera& cam = v.cam;
+  ASSERT_EQ(v.rgb.size(), 720u * 120u * 3u);
+  const Image img = v.image();
   const int horizon = rowAt(cam, 0.8, 3.0, 0.8);
   // Head-on (shade ~1) ahead: red (above the poster); left: green; behind: blue; right: yellow.
   const Rgb ahead = img.at(rowAt(cam, 0.8, 3.0, 1.5), columnAt(cam, 0.0));
@@ -119,12 +127,9 @@ TEST(PanoramicCamera, EachWallIsSeenWhereItIsWithItsColourShadedByItsAngle) {
 }
 
 TEST(PanoramicCamera, TheFloorBelowTheCeilingAboveAWallsFootAndTop) {
-  const World w = room();
-  const RayCaster2D caster(w);
-  PanoramicCamera cam(w, caster, noiseless(), 1);
-  std::vector<uint8_t> rgb;
-  cam.render({3.0, 2.0, 0.0}, 0.8, &rgb);
-  const Image img{rgb, 720};
+  const View v(room());
+  const PanoramicCamera& cam = v.cam;
+  const Image img = v.image();
   const int c = columnAt(cam, 0.0);
   // 3 m from the east wall, 30 deg up reaches 0.8 + 1.7 m: above the 2 m wall, the ceiling.
   const double up = 0.4 + 0.6 * std::abs(std::sin(cam.rowElevation(0)));
@@ -140,12 +145,9 @@ TEST(PanoramicCamera, TheFloorBelowTheCeilingAboveAWallsFootAndTop) {
 }
 
 TEST(PanoramicCamera, AStripeIsSeenOnItsStretchOfWallBetweenItsHeights) {
-  const World w = room();
-  const RayCaster2D caster(w);
-  PanoramicCamera cam(w, caster, noiseless(), 1);
-  std::vector<uint8_t> rgb;
-  cam.render({3.0, 2.0, 0.0}, 0.8, &rgb);
-  const Image img{rgb, 720};
+  const View v(room());
+  const PanoramicCamera& cam = v.cam;
+  const Image img = v.image();
   // The poster: y 1.5-2.5 on the east wall (along = y), 0.5-1.2 m high.
   const int c = columnAt(cam, 0.0);
   EXPECT_GT(img.at(rowAt(cam, 0.8, 3.0, 0.9), c).b, 240);
@@ -157,12 +159,9 @@ TEST(PanoramicCamera, AStripeIsSeenOnItsStretchOfWallBetweenItsHeights) {
 
 TEST(PanoramicCamera, ALowBoxIsSeenOverAndItsTopFromAbove) {
   // A 0.5 m high box (cyan) 1.5-2.0 m ahead, across the view.
-  const World w = room("boxes:\n  - {center: [4.75, 2.0], size: [0.5, 1.0], height: 0.5, color: [0, 150, 150]}");
-  const RayCaster2D caster(w);
-  PanoramicCamera cam(w, caster, noiseless(), 1);
-  std::vector<uint8_t> rgb;
-  cam.render({3.0, 2.0, 0.0}, 0.8, &rgb);
-  const Image img{rgb, 720};
+  const View v(room("boxes:\n  - {center: [4.75, 2.0], size: [0.5, 1.0], height: 0.5, color: [0, 150, 150]}"));
+  const PanoramicCamera& cam = v.cam;
+  const Image img = v.image();
   const int c = columnAt(cam, 0.0);
   EXPECT_NEAR(img.at(rowAt(cam, 0.8, 3.0, 1.5), c).r, 200, 1);  // the wall, over the box
   const Rgb face = img.at(rowAt(cam, 0.8, 1.5, 0.25), c);         // the box's face
@@ -177,13 +176,10 @@ TEST(PanoramicCamera, ALowBoxIsSeenOverAndItsTopFromAbove) {
 }
 
 TEST(PanoramicCamera, ALowCylinderIsSeenOverAPillarIsNot) {
-  const World w = room("cylinders:\n  - {center: [4.5, 2.0], radius: 0.2, height: 0.45, color: [0, 0, 0]}\n"
-                       "  - {center: [3.0, 0.8], radius: 0.2, color: [0, 0, 0]}");
-  const RayCaster2D caster(w);
-  PanoramicCamera cam(w, caster, noiseless(), 1);
-  std::vector<uint8_t> rgb;
-  cam.render({3.0, 2.0, 0.0}, 0.8, &rgb);
-  const Image img{rgb, 720};
+  const View v(room("cylinders:\n  - {center: [4.5, 2.0], radius: 0.2, height: 0.45, color: [0, 0, 0]}\n"
+                       "  - {center: [3.0, 0.8], radius: 0.2, color: [0, 0, 0]}"));
+  const PanoramicCamera& cam = v.cam;
+  const Image img = v.image();
   const int ahead = columnAt(cam, 0.0);
   EXPECT_EQ(img.at(rowAt(cam, 0.8, 1.3, 0.2), ahead).r, 0);       // the leg, black
   EXPECT_NEAR(img.at(rowAt(cam, 0.8, 3.0, 1.5), ahead).r, 200, 1);  // the wall over it
@@ -203,12 +199,9 @@ TEST(PanoramicCamera, AWallsEndsAreItsDoorFrames) {
       "  - points: [[6, 4], [3.5, 4]]\n    color: [0, 200, 0]\n  - points: [[2.5, 4], [0, 4]]\n    color: [0, 200, 0]");
   sub("BOXES", "");
   sub("ceiling: [220, 220, 210]", "ceiling: [220, 220, 210], wall_ends: [10, 20, 30]");
-  const World w = parseWorld(text, "door.yaml");
-  const RayCaster2D caster(w);
-  PanoramicCamera cam(w, caster, noiseless(), 1);
-  std::vector<uint8_t> rgb;
-  cam.render({2.0, 2.0, 0.0}, 0.8, &rgb);
-  const Image img{rgb, 720};
+  const View v(parseWorld(text, "door.yaml"), {2.0, 2.0, 0.0});
+  const PanoramicCamera& cam = v.cam;
+  const Image img = v.image();
   const Rgb jamb = img.at(rowAt(cam, 0.8, 2.5, 1.0), columnAt(cam, std::atan2(2.0, 1.5)));
   EXPECT_NEAR(jamb.g, 2 * jamb.r, 1.0);  // (10, 20, 30) shaded, not the wall's green
   EXPECT_NEAR(double(jamb.b) / jamb.r, 3.0, 0.4);

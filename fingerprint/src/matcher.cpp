@@ -1,5 +1,7 @@
 #include "fingerprint/matcher.h"
 
+#include "laser_features/geometry.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -9,12 +11,8 @@
 namespace fingerprint {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-double normalizeAngle(double a) {
-  a = std::remainder(a, 2.0 * kPi);
-  return a <= -kPi ? a + 2.0 * kPi : a;
-}
+using laser_features::kPi;
+using laser_features::normalizeAngle;
 
 // rad in [0, 2 pi): `a` measured counter-clockwise from `cut`.
 double fromCut(double a, double cut) {

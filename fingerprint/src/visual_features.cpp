@@ -2,6 +2,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "laser_features/geometry.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -9,12 +11,8 @@
 namespace fingerprint {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-double normalizeAngle(double a) {
-  a = std::remainder(a, 2.0 * kPi);
-  return a <= -kPi ? a + 2.0 * kPi : a;
-}
+using laser_features::kPi;
+using laser_features::normalizeAngle;
 
 }  // namespace
 
