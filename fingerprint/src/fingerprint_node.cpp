@@ -42,7 +42,9 @@ class FingerprintNode {
     pnh.param("image_timeout", image_timeout_, 1.0);
     pnh.param("max_stamp_gap", max_stamp_gap_, 0.1);
     fingerprint_pub_ = lockstep_.advertise<hybrid_slam_msgs::Fingerprint>(nh, "fingerprint", 10);
-    info_sub_ = nh.subscribe("camera/camera_info", 2, &FingerprintNode::onInfo, this);
+    // Counted (in lockstep a step waits for its camera_info), taken on arrival: the step's image,
+    // delivered once the step's inputs are in, finds it.
+    info_sub_ = lockstep_.subscribe(nh, "camera/camera_info", 2, &FingerprintNode::onInfo, this);
     image_sub_ = lockstep_.subscribe(nh, "camera/image_raw", 2, &FingerprintNode::onImage, this, lockstep::Delivery::Gated);
     features_sub_ = lockstep_.subscribe(nh, "features", 10, &FingerprintNode::onFeatures, this, lockstep::Delivery::Gated);
     ROS_INFO("fingerprint: images from '%s' with the laser's '%s' into '%s' (edges over %.0f levels)",
