@@ -88,7 +88,11 @@ PanoramicCamera::PanoramicCamera(const World& world, const RayCaster2D& caster, 
   floor_ = world.floor_color ? *world.floor_color : Rgb{120, 110, 100};
   ceiling_ = world.ceiling_color ? *world.ceiling_color : Rgb{230, 230, 225};
   wall_ends_ = world.wall_ends_color ? *world.wall_ends_color : Rgb{110, 75, 45};
-  for (int r = 0; r < params_.height; ++r) tan_elevation_.push_back(std::tan(rowElevation(r)));
+  for (int r = 0; r < params_.height; ++r) {
+    tan_elevation_.push_back(std::tan(rowElevation(r)));
+    // The floor and the ceiling: Lambert by the elevation (seen straight down or up, head-on).
+    flat_shade_.push_back(params_.ambient + (1.0 - params_.ambient) * std::abs(std::sin(rowElevation(r))));
+  }
 }
 
 float PanoramicCamera::noise() {
@@ -198,8 +202,7 @@ void PanoramicCamera::render(const Pose2& pose, double z, std::vector<uint8_t>* 
     castColumn(pose.x, pose.y, std::cos(bearing), std::sin(bearing), &hits_);
     for (int r = 0; r < H; ++r) {
       const double t = tan_elevation_[r];
-      // The floor and the ceiling: Lambert by the elevation (seen straight down or up, head-on).
-      const double flat = params_.ambient + (1.0 - params_.ambient) * std::abs(std::sin(rowElevation(r)));
+      const double flat = flat_shade_[r];
       bool drawn = false;
       for (const Hit& h : hits_) {
         const double z_near = cz + h.near * t;

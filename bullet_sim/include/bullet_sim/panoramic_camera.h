@@ -90,6 +90,7 @@ class PanoramicCamera {
   std::vector<Rgb> cylinder_colors_;
   Rgb floor_, ceiling_, wall_ends_;
   std::vector<double> tan_elevation_;  // per row
+  std::vector<double> flat_shade_;     // per row: the floor's or the ceiling's shading
   /// One draw of the noise (intensity levels): mean 0, standard deviation noise_stddev.
   float noise();
 
