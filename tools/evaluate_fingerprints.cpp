@@ -124,14 +124,19 @@ int main(int argc, char** argv) {
   const fingerprint::FingerprintMatcher matcher;
   Score all, laser;
   double features_sum = 0.0, laser_sum = 0.0;
-  for (size_t r : refs) features_sum += samples[r].features.size(), laser_sum += laserOnly(samples[r].features).size();
+  for (size_t r : refs) features_sum += samples[r].features.size();
+  std::map<size_t, std::vector<fingerprint::Feature>> laser_refs;  // each reference's laser features, once
+  for (size_t r : refs) {
+    laser_refs[r] = laserOnly(samples[r].features);
+    laser_sum += laser_refs[r].size();
+  }
   for (const auto& [i, nearest] : tests) {
     for (int mode = 0; mode < 2; ++mode) {
       const auto seen = mode == 0 ? samples[i].features : laserOnly(samples[i].features);
       double best_cost = 1e18;
       size_t answer = refs.front();
       for (size_t r : refs) {
-        const double c = matcher.match(seen, mode == 0 ? samples[r].features : laserOnly(samples[r].features)).cost;
+        const double c = matcher.match(seen, mode == 0 ? samples[r].features : laser_refs[r]).cost;
         if (c < best_cost) best_cost = c, answer = r;
       }
       Score& s = mode == 0 ? all : laser;
