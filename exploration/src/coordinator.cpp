@@ -25,6 +25,7 @@ Coordinator::Coordinator(const CoordinatorParams& params)
       hallway_(params.follow, params.hallway, params.rules, params.room.planner, params.doors, params.route,
                params.branch_record_distance),
       visit_(params.room_visit, params.room, params.rules, params.doors),
+      suite_(params.room_visit, params.room, params.rules, params.doors),
       mission_(params.mission) {
   std::string why;
   if (!params.valid(&why)) throw std::invalid_argument("exploration coordinator: " + why);
@@ -97,11 +98,15 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
     case State::Relocate:
       relocate(p, topo, &d);
       break;
+    case State::InnerPlace:
+      createInnerPlace(p, &d);
+      break;
     case State::ApproachDoor:
     case State::Room:
     case State::GoToGoal:
     case State::ExitPath:
     case State::ExitDoor:
+    case State::ToInnerDoor:
       motion_ = MotionFeedback{motion_reached, motion_blocked};
       visitRoom(p, &d);
       if (state_ == State::Follow) {
@@ -259,8 +264,9 @@ void Coordinator::openingRecorded(bool ok, int node) {
 
 void Coordinator::visitRoom(const Perception& p, Decision* d) {
   mode_ = CoordinatorMode::Metric;
-  const Perception q = visit_.inPlace(p);
-  visit_.observe(q, state_ == State::ApproachDoor, d);
+  const Perception q = visit().inPlace(p);
+  visit().observe(q, state_ == State::ApproachDoor, d);
+  if (suite_.insideInner()) through_inner_door_ = suite_.throughDoor(q);
   switch (state_) {
     case State::ApproachDoor:
       return approachDoor(q, d);
@@ -270,44 +276,119 @@ void Coordinator::visitRoom(const Perception& p, Decision* d) {
       return;
     case State::Room:
       return coverRoom(q, d);
+    case State::ToInnerDoor:
+      return toInnerDoor(q, d);
     default:
       return leaveRoom(q, d);
   }
 }
 
 void Coordinator::approachDoor(const Perception& q, Decision* d) {
-  if (!visit_.approachDoor(q, now_ - state_since_, d)) return;
+  if (!visit().approachDoor(q, now_ - state_since_, d)) return;
   if (mission_.active()) {
     beginGoToGoal("driving to the mission's goal in place " + std::to_string(place_id_), false);
     return;
   }
-  const double shift = visit_.doorRefinement();
+  const double shift = visit().doorRefinement();
   char text[96];
   std::snprintf(text, sizeof(text), "exploring the room (its door refined by %.2f m)", shift);
   setState(State::Room, shift > 0.0 ? text : "exploring the room");
 }
 
 void Coordinator::coverRoom(const Perception& q, Decision* d) {
-  const RoomVisit::Coverage coverage = visit_.coverRoom(q, now_, now_ - state_since_, d);
+  if (suite_.insideInner() && !inner_checked_ && visit().explorer().entered()) {
+    inner_checked_ = true;
+    std::string space;
+    inner_is_hallway_ = suite_.hallwayBehind(q, &space);
+    state_text_ = "exploring the room (behind the door: " + space + ")";
+  }
+  const RoomVisit::Coverage coverage =
+      inner_is_hallway_ ? RoomVisit::Coverage::Done : visit().coverRoom(q, now_, now_ - state_since_, d);
   if (coverage == RoomVisit::Coverage::Covering) return;
   if (coverage == RoomVisit::Coverage::TimedOut) ++stats_.rooms_left_early;
-  stats_.room_free_area += visit_.explorer().freeArea();
-  stats_.peak_room_bytes = std::max(stats_.peak_room_bytes, visit_.explorer().bytes());
+  stats_.room_free_area += visit().explorer().freeArea();
+  stats_.peak_room_bytes = std::max(stats_.peak_room_bytes, visit().explorer().bytes());
+  if (suite_.insideInner()) {
+    visit().beginExit();
+    setState(State::ExitPath, std::string(inner_is_hallway_ ? "a hallway behind the door, no room: back into place "
+                                                            : "leaving the room by its door back into place ") +
+                                  std::to_string(host_place_id_));
+    return;
+  }
+  // The host room is covered: the rooms behind its inner doors first, then its way out.
+  if (params_.room_visit.inner_rooms) {
+    suite_.begin(visit_);
+    if (toNextInnerRoom(q)) return;
+  }
+  exitHost();
+}
+
+void Coordinator::exitHost() {
   visit_.beginExit();
   setState(State::ExitPath, "leaving the room by its door");
 }
 
+bool Coordinator::toNextInnerRoom(const Perception& q) {
+  if (!suite_.nextDoor(visit_, Eigen::Vector2d(q.room_pose.x, q.room_pose.y))) return false;
+  setState(State::ToInnerDoor, "to a door into a room behind place " + std::to_string(place_id_));
+  return true;
+}
+
+void Coordinator::toInnerDoor(const Perception& q, Decision* d) {
+  const SuiteVisit::Drive drive = suite_.driveToDoor(visit_, q, now_ - state_since_, d);
+  if (drive == SuiteVisit::Drive::Driving) return;
+  if (drive == SuiteVisit::Drive::Failed) {
+    if (!toNextInnerRoom(q)) exitHost();
+    return;
+  }
+  // In front of the door: a place for the room behind, the robot standing still at its origin.
+  d->stop = true;
+  host_place_id_ = place_id_;
+  place_ok_ = false;
+  d->requests.push_back(Request{Request::CreatePlace});
+  setState(State::InnerPlace, "creating a place for the room behind place " + std::to_string(host_place_id_));
+}
+
+void Coordinator::createInnerPlace(const Perception& p, Decision* d) {
+  d->stop = true;
+  mode_ = CoordinatorMode::Metric;
+  if (!place_ok_) {
+    place_id_ = host_place_id_;
+    if (!toNextInnerRoom(visit_.inPlace(p))) exitHost();
+    return;
+  }
+  suite_.beginInnerRoom(visit_, p.odom);
+  through_inner_door_ = inner_checked_ = inner_is_hallway_ = false;
+  ++stats_.places;
+  ++stats_.inner_rooms;
+  setState(State::ApproachDoor, "entering the room of place " + std::to_string(place_id_) + " from place " +
+                                    std::to_string(host_place_id_));
+}
+
+void Coordinator::backInHost(Decision* d) {
+  // The room behind is done: its place closed, the host's again (placed by the odometry since the
+  // EKF's last pose of it: the EKF tracks one place).
+  d->requests.push_back(Request{Request::ClosePlace});
+  suite_.endInnerRoom(inner_is_hallway_);
+  place_id_ = host_place_id_;
+  Perception q;
+  q.odom = last_odom_;
+  q = visit_.inPlace(q);
+  if (!toNextInnerRoom(q)) exitHost();
+}
+
 void Coordinator::leaveRoom(const Perception& q, Decision* d) {
   if (state_ == State::ExitPath) {
-    if (!visit_.followExitPath(q, now_ - state_since_, d)) return;
-    setState(State::ExitDoor, "through the door back to the hallway");
-    visit_.beginDoorExit(now_);
+    if (!visit().followExitPath(q, now_ - state_since_, d)) return;
+    setState(State::ExitDoor, suite_.insideInner() ? "through the door back into place " + std::to_string(host_place_id_)
+                                                   : "through the door back to the hallway");
+    visit().beginDoorExit(now_);
   }
-  const RoomVisit::Exit exit = visit_.exitThroughDoor(q, now_, now_ - state_since_, motion_, d);
+  const RoomVisit::Exit exit = visit().exitThroughDoor(q, now_, now_ - state_since_, motion_, d);
   if (exit == RoomVisit::Exit::Passing) return;
   if (exit == RoomVisit::Exit::TryAgain) {
     setState(State::ExitPath, "still inside: leaving the room by its door again (attempt " +
-                                  std::to_string(visit_.exitAttempts() + 1) + ")");
+                                  std::to_string(visit().exitAttempts() + 1) + ")");
     return;
   }
   // Still inside after every attempt: the exploration stops rather than map the room as a hallway;
@@ -317,13 +398,19 @@ void Coordinator::leaveRoom(const Perception& q, Decision* d) {
                       std::to_string(RoomVisit::kExitAttempts) + " attempts)", d);
     return;
   }
+  if (suite_.insideInner()) return backInHost(d);
   backOnHallway(exit == RoomVisit::Exit::Back, d);
 }
 
 void Coordinator::backOnHallway(bool exact, Decision* d) {
   // A mission's visit does not cover the room: no other door of it was looked for.
-  hallway_.backFromRoom(entry_hallway_, visit_.doorOdom(),
-                        mission_.active() ? std::vector<DoorTrack>{} : visit_.otherDoorsOdom(), travel_);
+  // The room's other doors, and those of the rooms behind it (a connecting room's own hallway door).
+  std::vector<DoorTrack> others;
+  if (!mission_.active()) {
+    others = visit_.otherDoorsOdom();
+    others.insert(others.end(), suite_.innerRoomDoorsOdom().begin(), suite_.innerRoomDoorsOdom().end());
+  }
+  hallway_.backFromRoom(entry_hallway_, visit_.doorOdom(), others, travel_);
   mode_ = CoordinatorMode::Topological;
   if (mission_.active()) {
     // A mission leaving a room: back on the hallway, on to the goal's door (nothing to record).

@@ -284,7 +284,7 @@ class ExplorationNode {
       hybrid_slam_msgs::GoToPlaceFeedback f;
       f.mode = static_cast<uint8_t>(coordinator_->mode());
       f.current_node = topo_.confident ? coordinator_->graph().nearestNode(topo_.position) : -1;
-      f.current_place = coordinator_->mode() == CoordinatorMode::Metric ? coordinator_->currentPlace() : -1;
+      f.current_place = coordinator_->mode() == CoordinatorMode::Metric ? coordinator_->placeOfRobot() : -1;
       f.entropy = entropy_;
       f.distance_left = coordinator_->missionDistanceLeft();
       mission_server_->publishFeedback(f);
@@ -535,7 +535,7 @@ class ExplorationNode {
     hybrid_slam_msgs::ExplorationStatus s;
     s.header.stamp = stamp;
     s.mode = static_cast<uint8_t>(coordinator_->mode());
-    s.current_place = coordinator_->mode() == CoordinatorMode::Metric ? coordinator_->currentPlace() : -1;
+    s.current_place = coordinator_->mode() == CoordinatorMode::Metric ? coordinator_->placeOfRobot() : -1;
     s.current_node = topo_.confident ? coordinator_->graph().nearestNode(topo_.position) : -1;
     s.places = uint32_t(coordinator_->graph().placeCount());  // survives a restart of this node
     s.nodes = uint32_t(coordinator_->graph().nodes().size());

@@ -292,8 +292,9 @@ std::optional<Path> RoomExplorer::pathTo(const Eigen::Vector2d& robot, const Eig
   return optimistic_planner_.plan(robot, goal);
 }
 
-double RoomExplorer::freeArea() const {
-  if (status_ == RoomStatus::Invalid || grid_.cellCount() == 0) return 0.0;
+std::vector<std::uint8_t> RoomExplorer::roomCells() const {
+  std::vector<std::uint8_t> seen;
+  if (status_ == RoomStatus::Invalid || grid_.cellCount() == 0) return seen;
   // The seed: the exit point's cell, or the Free cell nearest to it within 1 m inside the room.
   const double res = grid_.resolution();
   const CellIndex ec = grid_.worldToCell(exitPoint());
@@ -311,17 +312,15 @@ double RoomExplorer::freeArea() const {
       }
     }
   }
-  if (!seed) return 0.0;
+  if (!seed) return seen;
   // 4-connected flood fill through the Free cells on the room's side of the entry line.
-  std::vector<std::uint8_t> seen(grid_.cellCount(), 0);
+  seen.assign(grid_.cellCount(), 0);
   std::vector<CellIndex> stack{*seed};
   seen[grid_.index(seed->x, seed->y)] = 1;
-  std::size_t n = 0;
   const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
   while (!stack.empty()) {
     const CellIndex c = stack.back();
     stack.pop_back();
-    ++n;
     for (int k = 0; k < 4; ++k) {
       const int x = c.x + dx[k], y = c.y + dy[k];
       if (!grid_.contains(x, y)) continue;
@@ -331,7 +330,35 @@ double RoomExplorer::freeArea() const {
       stack.push_back({x, y});
     }
   }
-  return static_cast<double>(n) * res * res;
+  return seen;
+}
+
+double RoomExplorer::freeArea() const {
+  const std::vector<std::uint8_t> cells = roomCells();
+  const double res = grid_.resolution();
+  return static_cast<double>(std::count(cells.begin(), cells.end(), std::uint8_t(1))) * res * res;
+}
+
+bool RoomExplorer::leadsOutOfRoom(const Eigen::Vector2d& centre, double into, double distance) const {
+  const std::vector<std::uint8_t> cells = roomCells();
+  if (cells.empty()) return false;
+  // The cells within a robot radius of the point `distance` behind the opening: some seen Free
+  // (through the opening), none of the room's area (reached around furniture, the gap is no door).
+  const Eigen::Vector2d behind = centre - distance * Eigen::Vector2d(std::cos(into), std::sin(into));
+  const double r = params_.planner.robot_radius;
+  const CellIndex c0 = grid_.worldToCell(behind);
+  const int reach = static_cast<int>(std::ceil(r / grid_.resolution()));
+  bool free_seen = false;
+  for (int dy = -reach; dy <= reach; ++dy) {
+    for (int dx = -reach; dx <= reach; ++dx) {
+      const int x = c0.x + dx, y = c0.y + dy;
+      if (!grid_.contains(x, y) || (grid_.cellCenter(x, y) - behind).norm() > r) continue;
+      if (grid_.cellState(x, y) != CellState::Free) continue;
+      if (cells[grid_.index(x, y)]) return false;
+      free_seen = true;
+    }
+  }
+  return free_seen;
 }
 
 }  // namespace exploration

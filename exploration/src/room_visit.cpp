@@ -193,6 +193,19 @@ std::vector<DoorTrack> RoomVisit::otherDoorsOdom() const {
   return doors;
 }
 
+std::vector<RoomVisit::DoorInPlace> RoomVisit::innerDoors() const {
+  const double min_depth = 0.5 * rules_.door_min_width + rules_.door_jamb_min;
+  std::vector<DoorInPlace> doors;
+  for (const SeenDoor& s : other_doors_) {
+    if (s.count < 2 || explorer_.depth(s.centre()) < min_depth) continue;
+    const double into = std::atan2(s.into_sum.y(), s.into_sum.x());
+    // A gap between furniture and a wall is no door: the space behind it is the room's.
+    if (!explorer_.leadsOutOfRoom(s.centre(), into, kDoorPassage)) continue;
+    doors.push_back(DoorInPlace{s.centre(), into, s.width_sum / s.count, s.count});
+  }
+  return doors;
+}
+
 DoorTrack RoomVisit::doorOdom() const {
   DoorTrack t;
   t.centre_odom = transformPoint(place_origin_odom_, Eigen::Vector2d(door_in_place_.x, door_in_place_.y));

@@ -13,7 +13,9 @@
 //    covered (RoomExplorer: frontiers of a grid of the room in the place's frame, from the EKF's
 //    pose, behind a virtual wall across the door) and left by the same door, back onto the
 //    hallway's mid-line with the heading it had; the door's opening is marked explored and linked
-//    to the place, and the topological map resumes (it stood still meanwhile).
+//    to the place, and the topological map resumes (it stood still meanwhile). Before it leaves, each
+//    room behind a door of the room that is not in its entry's wall is visited the same way, from
+//    the room (SuiteVisit, suite_visit.h): a place of its own, covered, left by that door.
 //  - Never from topological to metric while the belief is unconfident (or a loop closure is being
 //    verified): the robot keeps following the hallway (which gathers landmarks) until confident.
 //  - Done when the map builder is on the known graph, confident, and no unexplored opening is left.
@@ -38,6 +40,7 @@
 #include "exploration/mission_runner.h"
 #include "exploration/room_explorer.h"
 #include "exploration/room_visit.h"
+#include "exploration/suite_visit.h"
 #include "exploration/topo_route.h"
 #include "laser_features/building_axes.h"
 #include "laser_features/geometry.h"
@@ -51,6 +54,7 @@ namespace exploration {
 struct CoordinatorStats {
   int places = 0;
   int rooms_left_early = 0;   // rooms whose exploration hit the time limit
+  int inner_rooms = 0;        // rooms entered from another room (SuiteVisit), among places
   int doors_entered = 0;
   int doors_passed = 0;       // doors not entered (explored already, or the belief unconfident)
   int openings_given_up = 0;  // openings the route kept missing (see max_route_attempts), also when tried once more
@@ -106,12 +110,15 @@ class Coordinator {
   const std::string& state() const { return state_text_; }
   CoordinatorStats stats() const;
   int currentPlace() const { return place_id_; }
-  const RoomExplorer& room() const { return visit_.explorer(); }
+  /// The place the robot is in: currentPlace(), but the host room's place until the robot has
+  /// passed the door of a room behind it (on its way in and out).
+  int placeOfRobot() const { return suite_.insideInner() && !through_inner_door_ ? host_place_id_ : place_id_; }
+  const RoomExplorer& room() const { return visit().explorer(); }
   bool done() const { return state_ == State::Done; }
 
  private:
   enum class State { Init, Follow, Turn, StopForDoor, EnterRoom, ApproachDoor, Room, ExitPath, ExitDoor, Done,
-                     Idle, Relocate, GoToGoal };
+                     Idle, Relocate, GoToGoal, ToInnerDoor, InnerPlace };
 
   void setState(State s, const std::string& text);
   // The states' steps of update(): the start (which way to set off), following the hallway, a turn
@@ -141,6 +148,18 @@ class Coordinator {
   void leaveRoom(const Perception& q, Decision* d);
   /// Out of the room, back on the hallway (`exact`: where the robot left it, with its heading).
   void backOnHallway(bool exact, Decision* d);
+  /// The room being visited: the room behind an inner door while suite_ visits one, else the room
+  /// entered from the hallway.
+  RoomVisit& visit() { return suite_.insideInner() ? suite_.inner() : visit_; }
+  const RoomVisit& visit() const { return suite_.insideInner() ? suite_.inner() : visit_; }
+  // The rooms behind the host room's inner doors (suite_): to the next door's front (false: none
+  // is left), there a place for the room behind, and back in the host from it.
+  bool toNextInnerRoom(const Perception& q);
+  void toInnerDoor(const Perception& q, Decision* d);
+  void createInnerPlace(const Perception& p, Decision* d);
+  void backInHost(Decision* d);
+  /// The host room's way out begins.
+  void exitHost();
   // A mission's steps (mission_): out of the room the robot stands in, the relocation at the goal's
   // door, the drive to the goal, the end.
   void leaveRoomForMission(const std::string& text);
@@ -154,6 +173,7 @@ class Coordinator {
   TopoGraph graph_;
   HallwayNavigator hallway_;
   RoomVisit visit_;
+  SuiteVisit suite_;
   MissionRunner mission_;
   State state_ = State::Init;
   CoordinatorMode mode_ = CoordinatorMode::Topological;
@@ -171,6 +191,10 @@ class Coordinator {
   double door_bearing_map_ = 0.0;  // rad, map frame, through the door into the room
   int door_node_ = -1;
   int place_id_ = -1;
+  int host_place_id_ = -1;          // while suite_ visits the rooms behind: the host room's place
+  bool through_inner_door_ = false; // ... and the robot stands past the door of the room behind
+  bool inner_checked_ = false;      // the room behind was checked for a hallway (SuiteVisit::hallwayBehind)
+  bool inner_is_hallway_ = false;
   laser_features::Pose2D hallway_pose_odom_;  // where the robot left the hallway ...
   HallwayDirection entry_hallway_;            // ... and that hallway's direction
   bool place_ok_ = false;

@@ -79,6 +79,7 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("room_visit/time_limit", &v.time_limit);
   visit("room_visit/replan_period", &v.replan_period);
   visit("room_visit/exit_time_limit", &v.exit_time_limit);
+  visit("room_visit/inner_rooms", &v.inner_rooms);
   RoomExplorerParams& r = c.room;
   visit("room/max_extent", &r.max_extent);
   visit("room/entry_depth", &r.entry_depth);

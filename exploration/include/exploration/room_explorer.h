@@ -144,6 +144,12 @@ class RoomExplorer {
   /// entry (through Free cells, 4-connected) - neither the hallway seen through the door nor what is
   /// seen through a blocked opening counts. O(cells).
   double freeArea() const;
+  /// An opening of the room (its centre, `into` the room, rad) leads out of it: the space `distance`
+  /// (m) behind it was seen Free (through the opening), and none of it within a robot radius is the
+  /// room's free area (freeArea()'s cells: the virtual walls close the openings, so a room behind a
+  /// door is reached only through it, while the space behind a gap between furniture and a wall is
+  /// the room's own, reached around the furniture). O(cells).
+  bool leadsOutOfRoom(const Eigen::Vector2d& centre, double into, double distance) const;
   /// Frontier goals issued since start() (the entering goal is not one).
   int goalsIssued() const { return goals_issued_; }
   /// Memory of the room's grid: one byte per cell.
@@ -154,6 +160,8 @@ class RoomExplorer {
 
  private:
   void drawVirtualWalls();
+  /// freeArea()'s cells, one flag per grid cell (empty when there is no room or no seed).
+  std::vector<std::uint8_t> roomCells() const;
   void drawWall(const Eigen::Vector2d& a, const Eigen::Vector2d& b);
   bool inRoom(const Eigen::Vector2d& p) const { return depth(p) > 0.0; }
   /// Chooses the goal among the explorer's frontiers (after its nextGoal()): when `track`, the one

@@ -34,6 +34,9 @@ struct RoomVisitParams {
   double replan_period = 0.5;      // s, the room's frontier goal (a mission's grid path) is chosen again
                                    // at most this often
   double exit_time_limit = 120.0;  // s, leaving a room takes at most this (a third of it per step through the door)
+  bool inner_rooms = true;         // -, after a room's coverage its inner doors (innerDoors()) are entered, each
+                                   // room behind one visited as a room of its own (SuiteVisit); false: they stay
+                                   // virtual walls and rooms reachable only through another room are not mapped
 };
 
 class RoomVisit {
@@ -104,6 +107,23 @@ class RoomVisit {
   /// sightings), in the odometry frame as the EKF last placed the place: centre, direction into the
   /// room, width.
   std::vector<DoorTrack> otherDoorsOdom() const;
+  /// A door of the room seen from inside it, in the place: centre, direction into the room, width.
+  struct DoorInPlace {
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    double into = 0.0;  // rad
+    double width = 0.0; // m
+    int sightings = 0;
+  };
+  /// The room's doors that are not in its entry door's wall: doors into rooms reachable through this
+  /// one (a suite) or into another hallway. A door in the entry's wall lies on that wall's line (to
+  /// within the direction error of the entry door over the room, a few centimetres per metre); one in
+  /// a side wall lies past the corner by at least half the narrowest door plus a jamb
+  /// (BuildingRules::door_min_width / 2 + door_jamb_min), one in the back wall by the room's depth.
+  /// Seen from inside at least twice, and leading out of the room (RoomExplorer::leadsOutOfRoom,
+  /// kDoorPassage behind it: a gap between furniture and a wall is none).
+  std::vector<DoorInPlace> innerDoors() const;
+  /// The place's origin in the odometry frame, as the EKF last placed it.
+  const laser_features::Pose2D& placeOriginOdom() const { return place_origin_odom_; }
   /// The door entered by, in the odometry frame as the EKF last placed the place (the odometry's
   /// drift inside the room taken out): centre, direction into the room, width as tracked.
   DoorTrack doorOdom() const;

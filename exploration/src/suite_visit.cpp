@@ -1,0 +1,133 @@
+#include "exploration/suite_visit.h"
+
+#include <cmath>
+#include <cstdio>
+#include <algorithm>
+#include <limits>
+
+namespace exploration {
+
+using laser_features::kPi;
+using laser_features::normalizeAngle;
+using laser_features::Pose2D;
+using laser_features::transformPoint;
+using laser_features::unitVector;
+
+SuiteVisit::SuiteVisit(const RoomVisitParams& params, const RoomExplorerParams& room,
+                       const laser_features::BuildingRules& rules, const HallwayDoorParams& doors)
+    : params_(params), rules_(rules), robot_radius_(room.planner.robot_radius), inner_(params, room, rules, doors) {}
+
+void SuiteVisit::begin(const RoomVisit& host) {
+  todo_ = host.innerDoors();
+  inside_ = false;
+  inner_doors_odom_.clear();
+}
+
+bool SuiteVisit::nextDoor(RoomVisit& host, const Eigen::Vector2d& robot) {
+  // The nearest door by the host's grid; a door whose front no path reaches is dropped.
+  double best = std::numeric_limits<double>::infinity();
+  std::size_t best_index = todo_.size();
+  std::vector<Eigen::Vector2d> best_path;
+  for (std::size_t i = 0; i < todo_.size(); ++i) {
+    const Eigen::Vector2d front = todo_[i].centre + kFront * unitVector(todo_[i].into);
+    const std::optional<Path> path = host.pathTo(robot, front);
+    if (path && path->length < best) {
+      best = path->length;
+      best_index = i;
+      best_path = path->waypoints;
+    }
+  }
+  if (best_index == todo_.size()) {
+    todo_.clear();
+    return false;
+  }
+  door_ = todo_[best_index];
+  todo_.erase(todo_.begin() + long(best_index));
+  path_ = best_path;
+  path_index_ = 0;
+  return true;
+}
+
+SuiteVisit::Drive SuiteVisit::driveToDoor(const RoomVisit& host, const Perception& q, double elapsed, Decision* d) {
+  if (elapsed > params_.exit_time_limit) return Drive::Failed;
+  const Eigen::Vector2d robot(q.room_pose.x, q.room_pose.y);
+  while (path_index_ + 1 < path_.size() && (path_[path_index_] - robot).norm() < 0.3) ++path_index_;
+  const Eigen::Vector2d front = door_.centre + kFront * unitVector(door_.into);
+  const double facing = normalizeAngle(door_.into + kPi);
+  if (path_index_ + 1 < path_.size()) {
+    host.goalInPlace(q, path_[path_index_], std::nullopt, d);
+    return Drive::Driving;
+  }
+  host.goalInPlace(q, front, facing, d);
+  // As RoomVisit::approachDoor stands at a door.
+  const bool there = (robot - front).norm() < 0.15 && std::abs(normalizeAngle(q.room_pose.theta - facing)) < 0.15;
+  return there ? Drive::There : Drive::Driving;
+}
+
+void SuiteVisit::beginInnerRoom(const RoomVisit& host, const Pose2D& robot_odom) {
+  // The door into the room behind, in the odometry frame: the host's into direction turned round.
+  const Pose2D& origin = host.placeOriginOdom();
+  DoorTrack door;
+  door.centre_odom = transformPoint(origin, door_.centre);
+  door.into_odom = normalizeAngle(origin.theta + door_.into + kPi);
+  door.width = door_.width;
+  door.sightings = door_.sightings;
+  // Out of the room behind, the robot faces away from its door, into the host.
+  inner_.beginNewRoom(robot_odom, door, normalizeAngle(door.into_odom + kPi));
+  inside_ = true;
+}
+
+void SuiteVisit::endInnerRoom(bool hallway) {
+  if (!hallway)
+    for (const DoorTrack& t : inner_.otherDoorsOdom()) inner_doors_odom_.push_back(t);
+  inside_ = false;
+}
+
+bool SuiteVisit::throughDoor(const Perception& q) const {
+  return inner_.explorer().depth(Eigen::Vector2d(q.room_pose.x, q.room_pose.y)) > 0.0;
+}
+
+bool SuiteVisit::hallwayBehind(const Perception& q, std::string* why) const {
+  // In the door's frame: a along its axis into the space, b along its wall (left +).
+  const Pose2D& door = inner_.doorInPlace();
+  const Eigen::Vector2d c(door.x, door.y), axis = unitVector(door.theta), wall(-axis.y(), axis.x());
+  const double inf = std::numeric_limits<double>::infinity();
+  // The wall ahead: the nearest wall line across the axis ahead of the robot (within 0.3 rad of the
+  // door's wall, a metre long at least) that spans the axis within the widest hallway's half either
+  // side; a door across the way (offset or not) leaves the wall beside it.
+  double ahead = inf;
+  const double half = 0.5 * rules_.hallway_max_width;
+  const double robot_a = (Eigen::Vector2d(q.room_pose.x, q.room_pose.y) - c).dot(axis);  // past the door's wall
+  for (const laser_features::LineSegment& l : q.lines) {
+    if (l.length() < 1.0) continue;
+    const Eigen::Vector2d s0 = transformPoint(q.room_pose, l.start) - c, s1 = transformPoint(q.room_pose, l.end) - c;
+    const Eigen::Vector2d d = (s1 - s0).normalized();
+    if (std::abs(d.dot(axis)) > std::sin(0.3)) continue;
+    const double b0 = std::min(s0.dot(wall), s1.dot(wall)), b1 = std::max(s0.dot(wall), s1.dot(wall));
+    if (b1 < -half || b0 > half) continue;
+    const double a = 0.5 * (s0 + s1).dot(axis);
+    if (a > robot_a) ahead = std::min(ahead, a);
+  }
+  // Along the wall: the nearest scan point either side in the middle of the band between the door's
+  // wall and the wall ahead (clear of both, tilted by the axis' error).
+  double left = inf, right = inf;
+  if (std::isfinite(ahead)) {
+    for (const Eigen::Vector2d& p : q.points) {
+      const Eigen::Vector2d r = transformPoint(q.room_pose, p) - c;
+      const double a = r.dot(axis), b = r.dot(wall);
+      if (a < 0.3 * ahead || a > 0.7 * ahead) continue;
+      if (b > 0.0) left = std::min(left, b);
+      else right = std::min(right, -b);
+    }
+  }
+  if (why) {
+    char text[128];
+    std::snprintf(text, sizeof(text), "%.2f m deep, %.2f m left and %.2f m right along the door's wall", ahead, left,
+                  right);
+    *why = text;
+  }
+  const double widest = rules_.hallway_max_width + rules_.width_tolerance;
+  return ahead <= widest && left > rules_.hallway_max_width && right > rules_.hallway_max_width;
+}
+
+}  // namespace exploration
