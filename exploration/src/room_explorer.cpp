@@ -342,10 +342,27 @@ double RoomExplorer::freeArea() const {
 bool RoomExplorer::leadsOutOfRoom(const Eigen::Vector2d& centre, double into, double distance) const {
   const std::vector<std::uint8_t> cells = roomCells();
   if (cells.empty()) return false;
-  // The cells within a robot radius of the point `distance` behind the opening: some seen Free
-  // (through the opening), none of the room's area (reached around furniture, the gap is no door).
   const Eigen::Vector2d behind = centre - distance * Eigen::Vector2d(std::cos(into), std::sin(into));
   const double r = params_.planner.robot_radius;
+  // Beyond the room's extent: the box of its free area along the entry door's axes (a pocket between
+  // furniture and a wall, closed by virtual walls of its own, lies within it).
+  const Eigen::Vector2d across(-door_dir_.y(), door_dir_.x());
+  double a0 = std::numeric_limits<double>::infinity(), a1 = -a0, b0 = a0, b1 = -a0;
+  for (int y = grid_.minY(); y < grid_.minY() + grid_.height(); ++y) {
+    for (int x = grid_.minX(); x < grid_.minX() + grid_.width(); ++x) {
+      if (!cells[grid_.index(x, y)]) continue;
+      const Eigen::Vector2d p = grid_.cellCenter(x, y) - door_xy_;
+      a0 = std::min(a0, p.dot(door_dir_));
+      a1 = std::max(a1, p.dot(door_dir_));
+      b0 = std::min(b0, p.dot(across));
+      b1 = std::max(b1, p.dot(across));
+    }
+  }
+  const Eigen::Vector2d pb = behind - door_xy_;
+  const double a = pb.dot(door_dir_), b = pb.dot(across);
+  if (a > a0 - r && a < a1 + r && b > b0 - r && b < b1 + r) return false;
+  // The cells within a robot radius of it: some seen Free (through the opening), none of the room's
+  // area (reached around furniture, the gap is no door).
   const CellIndex c0 = grid_.worldToCell(behind);
   const int reach = static_cast<int>(std::ceil(r / grid_.resolution()));
   bool free_seen = false;

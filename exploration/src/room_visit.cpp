@@ -152,7 +152,8 @@ RoomVisit::Coverage RoomVisit::coverRoom(const Perception& q, double now, double
     if ((0.5 * (l + r) - door).norm() < 0.8) continue;
     explorer_.blockOpening(l, r);
     // The opening's normal points away from the sensor, which is inside the room.
-    seeOtherDoor(0.5 * (l + r), normalizeAngle(q.room_pose.theta + o.theta + kPi), o.width);
+    seeOtherDoor(0.5 * (l + r), normalizeAngle(q.room_pose.theta + o.theta + kPi), o.width,
+                 o.source == laser_features::OpeningSource::kCollinearGap);
   }
   if (now - last_plan_ >= params_.replan_period || !goal_) {
     last_plan_ = now;
@@ -166,7 +167,7 @@ RoomVisit::Coverage RoomVisit::coverRoom(const Perception& q, double now, double
   return Coverage::Covering;
 }
 
-void RoomVisit::seeOtherDoor(const Eigen::Vector2d& centre, double into, double width) {
+void RoomVisit::seeOtherDoor(const Eigen::Vector2d& centre, double into, double width, bool in_wall) {
   // Sightings of one door lie within half the span the hallway's tracker tells two doors apart by.
   const double same = 0.5 * HallwayDoors::kSameDoorSpan;
   for (SeenDoor& s : other_doors_) {
@@ -175,9 +176,10 @@ void RoomVisit::seeOtherDoor(const Eigen::Vector2d& centre, double into, double 
     s.into_sum += unitVector(into);
     s.width_sum += width;
     ++s.count;
+    if (in_wall) ++s.in_wall;
     return;
   }
-  other_doors_.push_back(SeenDoor{centre, unitVector(into), width, 1});
+  other_doors_.push_back(SeenDoor{centre, unitVector(into), width, 1, in_wall ? 1 : 0});
 }
 
 std::vector<DoorTrack> RoomVisit::otherDoorsOdom() const {
@@ -197,7 +199,7 @@ std::vector<RoomVisit::DoorInPlace> RoomVisit::innerDoors() const {
   const double min_depth = 0.5 * rules_.door_min_width + rules_.door_jamb_min;
   std::vector<DoorInPlace> doors;
   for (const SeenDoor& s : other_doors_) {
-    if (s.count < 2 || explorer_.depth(s.centre()) < min_depth) continue;
+    if (s.in_wall < 2 || explorer_.depth(s.centre()) < min_depth) continue;
     const double into = std::atan2(s.into_sum.y(), s.into_sum.x());
     // A gap between furniture and a wall is no door: the space behind it is the room's.
     if (!explorer_.leadsOutOfRoom(s.centre(), into, kDoorPassage)) continue;

@@ -55,6 +55,10 @@ void featuresInRobot(const hybrid_slam_msgs::LaserFeatures& msg, const Pose2D& s
     op.kind = o.kind == hybrid_slam_msgs::OpeningFeature::DOOR       ? laser_features::OpeningKind::kDoor
               : o.kind == hybrid_slam_msgs::OpeningFeature::JUNCTION ? laser_features::OpeningKind::kJunction
                                                                      : laser_features::OpeningKind::kUnknown;
+    op.source = o.source == hybrid_slam_msgs::OpeningFeature::COLLINEAR_GAP ? laser_features::OpeningSource::kCollinearGap
+                : o.source == hybrid_slam_msgs::OpeningFeature::HALLWAY_STEP
+                    ? laser_features::OpeningSource::kHallwayStep
+                    : laser_features::OpeningSource::kRangeDiscontinuity;
     openings->push_back(op);
   }
 }

@@ -15,7 +15,7 @@ using laser_features::unitVector;
 
 SuiteVisit::SuiteVisit(const RoomVisitParams& params, const RoomExplorerParams& room,
                        const laser_features::BuildingRules& rules, const HallwayDoorParams& doors)
-    : params_(params), rules_(rules), robot_radius_(room.planner.robot_radius), inner_(params, room, rules, doors) {}
+    : params_(params), rules_(rules), inner_(params, room, rules, doors) {}
 
 void SuiteVisit::begin(const RoomVisit& host) {
   todo_ = host.innerDoors();
@@ -88,15 +88,19 @@ bool SuiteVisit::throughDoor(const Perception& q) const {
 }
 
 bool SuiteVisit::hallwayBehind(const Perception& q, std::string* why) const {
+  return hallwayBehindDoor(q, inner_.doorInPlace(), rules_, why);
+}
+
+bool hallwayBehindDoor(const Perception& q, const Pose2D& door, const laser_features::BuildingRules& rules,
+                       std::string* why) {
   // In the door's frame: a along its axis into the space, b along its wall (left +).
-  const Pose2D& door = inner_.doorInPlace();
   const Eigen::Vector2d c(door.x, door.y), axis = unitVector(door.theta), wall(-axis.y(), axis.x());
   const double inf = std::numeric_limits<double>::infinity();
   // The wall ahead: the nearest wall line across the axis ahead of the robot (within 0.3 rad of the
   // door's wall, a metre long at least) that spans the axis within the widest hallway's half either
   // side; a door across the way (offset or not) leaves the wall beside it.
   double ahead = inf;
-  const double half = 0.5 * rules_.hallway_max_width;
+  const double half = 0.5 * rules.hallway_max_width;
   const double robot_a = (Eigen::Vector2d(q.room_pose.x, q.room_pose.y) - c).dot(axis);  // past the door's wall
   for (const laser_features::LineSegment& l : q.lines) {
     if (l.length() < 1.0) continue;
@@ -126,8 +130,8 @@ bool SuiteVisit::hallwayBehind(const Perception& q, std::string* why) const {
                   right);
     *why = text;
   }
-  const double widest = rules_.hallway_max_width + rules_.width_tolerance;
-  return ahead <= widest && left > rules_.hallway_max_width && right > rules_.hallway_max_width;
+  const double widest = rules.hallway_max_width + rules.width_tolerance;
+  return ahead <= widest && left > rules.hallway_max_width && right > rules.hallway_max_width;
 }
 
 }  // namespace exploration

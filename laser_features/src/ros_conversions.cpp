@@ -45,6 +45,17 @@ uint8_t openingKindMsg(OpeningKind k) {
   }
 }
 
+uint8_t openingSourceMsg(OpeningSource s) {
+  switch (s) {
+    case OpeningSource::kCollinearGap:
+      return hybrid_slam_msgs::OpeningFeature::COLLINEAR_GAP;
+    case OpeningSource::kHallwayStep:
+      return hybrid_slam_msgs::OpeningFeature::HALLWAY_STEP;
+    default:
+      return hybrid_slam_msgs::OpeningFeature::RANGE_DISCONTINUITY;
+  }
+}
+
 }  // namespace
 
 std::string toScanView(const sensor_msgs::LaserScan& scan, ScanView* view) {
@@ -94,6 +105,7 @@ void toMsg(const Features& features, const std_msgs::Header& header, hybrid_slam
     m.theta = o.theta;
     m.width = o.width;
     m.kind = openingKindMsg(o.kind);
+    m.source = openingSourceMsg(o.source);
     m.room_behind = o.room_behind;
     m.confidence = o.confidence;
   }

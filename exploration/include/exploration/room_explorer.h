@@ -144,11 +144,12 @@ class RoomExplorer {
   /// entry (through Free cells, 4-connected) - neither the hallway seen through the door nor what is
   /// seen through a blocked opening counts. O(cells).
   double freeArea() const;
-  /// An opening of the room (its centre, `into` the room, rad) leads out of it: the space `distance`
-  /// (m) behind it was seen Free (through the opening), and none of it within a robot radius is the
-  /// room's free area (freeArea()'s cells: the virtual walls close the openings, so a room behind a
-  /// door is reached only through it, while the space behind a gap between furniture and a wall is
-  /// the room's own, reached around the furniture). O(cells).
+  /// An opening of the room (its centre, `into` the room, rad) leads out of it: the point `distance`
+  /// (m) behind it lies beyond the room's extent (the box of freeArea()'s cells along the entry door's
+  /// axes, by a robot radius: a pocket between furniture and a wall lies within it), the space there
+  /// was seen Free (through the opening), and none of it within a robot radius is the room's free
+  /// area (the virtual walls close the openings, so a room behind a door is reached only through it,
+  /// while the space behind a gap between furniture and a wall is the room's own). O(cells).
   bool leadsOutOfRoom(const Eigen::Vector2d& centre, double into, double distance) const;
   /// Frontier goals issued since start() (the entering goal is not one).
   int goalsIssued() const { return goals_issued_; }

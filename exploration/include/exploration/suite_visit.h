@@ -28,6 +28,11 @@
 
 namespace exploration {
 
+/// SuiteVisit::hallwayBehind's rule for a door at `door_in_place` (centre, direction into the space)
+/// seen from `q` (in the same place): the space's depth ahead and its extents along the door's wall.
+bool hallwayBehindDoor(const Perception& q, const laser_features::Pose2D& door_in_place,
+                       const laser_features::BuildingRules& rules, std::string* why = nullptr);
+
 class SuiteVisit {
  public:
   SuiteVisit(const RoomVisitParams& params, const RoomExplorerParams& room, const laser_features::BuildingRules& rules,
@@ -74,7 +79,6 @@ class SuiteVisit {
  private:
   RoomVisitParams params_;
   laser_features::BuildingRules rules_;
-  double robot_radius_;
   RoomVisit inner_;
   std::vector<RoomVisit::DoorInPlace> todo_;  // the host's inner doors not visited yet (host place)
   RoomVisit::DoorInPlace door_;               // the one being visited
