@@ -266,7 +266,7 @@ void Coordinator::visitRoom(const Perception& p, Decision* d) {
   mode_ = CoordinatorMode::Metric;
   const Perception q = visit().inPlace(p);
   visit().observe(q, state_ == State::ApproachDoor, d);
-  if (suite_.insideInner()) through_inner_door_ = suite_.throughDoor(q);
+  if (suite_.insideInner()) suite_.observeInner(q);
   switch (state_) {
     case State::ApproachDoor:
       return approachDoor(q, d);
@@ -296,22 +296,16 @@ void Coordinator::approachDoor(const Perception& q, Decision* d) {
 }
 
 void Coordinator::coverRoom(const Perception& q, Decision* d) {
-  if (suite_.insideInner() && !inner_checked_ && visit().explorer().entered()) {
-    inner_checked_ = true;
-    std::string space;
-    inner_is_hallway_ = suite_.hallwayBehind(q, &space);
-    state_text_ = "exploring the room (behind the door: " + space + ")";
-  }
   const RoomVisit::Coverage coverage =
-      inner_is_hallway_ ? RoomVisit::Coverage::Done : visit().coverRoom(q, now_, now_ - state_since_, d);
+      suite_.hallway() ? RoomVisit::Coverage::Done : visit().coverRoom(q, now_, now_ - state_since_, d);
   if (coverage == RoomVisit::Coverage::Covering) return;
   if (coverage == RoomVisit::Coverage::TimedOut) ++stats_.rooms_left_early;
   stats_.room_free_area += visit().explorer().freeArea();
   stats_.peak_room_bytes = std::max(stats_.peak_room_bytes, visit().explorer().bytes());
   if (suite_.insideInner()) {
     visit().beginExit();
-    setState(State::ExitPath, std::string(inner_is_hallway_ ? "a hallway behind the door, no room: back into place "
-                                                            : "leaving the room by its door back into place ") +
+    setState(State::ExitPath, (suite_.hallway() ? "a hallway behind the door (" + suite_.space() + "), no room: back into place "
+                                                : std::string("leaving the room by its door back into place ")) +
                                   std::to_string(host_place_id_));
     return;
   }
@@ -358,7 +352,6 @@ void Coordinator::createInnerPlace(const Perception& p, Decision* d) {
     return;
   }
   suite_.beginInnerRoom(visit_, p.odom);
-  through_inner_door_ = inner_checked_ = inner_is_hallway_ = false;
   ++stats_.places;
   ++stats_.inner_rooms;
   setState(State::ApproachDoor, "entering the room of place " + std::to_string(place_id_) + " from place " +
@@ -369,7 +362,7 @@ void Coordinator::backInHost(Decision* d) {
   // The room behind is done: its place closed, the host's again (placed by the odometry since the
   // EKF's last pose of it: the EKF tracks one place).
   d->requests.push_back(Request{Request::ClosePlace});
-  suite_.endInnerRoom(inner_is_hallway_);
+  suite_.endInnerRoom();
   place_id_ = host_place_id_;
   Perception q;
   q.odom = last_odom_;

@@ -75,16 +75,21 @@ void SuiteVisit::beginInnerRoom(const RoomVisit& host, const Pose2D& robot_odom)
   // Out of the room behind, the robot faces away from its door, into the host.
   inner_.beginNewRoom(robot_odom, door, normalizeAngle(door.into_odom + kPi));
   inside_ = true;
+  through_ = checked_ = hallway_ = false;
+  space_.clear();
 }
 
-void SuiteVisit::endInnerRoom(bool hallway) {
-  if (!hallway)
+void SuiteVisit::endInnerRoom() {
+  if (!hallway_)
     for (const DoorTrack& t : inner_.otherDoorsOdom()) inner_doors_odom_.push_back(t);
   inside_ = false;
 }
 
-bool SuiteVisit::throughDoor(const Perception& q) const {
-  return inner_.explorer().depth(Eigen::Vector2d(q.room_pose.x, q.room_pose.y)) > 0.0;
+void SuiteVisit::observeInner(const Perception& q) {
+  through_ = inner_.explorer().depth(Eigen::Vector2d(q.room_pose.x, q.room_pose.y)) > 0.0;
+  if (checked_ || !inner_.explorer().entered()) return;
+  checked_ = true;
+  hallway_ = hallwayBehind(q, &space_);
 }
 
 bool SuiteVisit::hallwayBehind(const Perception& q, std::string* why) const {

@@ -112,7 +112,7 @@ class Coordinator {
   int currentPlace() const { return place_id_; }
   /// The place the robot is in: currentPlace(), but the host room's place until the robot has
   /// passed the door of a room behind it (on its way in and out).
-  int placeOfRobot() const { return suite_.insideInner() && !through_inner_door_ ? host_place_id_ : place_id_; }
+  int placeOfRobot() const { return suite_.insideInner() && !suite_.throughDoor() ? host_place_id_ : place_id_; }
   const RoomExplorer& room() const { return visit().explorer(); }
   bool done() const { return state_ == State::Done; }
 
@@ -192,9 +192,6 @@ class Coordinator {
   int door_node_ = -1;
   int place_id_ = -1;
   int host_place_id_ = -1;          // while suite_ visits the rooms behind: the host room's place
-  bool through_inner_door_ = false; // ... and the robot stands past the door of the room behind
-  bool inner_checked_ = false;      // the room behind was checked for a hallway (SuiteVisit::hallwayBehind)
-  bool inner_is_hallway_ = false;
   laser_features::Pose2D hallway_pose_odom_;  // where the robot left the hallway ...
   HallwayDirection entry_hallway_;            // ... and that hallway's direction
   bool place_ok_ = false;

@@ -58,10 +58,17 @@ class SuiteVisit {
   RoomVisit& inner() { return inner_; }
   const RoomVisit& inner() const { return inner_; }
   /// The inner room was left, back at the door's front: its doors seen from inside are kept (not
-  /// when `hallway`: the doors across a hallway are other rooms').
-  void endInnerRoom(bool hallway);
-  /// Whether the robot (`q`, in the inner room's place) stands past the inner door's line.
-  bool throughDoor(const Perception& q) const;
+  /// when it was a hallway: the doors across a hallway are other rooms').
+  void endInnerRoom();
+  /// Each scan of an inner room's visit (`q`, in its place): whether the robot stands past its door,
+  /// and once it got in (RoomExplorer::entered), whether the space is a hallway (hallwayBehind).
+  void observeInner(const Perception& q);
+  /// The robot stands past the inner door's line (observeInner).
+  bool throughDoor() const { return through_; }
+  /// The space behind the inner door was found to be a hallway (observeInner): the visit ends.
+  bool hallway() const { return hallway_; }
+  /// Once checked (observeInner): the space's depth and extents along the door's wall, for the log.
+  const std::string& space() const { return space_; }
   /// The space behind the inner door, seen from just inside it (`q`, in its place), is a hallway, not
   /// a room (a corner room's second door into another hallway): no deeper than the widest hallway
   /// (building rules: hallway_max_width + width_tolerance) straight ahead, and open farther than that
@@ -85,6 +92,10 @@ class SuiteVisit {
   std::vector<Eigen::Vector2d> path_;          // to its front, host place
   std::size_t path_index_ = 0;
   bool inside_ = false;
+  bool through_ = false;   // observeInner: past the inner door's line
+  bool checked_ = false;   // ... the space behind was checked for a hallway
+  bool hallway_ = false;
+  std::string space_;
   std::vector<DoorTrack> inner_doors_odom_;
 };
 
