@@ -96,18 +96,15 @@ exploration::test::SegmentWorld suite() {
   return w;
 }
 
-// The host's visit: entered by its door at x = 0 (the place frame is the world's), covered from
-// a walk through it.
-RoomVisit coveredHost(const exploration::test::SegmentWorld& world) {
+// A room entered by a 0.9 m door at the origin facing +y (the place frame is the world's), covered
+// from a walk through it: each pose's scan observed and the coverage stepped.
+RoomVisit coveredRoom(const exploration::test::SegmentWorld& world, const std::vector<Pose2D>& walk) {
   RoomVisit visit{exploration::RoomVisitParams(), exploration::RoomExplorerParams(), BuildingRules(),
                   HallwayDoorParams()};
   DoorTrack door;
-  door.centre_odom = Eigen::Vector2d(0.0, 0.0);
   door.into_odom = 0.5 * kPi;
   door.width = 0.9;
   visit.beginNewRoom(Pose2D{0.0, 0.0, 0.0}, door, 0.0);
-  const Pose2D walk[] = {{0.0, 1.0, 0.5 * kPi}, {0.0, 2.0, 0.5 * kPi}, {0.5, 3.0, 0.0},   {1.5, 2.5, 0.0},
-                         {1.5, 4.0, 0.5 * kPi}, {-0.5, 4.2, kPi},      {-0.8, 1.5, -0.5 * kPi}, {1.0, 1.2, 0.0}};
   double t = 0.0;
   for (const Pose2D& robot : walk) {
     const Perception q = perceive(world, robot, t);
@@ -117,6 +114,12 @@ RoomVisit coveredHost(const exploration::test::SegmentWorld& world) {
     t += 1.0;
   }
   return visit;
+}
+
+// The host room of suite(), covered.
+RoomVisit coveredHost(const exploration::test::SegmentWorld& world) {
+  return coveredRoom(world, {{0.0, 1.0, 0.5 * kPi}, {0.0, 2.0, 0.5 * kPi}, {0.5, 3.0, 0.0}, {1.5, 2.5, 0.0},
+                             {1.5, 4.0, 0.5 * kPi}, {-0.5, 4.2, kPi}, {-0.8, 1.5, -0.5 * kPi}, {1.0, 1.2, 0.0}});
 }
 
 }  // namespace
@@ -180,22 +183,8 @@ TEST(SuiteVisit, GapsBetweenLegsAcrossALongRoomAreNoInnerDoors) {
   w.wall(8.0, -2.0, 8.0, 0.0);
   w.box(-1.7, 0.0, 1.7, 9.0);
   for (double x : {-0.85, 0.0, 0.85}) w.box(x - 0.025, 4.475, x + 0.025, 4.525);
-  RoomVisit visit{exploration::RoomVisitParams(), exploration::RoomExplorerParams(), BuildingRules(),
-                  HallwayDoorParams()};
-  DoorTrack door;
-  door.into_odom = 0.5 * kPi;
-  door.width = 0.9;
-  visit.beginNewRoom(Pose2D{0.0, 0.0, 0.0}, door, 0.0);
-  const Pose2D walk[] = {{0.0, 1.0, 0.5 * kPi}, {0.0, 2.5, 0.5 * kPi}, {1.0, 3.5, 0.5 * kPi},
-                         {-1.0, 3.5, 0.5 * kPi}, {0.4, 3.8, 0.5 * kPi}};
-  double t = 0.0;
-  for (const Pose2D& robot : walk) {
-    const Perception q = perceive(w, robot, t);
-    Decision d;
-    visit.observe(q, false, &d);
-    visit.coverRoom(q, t, t, &d);
-    t += 1.0;
-  }
+  const RoomVisit visit = coveredRoom(w, {{0.0, 1.0, 0.5 * kPi}, {0.0, 2.5, 0.5 * kPi}, {1.0, 3.5, 0.5 * kPi},
+                                          {-1.0, 3.5, 0.5 * kPi}, {0.4, 3.8, 0.5 * kPi}});
   EXPECT_TRUE(visit.innerDoors().empty());
   EXPECT_FALSE(visit.otherDoorsOdom().empty());  // the gaps were seen as door-wide openings
 }
