@@ -303,6 +303,7 @@ void Coordinator::coverRoom(const Perception& q, Decision* d) {
   stats_.room_free_area += visit().explorer().freeArea();
   stats_.peak_room_bytes = std::max(stats_.peak_room_bytes, visit().explorer().bytes());
   if (suite_.insideInner()) {
+    if (!suite_.hallway()) suite_.roomCovered(visit(), travel_);
     visit().beginExit();
     setState(State::ExitPath, (suite_.hallway() ? "a hallway behind the door (" + suite_.space() + "), no room: back into place "
                                                 : std::string("leaving the room by its door back into place ")) +
@@ -311,13 +312,16 @@ void Coordinator::coverRoom(const Perception& q, Decision* d) {
   }
   // The host room is covered: the rooms behind its inner doors first, then its way out.
   if (params_.room_visit.inner_rooms) {
-    suite_.begin(visit_);
+    visit_.openFurnitureGaps();
+    suite_.begin(visit_, travel_);
+    suite_.roomCovered(visit_, travel_);
     if (toNextInnerRoom(q)) return;
   }
   exitHost();
 }
 
 void Coordinator::exitHost() {
+  visit_.closeFurnitureGaps();
   visit_.beginExit();
   setState(State::ExitPath, "leaving the room by its door");
 }

@@ -92,6 +92,8 @@ bool RoomExplorer::start(const Pose2D& door, double door_width) {
   status_ = RoomStatus::Invalid;
   entered_ = false;
   openings_.clear();
+  opening_in_wall_.clear();
+  furniture_gaps_.clear();
   explorer_.clearBlacklist();
   goal_.reset();
   goal_path_ = Path();
@@ -123,22 +125,53 @@ bool RoomExplorer::addScan(const Pose2D& sensor, const std::vector<float>& range
   return true;
 }
 
-bool RoomExplorer::blockOpening(const Eigen::Vector2d& left, const Eigen::Vector2d& right) {
+bool RoomExplorer::blockOpening(const Eigen::Vector2d& left, const Eigen::Vector2d& right, bool in_wall) {
   if (status_ == RoomStatus::Invalid || !finite(left) || !finite(right) || !((right - left).norm() > 1e-6))
     return false;
   const Eigen::Vector2d centre = 0.5 * (left + right);
   const double merge = params_.opening_merge_distance;
   if ((centre - door_xy_).norm() < merge) return false;  // the entry door: its wall waits for the robot
-  for (const auto& [a, b] : openings_)
-    if ((centre - 0.5 * (a + b)).norm() < merge) return false;
+  for (std::size_t i = 0; i < openings_.size(); ++i) {
+    if ((centre - 0.5 * (openings_[i].first + openings_[i].second)).norm() >= merge) continue;
+    if (in_wall) opening_in_wall_[i] = true;
+    return false;
+  }
   openings_.emplace_back(left, right);
+  opening_in_wall_.push_back(in_wall);
   drawWall(left, right);
   return true;
 }
 
+void RoomExplorer::openFurnitureGaps() {
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < openings_.size(); ++i) {
+    if (!opening_in_wall_[i]) {
+      // Free, as the scans saw the gap before its wall was drawn (a leg at its end is seen again by
+      // the next scans; the controller keeps its distance from what the laser sees).
+      drawWall(openings_[i].first, openings_[i].second, CellState::Free);
+      furniture_gaps_.push_back(openings_[i]);
+      continue;
+    }
+    openings_[kept] = openings_[i];
+    opening_in_wall_[kept++] = true;
+  }
+  openings_.resize(kept);
+  opening_in_wall_.resize(kept);
+  drawVirtualWalls();
+}
+
+void RoomExplorer::closeFurnitureGaps() {
+  for (const auto& [a, b] : furniture_gaps_) {
+    openings_.emplace_back(a, b);
+    opening_in_wall_.push_back(false);
+  }
+  furniture_gaps_.clear();
+  drawVirtualWalls();
+}
+
 Eigen::Vector2d RoomExplorer::exitPoint() const { return door_xy_ + params_.exit_depth * door_dir_; }
 
-void RoomExplorer::drawWall(const Eigen::Vector2d& a0, const Eigen::Vector2d& b0) {
+void RoomExplorer::drawWall(const Eigen::Vector2d& a0, const Eigen::Vector2d& b0, CellState state) {
   // The segment extended by door_wall_extension beyond each edge (into the jambs: the edges come
   // from a door detector, a few centimetres off), every cell whose centre lies within one cell of it:
   // 2 to 3 cells thick, so no 8-connected step (a frontier's goal search, the planner) crosses it.
@@ -154,7 +187,7 @@ void RoomExplorer::drawWall(const Eigen::Vector2d& a0, const Eigen::Vector2d& b0
     for (int ix = x0; ix <= x1; ++ix) {
       const Eigen::Vector2d c = grid_.cellCenter(ix, iy);
       const double t = len2 > 0.0 ? std::clamp((c - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-      if ((a + t * ab - c).squaredNorm() <= r * r) grid_.setCell(ix, iy, CellState::Occupied);
+      if ((a + t * ab - c).squaredNorm() <= r * r) grid_.setCell(ix, iy, state);
     }
   }
 }
@@ -339,28 +372,44 @@ double RoomExplorer::freeArea() const {
   return static_cast<double>(std::count(cells.begin(), cells.end(), std::uint8_t(1))) * res * res;
 }
 
-bool RoomExplorer::leadsOutOfRoom(const Eigen::Vector2d& centre, double into, double distance) const {
-  const std::vector<std::uint8_t> cells = roomCells();
-  if (cells.empty()) return false;
-  const Eigen::Vector2d behind = centre - distance * Eigen::Vector2d(std::cos(into), std::sin(into));
-  const double r = params_.planner.robot_radius;
-  // Beyond the room's extent: the box of its free area along the entry door's axes (a pocket between
-  // furniture and a wall, closed by virtual walls of its own, lies within it).
+bool RoomExtent::contains(const Eigen::Vector2d& p, double margin) const {
+  const Eigen::Vector2d dir = laser_features::unitVector(door.theta), across(-dir.y(), dir.x());
+  const Eigen::Vector2d r = p - Eigen::Vector2d(door.x, door.y);
+  const double a = r.dot(dir), b = r.dot(across);
+  return a > depth_min + margin && a < depth_max - margin && b > across_min + margin && b < across_max - margin;
+}
+
+std::optional<RoomExtent> RoomExplorer::extent(const std::vector<std::uint8_t>& cells) const {
+  if (cells.empty()) return std::nullopt;
   const Eigen::Vector2d across(-door_dir_.y(), door_dir_.x());
-  double a0 = std::numeric_limits<double>::infinity(), a1 = -a0, b0 = a0, b1 = -a0;
+  RoomExtent e;
+  e.door = laser_features::Pose2D{door_xy_.x(), door_xy_.y(), std::atan2(door_dir_.y(), door_dir_.x())};
+  e.depth_min = e.across_min = std::numeric_limits<double>::infinity();
+  e.depth_max = e.across_max = -e.depth_min;
   for (int y = grid_.minY(); y < grid_.minY() + grid_.height(); ++y) {
     for (int x = grid_.minX(); x < grid_.minX() + grid_.width(); ++x) {
       if (!cells[grid_.index(x, y)]) continue;
       const Eigen::Vector2d p = grid_.cellCenter(x, y) - door_xy_;
-      a0 = std::min(a0, p.dot(door_dir_));
-      a1 = std::max(a1, p.dot(door_dir_));
-      b0 = std::min(b0, p.dot(across));
-      b1 = std::max(b1, p.dot(across));
+      e.depth_min = std::min(e.depth_min, p.dot(door_dir_));
+      e.depth_max = std::max(e.depth_max, p.dot(door_dir_));
+      e.across_min = std::min(e.across_min, p.dot(across));
+      e.across_max = std::max(e.across_max, p.dot(across));
     }
   }
-  const Eigen::Vector2d pb = behind - door_xy_;
-  const double a = pb.dot(door_dir_), b = pb.dot(across);
-  if (a > a0 - r && a < a1 + r && b > b0 - r && b < b1 + r) return false;
+  return e;
+}
+
+std::optional<RoomExtent> RoomExplorer::extent() const { return extent(roomCells()); }
+
+bool RoomExplorer::leadsOutOfRoom(const Eigen::Vector2d& centre, double into, double distance) const {
+  const std::vector<std::uint8_t> cells = roomCells();
+  const std::optional<RoomExtent> room = extent(cells);
+  if (!room) return false;
+  const Eigen::Vector2d behind = centre - distance * Eigen::Vector2d(std::cos(into), std::sin(into));
+  const double r = params_.planner.robot_radius;
+  // Beyond the room's extent by a robot radius (a pocket between furniture and a wall, closed by
+  // virtual walls of its own, lies within it).
+  if (room->contains(behind, -r)) return false;
   // The cells within a robot radius of it: some seen Free (through the opening), none of the room's
   // area (reached around furniture, the gap is no door).
   const CellIndex c0 = grid_.worldToCell(behind);
@@ -371,7 +420,6 @@ bool RoomExplorer::leadsOutOfRoom(const Eigen::Vector2d& centre, double into, do
       const int x = c0.x + dx, y = c0.y + dy;
       if (!grid_.contains(x, y) || (grid_.cellCenter(x, y) - behind).norm() > r) continue;
       if (grid_.cellState(x, y) != CellState::Free) continue;
-      if (cells[grid_.index(x, y)]) return false;
       free_seen = true;
     }
   }

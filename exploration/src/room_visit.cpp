@@ -150,10 +150,10 @@ RoomVisit::Coverage RoomVisit::coverRoom(const Perception& q, double now, double
     if (!rules_.isDoor(o.width, o.room_behind)) continue;
     const Eigen::Vector2d l = transformPoint(q.room_pose, o.left), r = transformPoint(q.room_pose, o.right);
     if ((0.5 * (l + r) - door).norm() < 0.8) continue;
-    explorer_.blockOpening(l, r);
+    const bool in_wall = o.source == laser_features::OpeningSource::kCollinearGap;
+    explorer_.blockOpening(l, r, in_wall);
     // The opening's normal points away from the sensor, which is inside the room.
-    seeOtherDoor(0.5 * (l + r), normalizeAngle(q.room_pose.theta + o.theta + kPi), o.width,
-                 o.source == laser_features::OpeningSource::kCollinearGap);
+    seeOtherDoor(0.5 * (l + r), normalizeAngle(q.room_pose.theta + o.theta + kPi), o.width, in_wall);
   }
   if (now - last_plan_ >= params_.replan_period || !goal_) {
     last_plan_ = now;
@@ -206,6 +206,12 @@ std::vector<RoomVisit::DoorInPlace> RoomVisit::innerDoors() const {
     doors.push_back(DoorInPlace{s.centre(), into, s.width_sum / s.count, s.count});
   }
   return doors;
+}
+
+std::optional<RoomExtent> RoomVisit::extentOdom() const {
+  std::optional<RoomExtent> e = explorer_.extent();
+  if (e) e->door = compose(place_origin_odom_, e->door);
+  return e;
 }
 
 DoorTrack RoomVisit::doorOdom() const {

@@ -17,8 +17,22 @@ SuiteVisit::SuiteVisit(const RoomVisitParams& params, const RoomExplorerParams& 
                        const laser_features::BuildingRules& rules, const HallwayDoorParams& doors)
     : params_(params), rules_(rules), inner_(params, room, rules, doors) {}
 
-void SuiteVisit::begin(const RoomVisit& host) {
-  todo_ = host.innerDoors();
+void SuiteVisit::roomCovered(const RoomVisit& room, double travel) {
+  recent_rooms_.erase(std::remove_if(recent_rooms_.begin(), recent_rooms_.end(),
+                                     [&](const std::pair<RoomExtent, double>& r) { return travel - r.second > kRecentTravel; }),
+                      recent_rooms_.end());
+  if (const std::optional<RoomExtent> e = room.extentOdom()) recent_rooms_.emplace_back(*e, travel);
+}
+
+void SuiteVisit::begin(const RoomVisit& host, double travel) {
+  todo_.clear();
+  for (const RoomVisit::DoorInPlace& door : host.innerDoors()) {
+    const Eigen::Vector2d behind = transformPoint(host.placeOriginOdom(), door.centre - RoomVisit::kDoorPassage * unitVector(door.into));
+    const bool covered = std::any_of(recent_rooms_.begin(), recent_rooms_.end(), [&](const std::pair<RoomExtent, double>& r) {
+      return travel - r.second <= kRecentTravel && r.first.contains(behind, 0.0);
+    });
+    if (!covered) todo_.push_back(door);
+  }
   inside_ = false;
   inner_doors_odom_.clear();
 }

@@ -72,6 +72,16 @@ struct RoomExplorerParams {
   int max_goals = 60;                   // -, the room is Done after this many frontier goals
 };
 
+/// The box of a room's free area along its entry door's axes.
+struct RoomExtent {
+  laser_features::Pose2D door;      // the entry door's centre and direction into the room
+  double depth_min = 0.0, depth_max = 0.0;    // m, along the direction into the room
+  double across_min = 0.0, across_max = 0.0;  // m, along the door's wall (left +)
+  /// `p` (in the frame `door` is in) lies inside, `margin` (m) or more within every edge (a
+  /// negative margin: up to that far outside).
+  bool contains(const Eigen::Vector2d& p, double margin) const;
+};
+
 enum class RoomStatus {
   Entering,   // the robot is not yet entry_depth past the entry door line
   Exploring,  // frontier goals inside the room
@@ -105,7 +115,15 @@ class RoomExplorer {
   /// through it. Remembered in openings() unless it is the entry door or an opening already known
   /// (centres within opening_merge_distance): then nothing is done. Returns whether it was added
   /// (false also before start() and for non-finite or coincident points).
-  bool blockOpening(const Eigen::Vector2d& left, const Eigen::Vector2d& right);
+  /// `in_wall`: this sighting shows it as a gap between two pieces of one wall (a door, not a gap
+  /// between furniture; kept closed by openFurnitureGaps()).
+  bool blockOpening(const Eigen::Vector2d& left, const Eigen::Vector2d& right, bool in_wall = true);
+  /// The room's coverage is over: the virtual walls of openings never seen as a gap in a wall (between
+  /// table and chair legs, beside a shelf) are taken away, their cells Free (as the scans saw the
+  /// gap): they cut the room's free area in pieces (a path across the room, its extent) until
+  /// closeFurnitureGaps() draws them again.
+  void openFurnitureGaps();
+  void closeFurnitureGaps();
 
   /// The next goal (x, y, pose frame) for the robot at `robot` at time `now` (s, any monotonic
   /// clock): while Entering, the point on the door's axis entry_depth + entry_goal_extra inside
@@ -151,6 +169,8 @@ class RoomExplorer {
   /// area (the virtual walls close the openings, so a room behind a door is reached only through it,
   /// while the space behind a gap between furniture and a wall is the room's own). O(cells).
   bool leadsOutOfRoom(const Eigen::Vector2d& centre, double into, double distance) const;
+  /// The box of freeArea()'s cells along the entry door's axes (pose frame); none without a room.
+  std::optional<RoomExtent> extent() const;
   /// Frontier goals issued since start() (the entering goal is not one).
   int goalsIssued() const { return goals_issued_; }
   /// Memory of the room's grid: one byte per cell.
@@ -163,7 +183,9 @@ class RoomExplorer {
   void drawVirtualWalls();
   /// freeArea()'s cells, one flag per grid cell (empty when there is no room or no seed).
   std::vector<std::uint8_t> roomCells() const;
-  void drawWall(const Eigen::Vector2d& a, const Eigen::Vector2d& b);
+  std::optional<RoomExtent> extent(const std::vector<std::uint8_t>& cells) const;
+  /// The cells of a virtual wall across a-b set to `state` (Occupied: drawn; Free: taken away).
+  void drawWall(const Eigen::Vector2d& a, const Eigen::Vector2d& b, CellState state = CellState::Occupied);
   bool inRoom(const Eigen::Vector2d& p) const { return depth(p) > 0.0; }
   /// Chooses the goal among the explorer's frontiers (after its nextGoal()): when `track`, the one
   /// the held goal belongs to, else the cheapest usable one inside the room. False when none.
@@ -180,6 +202,8 @@ class RoomExplorer {
   Eigen::Vector2d door_dir_ = Eigen::Vector2d::UnitX();  // unit, into the room
   double door_width_ = 0.0;
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> openings_;
+  std::vector<bool> opening_in_wall_;  // per openings_: seen as a gap in a wall
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> furniture_gaps_;  // opened (openFurnitureGaps)
 
   double entering_since_ = 0.0;   // s, the first nextGoal() after start()
   bool entering_clock_ = false;   // entering_since_ is set

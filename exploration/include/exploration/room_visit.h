@@ -114,6 +114,10 @@ class RoomVisit {
     double width = 0.0; // m
     int sightings = 0;
   };
+  /// While the rooms behind are visited, only the doors stay closed by virtual walls
+  /// (RoomExplorer::openFurnitureGaps); the way out has them all again.
+  void openFurnitureGaps() { explorer_.openFurnitureGaps(); }
+  void closeFurnitureGaps() { explorer_.closeFurnitureGaps(); }
   /// The room's doors that are not in its entry door's wall: doors into rooms reachable through this
   /// one (a suite) or into another hallway. A door in the entry's wall lies on that wall's line (to
   /// within the direction error of the entry door over the room, a few centimetres per metre); one in
@@ -124,6 +128,8 @@ class RoomVisit {
   /// leading out of the room (RoomExplorer::leadsOutOfRoom, kDoorPassage behind it: a gap between
   /// furniture and a wall is none).
   std::vector<DoorInPlace> innerDoors() const;
+  /// The room's extent (RoomExplorer::extent) in the odometry frame as the EKF last placed the place.
+  std::optional<RoomExtent> extentOdom() const;
   /// The place's origin in the odometry frame, as the EKF last placed it.
   const laser_features::Pose2D& placeOriginOdom() const { return place_origin_odom_; }
   /// The door entered by, in the odometry frame as the EKF last placed the place (the odometry's

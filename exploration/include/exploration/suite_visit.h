@@ -24,6 +24,7 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace exploration {
@@ -38,8 +39,13 @@ class SuiteVisit {
   SuiteVisit(const RoomVisitParams& params, const RoomExplorerParams& room, const laser_features::BuildingRules& rules,
              const HallwayDoorParams& doors);
 
-  /// The host's coverage is over: its inner doors become the doors to visit.
-  void begin(const RoomVisit& host);
+  /// A room's coverage ended, `travel` (m) into the run: its extent (odometry frame) is kept for
+  /// kRecentTravel of travel.
+  void roomCovered(const RoomVisit& room, double travel);
+  /// The host's coverage is over, `travel` (m) into the run: its inner doors become the doors to
+  /// visit, but for those into a room covered within the last kRecentTravel (the space kDoorPassage
+  /// behind the door lies in its extent: a connecting room entered from the hallway a moment ago).
+  void begin(const RoomVisit& host, double travel);
   /// The next inner door to visit, the nearest to the robot (`robot`, host place) on the host's
   /// grid: a path to its front is planned. False when no door is left (the doors whose front no
   /// path reaches are dropped).
@@ -82,6 +88,10 @@ class SuiteVisit {
   const std::vector<DoorTrack>& innerRoomDoorsOdom() const { return inner_doors_odom_; }
 
   static constexpr double kFront = 1.0;  // m, the robot stands this far in front of an inner door (RoomVisit::kDoorPassage)
+  // m: rooms covered within this much travel are compared in the odometry frame. Wheel odometry
+  // drifts 1-2 % of the distance (0.3-0.6 m over it); the point compared lies kDoorPassage inside
+  // the room behind.
+  static constexpr double kRecentTravel = 30.0;
 
  private:
   RoomVisitParams params_;
@@ -97,6 +107,7 @@ class SuiteVisit {
   bool hallway_ = false;
   std::string space_;
   std::vector<DoorTrack> inner_doors_odom_;
+  std::vector<std::pair<RoomExtent, double>> recent_rooms_;  // extents (odometry frame), travel when covered
 };
 
 }  // namespace exploration
