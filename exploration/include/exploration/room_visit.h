@@ -34,9 +34,11 @@ struct RoomVisitParams {
   double replan_period = 0.5;      // s, the room's frontier goal (a mission's grid path) is chosen again
                                    // at most this often
   double exit_time_limit = 120.0;  // s, leaving a room takes at most this (a third of it per step through the door)
-  bool inner_rooms = true;         // -, after a room's coverage its inner doors (innerDoors()) are entered, each
+  bool inner_rooms = false;        // -, after a room's coverage its inner doors (innerDoors()) are entered, each
                                    // room behind one visited as a room of its own (SuiteVisit); false: they stay
-                                   // virtual walls and rooms reachable only through another room are not mapped
+                                   // virtual walls and rooms reachable only through another room are not mapped.
+                                   // Off by default: a connecting room (with a hallway door of its own) entered
+                                   // from its neighbour is mapped twice unless covered within the last 30 m
 };
 
 class RoomVisit {
