@@ -107,6 +107,7 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
     case State::ExitPath:
     case State::ExitDoor:
     case State::ToInnerDoor:
+    case State::PeekInner:
       motion_ = MotionFeedback{motion_reached, motion_blocked};
       visitRoom(p, &d);
       if (state_ == State::Follow) {
@@ -226,10 +227,11 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
 void Coordinator::noOpeningLeft(Decision* d) {
   // Complete only if nothing was given up: an opening given up unreached counts as explored,
   // and rooms behind it may be missing; a room left at its time limit is not all mapped.
-  const int given_up = hallway_.routeStats().openings_given_up;
-  if (given_up > 0 || stats_.rooms_left_early > 0) {
+  const int given_up = hallway_.routeStats().openings_given_up, inner_given_up = suite_.doorsGivenUp();
+  if (given_up > 0 || stats_.rooms_left_early > 0 || inner_given_up > 0) {
     finish(false, "no unexplored opening is left, but " + std::to_string(given_up) +
-                      " opening(s) were given up unreached and " + std::to_string(stats_.rooms_left_early) +
+                      " opening(s) were given up unreached, " + std::to_string(inner_given_up) +
+                      " door(s) into rooms behind rooms given up and " + std::to_string(stats_.rooms_left_early) +
                       " room(s) left at their time limit", d);
   } else {
     finish(true, "no unexplored opening is left", d);
@@ -278,6 +280,8 @@ void Coordinator::visitRoom(const Perception& p, Decision* d) {
       return coverRoom(q, d);
     case State::ToInnerDoor:
       return toInnerDoor(q, d);
+    case State::PeekInner:
+      return peekInner(q, d);
     default:
       return leaveRoom(q, d);
   }
@@ -296,18 +300,15 @@ void Coordinator::approachDoor(const Perception& q, Decision* d) {
 }
 
 void Coordinator::coverRoom(const Perception& q, Decision* d) {
-  const RoomVisit::Coverage coverage =
-      suite_.hallway() ? RoomVisit::Coverage::Done : visit().coverRoom(q, now_, now_ - state_since_, d);
+  const RoomVisit::Coverage coverage = visit().coverRoom(q, now_, now_ - state_since_, d);
   if (coverage == RoomVisit::Coverage::Covering) return;
   if (coverage == RoomVisit::Coverage::TimedOut) ++stats_.rooms_left_early;
   stats_.room_free_area += visit().explorer().freeArea();
   stats_.peak_room_bytes = std::max(stats_.peak_room_bytes, visit().explorer().bytes());
   if (suite_.insideInner()) {
-    if (!suite_.hallway()) suite_.roomCovered(visit(), travel_);
+    suite_.roomCovered(visit(), travel_);
     visit().beginExit();
-    setState(State::ExitPath, (suite_.hallway() ? "a hallway behind the door (" + suite_.space() + "), no room: back into place "
-                                                : std::string("leaving the room by its door back into place ")) +
-                                  std::to_string(host_place_id_));
+    setState(State::ExitPath, "leaving the room by its door back into place " + std::to_string(host_place_id_));
     return;
   }
   // The host room is covered: the rooms behind its inner doors first, then its way out.
@@ -339,7 +340,24 @@ void Coordinator::toInnerDoor(const Perception& q, Decision* d) {
     if (!toNextInnerRoom(q)) exitHost();
     return;
   }
-  // In front of the door: a place for the room behind, the robot standing still at its origin.
+  setState(State::PeekInner, "looking through the door of place " + std::to_string(place_id_));
+}
+
+void Coordinator::peekInner(const Perception& q, Decision* d) {
+  const SuiteVisit::Drive drive = suite_.peek(visit_, q, now_ - state_since_, d);
+  if (drive == SuiteVisit::Drive::Driving) return;
+  if (drive == SuiteVisit::Drive::There && suite_.behind() != SuiteVisit::Behind::Room) {
+    ++stats_.inner_doors_left;
+    setState(State::PeekInner, (suite_.behind() == SuiteVisit::Behind::Hallway
+                                    ? "a hallway behind the door (" + suite_.space() + "), no room"
+                                    : "a room with a door onto the hallway behind the door (" + suite_.space() +
+                                          "): left to the hallway"));
+  }
+  if (drive == SuiteVisit::Drive::Failed || suite_.behind() != SuiteVisit::Behind::Room) {
+    if (!toNextInnerRoom(q)) exitHost();
+    return;
+  }
+  // Back in front of the door: a place for the room behind, the robot standing still at its origin.
   d->stop = true;
   host_place_id_ = place_id_;
   place_ok_ = false;
@@ -557,6 +575,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
 
 void Coordinator::finish(bool success, const std::string& why, Decision* d) {
   mode_ = CoordinatorMode::Done;
+  stats_.inner_doors_given_up = suite_.doorsGivenUp();
   setState(State::Done, success ? "exploration complete" : "exploration stopped: " + why);
   std::ostringstream s;
   s << (success ? "exploration complete: " : "exploration incomplete: ") << why << "; " << graph_.placeCount()

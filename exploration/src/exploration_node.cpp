@@ -405,6 +405,7 @@ class ExplorationNode {
       const CoordinatorStats& s = coordinator_->stats();
       f << "{\"complete\": " << (r.success ? "true" : "false") << ", \"places\": " << coordinator_->graph().placeCount()
         << ", \"places_entered_by_this_run\": " << s.places << ", \"rooms_entered_from_a_room\": " << s.inner_rooms
+        << ", \"inner_doors_left\": " << s.inner_doors_left << ", \"inner_doors_given_up\": " << s.inner_doors_given_up
         << ", \"nodes\": " << coordinator_->graph().nodes().size() << ", \"edges\": " << coordinator_->graph().edges().size()
         << ", \"openings_explored\": " << coordinator_->graph().exploredCount()
         << ", \"openings_unexplored\": " << coordinator_->graph().unexploredCount() << ", \"travel_m\": " << s.travel

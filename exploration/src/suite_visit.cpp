@@ -52,6 +52,7 @@ bool SuiteVisit::nextDoor(RoomVisit& host, const Eigen::Vector2d& robot) {
     }
   }
   if (best_index == todo_.size()) {
+    given_up_ += int(todo_.size());
     todo_.clear();
     return false;
   }
@@ -59,11 +60,18 @@ bool SuiteVisit::nextDoor(RoomVisit& host, const Eigen::Vector2d& robot) {
   todo_.erase(todo_.begin() + long(best_index));
   path_ = best_path;
   path_index_ = 0;
+  peek_step_ = PeekStep::In;
+  looks_ = door_sightings_ = 0;
+  behind_ = Behind::Room;
+  space_.clear();
   return true;
 }
 
 SuiteVisit::Drive SuiteVisit::driveToDoor(const RoomVisit& host, const Perception& q, double elapsed, Decision* d) {
-  if (elapsed > params_.exit_time_limit) return Drive::Failed;
+  if (elapsed > params_.exit_time_limit) {
+    ++given_up_;
+    return Drive::Failed;
+  }
   const Eigen::Vector2d robot(q.room_pose.x, q.room_pose.y);
   while (path_index_ + 1 < path_.size() && (path_[path_index_] - robot).norm() < 0.3) ++path_index_;
   const Eigen::Vector2d front = door_.centre + kFront * unitVector(door_.into);
@@ -78,6 +86,44 @@ SuiteVisit::Drive SuiteVisit::driveToDoor(const RoomVisit& host, const Perceptio
   return there ? Drive::There : Drive::Driving;
 }
 
+SuiteVisit::Drive SuiteVisit::peek(const RoomVisit& host, const Perception& q, double elapsed, Decision* d) {
+  if (elapsed > params_.exit_time_limit) {
+    ++given_up_;
+    return Drive::Failed;
+  }
+  const Eigen::Vector2d robot(q.room_pose.x, q.room_pose.y);
+  const Eigen::Vector2d into = unitVector(door_.into);  // into the host
+  const double through = normalizeAngle(door_.into + kPi);
+  d->passage_width = door_.width;
+  if (peek_step_ == PeekStep::In) {
+    const Eigen::Vector2d past = door_.centre - RoomVisit::kDoorPassage * into;
+    host.goalInPlace(q, past, through, d);
+    if ((robot - past).norm() < 0.15) peek_step_ = PeekStep::Look;
+    return Drive::Driving;
+  }
+  if (peek_step_ == PeekStep::Look) {
+    d->stop = true;
+    if (looks_ == 0) {
+      const Pose2D door_into_space{door_.centre.x(), door_.centre.y(), through};
+      if (hallwayBehindDoor(q, door_into_space, rules_, &space_)) behind_ = Behind::Hallway;
+    }
+    std::string where;
+    if (doorOntoHostHallway(q, host.doorInPlace(), door_, rules_, &where)) {
+      ++door_sightings_;
+      if (behind_ == Behind::Room && door_sightings_ >= 2) {
+        behind_ = Behind::ConnectingRoom;
+        space_ = where;
+      }
+    }
+    if (++looks_ >= kLookScans) peek_step_ = PeekStep::Out;
+    return Drive::Driving;
+  }
+  const Eigen::Vector2d front = door_.centre + kFront * into;
+  host.goalInPlace(q, front, through, d);
+  const bool there = (robot - front).norm() < 0.15 && std::abs(normalizeAngle(q.room_pose.theta - through)) < 0.15;
+  return there ? Drive::There : Drive::Driving;
+}
+
 void SuiteVisit::beginInnerRoom(const RoomVisit& host, const Pose2D& robot_odom) {
   // The door into the room behind, in the odometry frame: the host's into direction turned round.
   const Pose2D& origin = host.placeOriginOdom();
@@ -89,25 +135,41 @@ void SuiteVisit::beginInnerRoom(const RoomVisit& host, const Pose2D& robot_odom)
   // Out of the room behind, the robot faces away from its door, into the host.
   inner_.beginNewRoom(robot_odom, door, normalizeAngle(door.into_odom + kPi));
   inside_ = true;
-  through_ = checked_ = hallway_ = false;
-  space_.clear();
+  through_ = false;
 }
 
 void SuiteVisit::endInnerRoom() {
-  if (!hallway_)
-    for (const DoorTrack& t : inner_.otherDoorsOdom()) inner_doors_odom_.push_back(t);
+  for (const DoorTrack& t : inner_.otherDoorsOdom()) inner_doors_odom_.push_back(t);
   inside_ = false;
 }
 
 void SuiteVisit::observeInner(const Perception& q) {
   through_ = inner_.explorer().depth(Eigen::Vector2d(q.room_pose.x, q.room_pose.y)) > 0.0;
-  if (checked_ || !inner_.explorer().entered()) return;
-  checked_ = true;
-  hallway_ = hallwayBehind(q, &space_);
 }
 
-bool SuiteVisit::hallwayBehind(const Perception& q, std::string* why) const {
-  return hallwayBehindDoor(q, inner_.doorInPlace(), rules_, why);
+bool doorOntoHostHallway(const Perception& q, const Pose2D& host_door, const RoomVisit::DoorInPlace& inner,
+                         const laser_features::BuildingRules& rules, std::string* why) {
+  // In the host door's frame: a into the host (0 on the hallway's near wall), b along that wall.
+  const Eigen::Vector2d c(host_door.x, host_door.y), axis = unitVector(host_door.theta), wall(-axis.y(), axis.x());
+  const double side = -unitVector(inner.into).dot(wall);  // the room behind lies this way along b
+  if (std::abs(side) < std::cos(0.25 * kPi)) return false;
+  const double sign = side > 0.0 ? 1.0 : -1.0;
+  const double side_wall = (inner.centre - c).dot(wall) * sign;
+  const double clear = 0.5 * rules.door_min_width + rules.door_jamb_min;
+  for (const laser_features::Opening& o : q.openings) {
+    if (!rules.isDoor(o.width, o.room_behind)) continue;
+    const Eigen::Vector2d r = transformPoint(q.room_pose, o.center) - c;
+    const double a = r.dot(axis), b = r.dot(wall) * sign;
+    if (std::abs(a) > 0.5 * rules.hallway_min_width || b < side_wall + clear) continue;
+    if (why) {
+      char text[128];
+      std::snprintf(text, sizeof(text), "a %.2f m door in the hallway's wall %.2f m past the side wall", o.width,
+                    b - side_wall);
+      *why = text;
+    }
+    return true;
+  }
+  return false;
 }
 
 bool hallwayBehindDoor(const Perception& q, const Pose2D& door, const laser_features::BuildingRules& rules,

@@ -241,3 +241,53 @@ TEST(SuiteVisit, FurnitureGapsOpenedMakeTheRoomWholeAndClosedCutItAgain) {
   EXPECT_LT(visit.extentOdom()->depth_max, 4.6);
   EXPECT_FALSE(visit.pathTo(robot, far_end));
 }
+
+// The look through an inner door (SuiteVisit::peek) from just past it: a room behind with a hallway
+// door of its own in the host's hallway wall (a connecting room) is left to the hallway; a room
+// with no such door (a suite) is visited. The host's own second hallway door, in the same wall on
+// the host's side, is no door of the room behind. large_floor (the shipped world): with rooms
+// behind rooms visited, connecting rooms entered both from their neighbour and from the hallway, more
+// than 30 m of travel apart, were 26 rooms mapped twice.
+TEST(SuiteVisit, ARoomWithADoorOntoTheHostsHallwayIsLeftToTheHallway) {
+  for (const bool connecting : {false, true}) {
+    const exploration::test::SegmentWorld world = suite(connecting);
+    const RoomVisit host = coveredHost(world);
+    exploration::SuiteVisit suite{exploration::RoomVisitParams(), exploration::RoomExplorerParams(), BuildingRules(),
+                                  HallwayDoorParams()};
+    RoomVisit for_paths = host;
+    suite.begin(host, 0.0);
+    ASSERT_TRUE(suite.nextDoor(for_paths, Eigen::Vector2d(1.0, 1.2)));
+    const Pose2D past{2.5 + RoomVisit::kDoorPassage, 2.45, 0.0};
+    const Pose2D front{2.5 - exploration::SuiteVisit::kFront, 2.45, 0.0};
+    auto peekFrom = [&](const Pose2D& robot) {
+      Decision d;
+      const auto drive = suite.peek(host, perceive(world, robot, 0.0), 0.0, &d);
+      EXPECT_TRUE(d.passage_width && std::abs(*d.passage_width - 0.9) < 0.1);
+      return drive;
+    };
+    EXPECT_EQ(peekFrom(front), exploration::SuiteVisit::Drive::Driving);  // in through the door
+    for (int k = 0; k <= exploration::SuiteVisit::kLookScans; ++k)
+      EXPECT_EQ(peekFrom(past), exploration::SuiteVisit::Drive::Driving);  // there, looking
+    EXPECT_EQ(peekFrom(front), exploration::SuiteVisit::Drive::There) << "back at the front facing the door";
+    EXPECT_EQ(suite.behind(), connecting ? exploration::SuiteVisit::Behind::ConnectingRoom
+                                         : exploration::SuiteVisit::Behind::Room)
+        << (connecting ? "connecting room" : "suite") << ": " << suite.space();
+  }
+}
+
+// The rule is for doors in the host's side walls: the room behind a door in its back wall lies away
+// from the hallway, and a door seen on the hallway's wall line is none of its own.
+TEST(SuiteVisit, ADoorInTheHostsBackWallLeadsAwayFromItsHallway) {
+  const exploration::test::SegmentWorld world = suite(true);
+  const Perception q = perceive(world, Pose2D{3.5, 2.45, 0.0}, 0.0);
+  RoomVisit::DoorInPlace side{Eigen::Vector2d(2.5, 2.45), kPi, 0.9, 2};
+  RoomVisit::DoorInPlace back{Eigen::Vector2d(2.5, 2.45), -0.5 * kPi, 0.9, 2};
+  const Pose2D host_door{0.0, 0.0, 0.5 * kPi};
+  std::string why;
+  EXPECT_TRUE(exploration::doorOntoHostHallway(q, host_door, side, BuildingRules(), &why));
+  EXPECT_FALSE(exploration::doorOntoHostHallway(q, host_door, back, BuildingRules()));
+  // Seen from the host side of the side wall, the host's own hallway doors are none of the room behind.
+  EXPECT_FALSE(exploration::doorOntoHostHallway(perceive(world, Pose2D{1.0, 2.45, 0.0}, 0.0), host_door,
+                                                RoomVisit::DoorInPlace{Eigen::Vector2d(5.5, 2.45), kPi, 0.9, 2},
+                                                BuildingRules()));
+}

@@ -55,6 +55,8 @@ struct CoordinatorStats {
   int places = 0;
   int rooms_left_early = 0;   // rooms whose exploration hit the time limit
   int inner_rooms = 0;        // rooms entered from another room (SuiteVisit), among places
+  int inner_doors_left = 0;   // inner doors looked through and left: a hallway or a connecting room behind
+  int inner_doors_given_up = 0;  // inner doors no path reached, or not reached or looked through in time
   int doors_entered = 0;
   int doors_passed = 0;       // doors not entered (explored already, or the belief unconfident)
   int openings_given_up = 0;  // openings the route kept missing (see max_route_attempts), also when tried once more
@@ -118,7 +120,7 @@ class Coordinator {
 
  private:
   enum class State { Init, Follow, Turn, StopForDoor, EnterRoom, ApproachDoor, Room, ExitPath, ExitDoor, Done,
-                     Idle, Relocate, GoToGoal, ToInnerDoor, InnerPlace };
+                     Idle, Relocate, GoToGoal, ToInnerDoor, PeekInner, InnerPlace };
 
   void setState(State s, const std::string& text);
   // The states' steps of update(): the start (which way to set off), following the hallway, a turn
@@ -153,9 +155,10 @@ class Coordinator {
   RoomVisit& visit() { return suite_.insideInner() ? suite_.inner() : visit_; }
   const RoomVisit& visit() const { return suite_.insideInner() ? suite_.inner() : visit_; }
   // The rooms behind the host room's inner doors (suite_): to the next door's front (false: none
-  // is left), there a place for the room behind, and back in the host from it.
+  // is left), a look through it, a place for the room behind, and back in the host from it.
   bool toNextInnerRoom(const Perception& q);
   void toInnerDoor(const Perception& q, Decision* d);
+  void peekInner(const Perception& q, Decision* d);
   void createInnerPlace(const Perception& p, Decision* d);
   void backInHost(Decision* d);
   /// The host room's way out begins.

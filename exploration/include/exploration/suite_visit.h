@@ -1,13 +1,22 @@
 // Rooms reachable only through another room (a suite: a back room behind a front room, a room whose
 // only door is in its neighbour's wall). Once a room (the host) is covered, each of its inner doors
 // (RoomVisit::innerDoors: not in the wall of the door it was entered by) is visited: the robot drives
-// on the host's grid to the front of the door, facing it; a place is created there for the room behind
-// (the host's place stands where the hallway stood for the host: the robot left the host's floor
-// there), and that room is visited as any room (RoomVisit: in through the door on its axis, covered
-// behind a virtual wall, out by the same door back to where the robot stood). Then the next inner
-// door, and at last the host's own way out. The doors seen from inside the rooms behind (a
-// connecting room's own hallway door) are kept for the hallway: passed a moment later, they are
-// another door of a room just mapped, not a new room.
+// on the host's grid to the front of the door, facing it, and looks through it from just inside
+// (peek()). Behind it lies
+//  - a hallway (a corner room's second door: hallwayBehindDoor): left;
+//  - a room with a door of its own onto the hallway the host was entered from (a connecting room:
+//    doorOntoHostHallway): left to that hallway's exploration, which enters every room by its
+//    hallway door. Entered from both sides, such a room would be two places, since nothing tells
+//    the robot it is the room it mapped from the hallway (odometry over a room's coverage and more
+//    is no proof);
+//  - else a room reachable only through the host: back at the door's front, a place is created there
+//    for it (the host's place stands where the hallway stood for the host: the robot left the host's
+//    floor there), and that room is visited as any room (RoomVisit: in through the door on its axis,
+//    covered behind a virtual wall, out by the same door back to where the robot stood).
+// Then the next inner door, and at last the host's own way out. No place is made before the look:
+// a place is a room mapped, and one made for a hallway or a connecting room would map it twice.
+// The doors seen from inside the rooms behind are kept for the hallway: passed a moment later, they
+// are another door of a room just mapped, not a new room.
 //
 // One level: the rooms behind are not searched for inner doors of their own.
 //
@@ -29,10 +38,29 @@
 
 namespace exploration {
 
-/// SuiteVisit::hallwayBehind's rule for a door at `door_in_place` (centre, direction into the space)
-/// seen from `q` (in the same place): the space's depth ahead and its extents along the door's wall.
+/// The space behind a door at `door_in_place` (centre, direction into the space), seen from just
+/// inside it (`q`, in the same place), is a hallway, not a room (a corner room's second door into
+/// another hallway): no deeper than the widest hallway (building rules: hallway_max_width +
+/// width_tolerance) straight ahead, and open farther than that along the door's wall on both sides. A
+/// room entered by a door in its side wall is as deep as the row it is in (3.5-14 m on office floors),
+/// or its side walls lie within hallway_max_width of the door on one side (a room narrower than the
+/// widest hallway and deeper than twice it, with the door near the middle of its side wall, is taken
+/// for a hallway: the assumption's limit). `why`: the space's depth and its extents along the wall.
 bool hallwayBehindDoor(const Perception& q, const laser_features::Pose2D& door_in_place,
                        const laser_features::BuildingRules& rules, std::string* why = nullptr);
+
+/// The room behind an inner door in the host's side wall (`inner`: centre, `into` the host) has a
+/// door of its own onto the hallway the host was entered from (`host_door`: centre on the hallway's
+/// wall, direction into the host), seen from `q` (host place): an opening of a door's width
+/// (BuildingRules::isDoor) centred on the hallway's near wall line -- within half the narrowest
+/// hallway of it, since the hallway's far wall lies a hallway's width beyond and the room's own
+/// furniture stands inside it -- and beyond the host's side wall by a door's half width and its jamb
+/// (door_min_width / 2 + door_jamb_min: the host's own doors lie on the other side). A door in the
+/// host's back wall (within 45 deg of the entry's direction) leads away from that hallway: false.
+/// `why`: where along the wall the door was seen, for the log.
+bool doorOntoHostHallway(const Perception& q, const laser_features::Pose2D& host_door,
+                         const RoomVisit::DoorInPlace& inner, const laser_features::BuildingRules& rules,
+                         std::string* why = nullptr);
 
 class SuiteVisit {
  public:
@@ -48,13 +76,25 @@ class SuiteVisit {
   void begin(const RoomVisit& host, double travel);
   /// The next inner door to visit, the nearest to the robot (`robot`, host place) on the host's
   /// grid: a path to its front is planned. False when no door is left (the doors whose front no
-  /// path reaches are dropped).
+  /// path reaches are given up).
   bool nextDoor(RoomVisit& host, const Eigen::Vector2d& robot);
+  /// Inner doors given up since the start: no path to the front, or driveToDoor() or peek() Failed.
+  int doorsGivenUp() const { return given_up_; }
 
   enum class Drive { Driving, There, Failed };
   /// Along the path to the door's front (kFront from it, on the host's side), then facing the door.
   /// Failed after the room visit's exit_time_limit of `elapsed`.
   Drive driveToDoor(const RoomVisit& host, const Perception& q, double elapsed, Decision* d);
+
+  /// What lies behind the door being visited, as peek() saw it.
+  enum class Behind { Room, ConnectingRoom, Hallway };
+  /// From the door's front through the door on its axis to kDoorPassage past it (still in the
+  /// host's place), kLookScans scans standing there, and back to the front facing the door: There,
+  /// with behind() the verdict (a connecting room when doorOntoHostHallway held on two of the
+  /// scans; a hallway when hallwayBehindDoor held on the first). Failed after the room visit's
+  /// exit_time_limit of `elapsed`.
+  Drive peek(const RoomVisit& host, const Perception& q, double elapsed, Decision* d);
+  Behind behind() const { return behind_; }
 
   /// The room behind the door begins: its place was created with the robot at its origin, standing
   /// at the door's front (`robot_odom`).
@@ -66,28 +106,18 @@ class SuiteVisit {
   /// The inner room was left, back at the door's front: its doors seen from inside are kept (not
   /// when it was a hallway: the doors across a hallway are other rooms').
   void endInnerRoom();
-  /// Each scan of an inner room's visit (`q`, in its place): whether the robot stands past its door,
-  /// and once it got in (RoomExplorer::entered), whether the space is a hallway (hallwayBehind).
+  /// Each scan of an inner room's visit (`q`, in its place): whether the robot stands past its door.
   void observeInner(const Perception& q);
   /// The robot stands past the inner door's line (observeInner).
   bool throughDoor() const { return through_; }
-  /// The space behind the inner door was found to be a hallway (observeInner): the visit ends.
-  bool hallway() const { return hallway_; }
-  /// Once checked (observeInner): the space's depth and extents along the door's wall, for the log.
+  /// What peek() saw behind the door (the space's depth and extents, or where the hallway door of the
+  /// room behind lies), for the log.
   const std::string& space() const { return space_; }
-  /// The space behind the inner door, seen from just inside it (`q`, in its place), is a hallway, not
-  /// a room (a corner room's second door into another hallway): no deeper than the widest hallway
-  /// (building rules: hallway_max_width + width_tolerance) straight ahead, and open farther than that
-  /// along the door's wall on both sides. A room entered by a door in its side wall is as deep as the
-  /// row it is in (3.5-14 m on office floors), or its side walls lie within hallway_max_width of the
-  /// door on one side (a room narrower than the widest hallway and deeper than twice it, with the door
-  /// near the middle of its side wall, is taken for a hallway: the assumption's limit).
-  /// `why`: the space's depth and its extents along the wall, for the log.
-  bool hallwayBehind(const Perception& q, std::string* why = nullptr) const;
   /// The doors seen from inside the inner rooms visited since begin() (odometry frame).
   const std::vector<DoorTrack>& innerRoomDoorsOdom() const { return inner_doors_odom_; }
 
   static constexpr double kFront = 1.0;  // m, the robot stands this far in front of an inner door (RoomVisit::kDoorPassage)
+  static constexpr int kLookScans = 3;   // scans peek() takes standing past the door: two sightings of a door, one spare
   // m: rooms covered within this much travel are compared in the odometry frame. Wheel odometry
   // drifts 1-2 % of the distance (0.3-0.6 m over it); the point compared lies kDoorPassage inside
   // the room behind.
@@ -103,10 +133,13 @@ class SuiteVisit {
   std::size_t path_index_ = 0;
   bool inside_ = false;
   bool through_ = false;   // observeInner: past the inner door's line
-  bool checked_ = false;   // ... the space behind was checked for a hallway
-  bool hallway_ = false;
+  enum class PeekStep { In, Look, Out };
+  PeekStep peek_step_ = PeekStep::In;
+  int looks_ = 0, door_sightings_ = 0;  // peek(): scans taken past the door, those that saw a hallway door behind
+  Behind behind_ = Behind::Room;
   std::string space_;
   std::vector<DoorTrack> inner_doors_odom_;
+  int given_up_ = 0;
   std::vector<std::pair<RoomExtent, double>> recent_rooms_;  // extents (odometry frame), travel when covered
 };
 
