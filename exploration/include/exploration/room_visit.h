@@ -34,11 +34,10 @@ struct RoomVisitParams {
   double replan_period = 0.5;      // s, the room's frontier goal (a mission's grid path) is chosen again
                                    // at most this often
   double exit_time_limit = 120.0;  // s, leaving a room takes at most this (a third of it per step through the door)
-  bool inner_rooms = false;        // -, after a room's coverage its inner doors (innerDoors()) are entered, each
-                                   // room behind one visited as a room of its own (SuiteVisit); false: they stay
-                                   // virtual walls and rooms reachable only through another room are not mapped.
-                                   // Off by default: a connecting room (with a hallway door of its own) entered
-                                   // from its neighbour is mapped twice unless covered within the last 30 m
+  bool inner_rooms = true;         // -, after a room's coverage its inner doors (innerDoors()) are looked through and
+                                   // the rooms behind them visited as rooms of their own (SuiteVisit), but for
+                                   // connecting rooms and hallways; false: they stay virtual walls and rooms
+                                   // reachable only through another room are not mapped.
 };
 
 class RoomVisit {
