@@ -346,15 +346,16 @@ void Coordinator::toInnerDoor(const Perception& q, Decision* d) {
 void Coordinator::peekInner(const Perception& q, Decision* d) {
   const SuiteVisit::Drive drive = suite_.peek(visit_, q, now_ - state_since_, d);
   if (drive == SuiteVisit::Drive::Driving) return;
-  if (drive == SuiteVisit::Drive::There && suite_.behind() != SuiteVisit::Behind::Room) {
-    ++stats_.inner_doors_left;
-    setState(State::PeekInner, (suite_.behind() == SuiteVisit::Behind::Hallway
-                                    ? "a hallway behind the door (" + suite_.space() + "), no room"
-                                    : "a room with a door onto the hallway behind the door (" + suite_.space() +
-                                          "): left to the hallway"));
-  }
   if (drive == SuiteVisit::Drive::Failed || suite_.behind() != SuiteVisit::Behind::Room) {
+    std::string seen = "the look through the door timed out";
+    if (drive == SuiteVisit::Drive::There) {
+      ++stats_.inner_doors_left;
+      seen = suite_.behind() == SuiteVisit::Behind::Hallway
+                 ? "a hallway behind the door (" + suite_.space() + "), no room"
+                 : "a room with a door onto the hallway behind the door (" + suite_.space() + "): left to the hallway";
+    }
     if (!toNextInnerRoom(q)) exitHost();
+    state_text_ = seen + "; " + state_text_;  // the verdict in the log, with what follows
     return;
   }
   // Back in front of the door: a place for the room behind, the robot standing still at its origin.

@@ -15,7 +15,7 @@ using laser_features::unitVector;
 
 SuiteVisit::SuiteVisit(const RoomVisitParams& params, const RoomExplorerParams& room,
                        const laser_features::BuildingRules& rules, const HallwayDoorParams& doors)
-    : params_(params), rules_(rules), inner_(params, room, rules, doors) {}
+    : params_(params), rules_(rules), inner_(params, room, rules, doors), peek_depth_(room.planner.robot_radius) {}
 
 void SuiteVisit::roomCovered(const RoomVisit& room, double travel) {
   recent_rooms_.erase(std::remove_if(recent_rooms_.begin(), recent_rooms_.end(),
@@ -96,7 +96,7 @@ SuiteVisit::Drive SuiteVisit::peek(const RoomVisit& host, const Perception& q, d
   const double through = normalizeAngle(door_.into + kPi);
   d->passage_width = door_.width;
   if (peek_step_ == PeekStep::In) {
-    const Eigen::Vector2d past = door_.centre - RoomVisit::kDoorPassage * into;
+    const Eigen::Vector2d past = door_.centre - peek_depth_ * into;
     host.goalInPlace(q, past, through, d);
     if ((robot - past).norm() < 0.15) peek_step_ = PeekStep::Look;
     return Drive::Driving;

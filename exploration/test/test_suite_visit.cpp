@@ -165,6 +165,10 @@ TEST(SuiteVisit, TheSpaceBehindADoorIsAHallwayOnlyWhenShallowAndLongBothWays) {
   hallway.wall(-2.5, 0.0, 2.5, 0.0);
   hallway.wall(-2.5, 5.0, 2.5, 5.0);
   EXPECT_TRUE(exploration::hallwayBehindDoor(perceive(hallway, just_inside, 0.0), door, rules, &why)) << why;
+  // From where SuiteVisit::peek looks, a robot radius past the door: the same verdicts.
+  const Pose2D peek_at{2.75, 2.45, 0.0};
+  EXPECT_TRUE(exploration::hallwayBehindDoor(perceive(hallway, peek_at, 0.0), door, rules, &why)) << why;
+  EXPECT_FALSE(exploration::hallwayBehindDoor(perceive(room, peek_at, 0.0), door, rules, &why)) << why;
 
   // A room as shallow as a hallway, closed 1.5 m from the door on one side: a room.
   exploration::test::SegmentWorld shallow;
@@ -257,7 +261,7 @@ TEST(SuiteVisit, ARoomWithADoorOntoTheHostsHallwayIsLeftToTheHallway) {
     RoomVisit for_paths = host;
     suite.begin(host, 0.0);
     ASSERT_TRUE(suite.nextDoor(for_paths, Eigen::Vector2d(1.0, 1.2)));
-    const Pose2D past{2.5 + RoomVisit::kDoorPassage, 2.45, 0.0};
+    const Pose2D past{2.5 + suite.peekDepth(), 2.45, 0.0};
     const Pose2D front{2.5 - exploration::SuiteVisit::kFront, 2.45, 0.0};
     auto peekFrom = [&](const Pose2D& robot) {
       Decision d;

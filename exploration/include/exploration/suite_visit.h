@@ -88,13 +88,20 @@ class SuiteVisit {
 
   /// What lies behind the door being visited, as peek() saw it.
   enum class Behind { Room, ConnectingRoom, Hallway };
-  /// From the door's front through the door on its axis to kDoorPassage past it (still in the
+  /// From the door's front through the door on its axis to peekDepth() past it (still in the
   /// host's place), kLookScans scans standing there, and back to the front facing the door: There,
   /// with behind() the verdict (a connecting room when doorOntoHostHallway held on two of the
   /// scans; a hallway when hallwayBehindDoor held on the first). Failed after the room visit's
   /// exit_time_limit of `elapsed`.
   Drive peek(const RoomVisit& host, const Perception& q, double elapsed, Decision* d);
   Behind behind() const { return behind_; }
+  /// m, how far past the door's line peek() looks from: a robot radius. The robot's back is at the
+  /// line: the laser, past a wall up to a radius thick, sees all of the room behind, and the host
+  /// stays in view through the door behind it (a cone of 2 atan(door_min_width / 2 / radius), 110 deg
+  /// for the narrowest door), so the host's EKF keeps matching the host's walls. From a metre in,
+  /// the room behind fills the view and its walls, parallel to the host's, were matched to them: the
+  /// host's place turned by 0.3 rad and the robot could not find its way out (generated building 21).
+  double peekDepth() const { return peek_depth_; }
 
   /// The room behind the door begins: its place was created with the robot at its origin, standing
   /// at the door's front (`robot_odom`).
@@ -140,6 +147,7 @@ class SuiteVisit {
   std::string space_;
   std::vector<DoorTrack> inner_doors_odom_;
   int given_up_ = 0;
+  double peek_depth_ = 0.25;  // m, peekDepth()
   std::vector<std::pair<RoomExtent, double>> recent_rooms_;  // extents (odometry frame), travel when covered
 };
 
