@@ -81,9 +81,12 @@ SuiteVisit::Drive SuiteVisit::driveToDoor(const RoomVisit& host, const Perceptio
     return Drive::Driving;
   }
   host.goalInPlace(q, front, facing, d);
-  // As RoomVisit::approachDoor stands at a door.
-  const bool there = (robot - front).norm() < 0.15 && std::abs(normalizeAngle(q.room_pose.theta - facing)) < 0.15;
-  return there ? Drive::There : Drive::Driving;
+  return standsAt(q, front, facing) ? Drive::There : Drive::Driving;
+}
+
+bool SuiteVisit::standsAt(const Perception& q, const Eigen::Vector2d& p, double theta) {
+  return (Eigen::Vector2d(q.room_pose.x, q.room_pose.y) - p).norm() < 0.15 &&
+         std::abs(normalizeAngle(q.room_pose.theta - theta)) < 0.15;
 }
 
 SuiteVisit::Drive SuiteVisit::peek(const RoomVisit& host, const Perception& q, double elapsed, Decision* d) {
@@ -120,8 +123,7 @@ SuiteVisit::Drive SuiteVisit::peek(const RoomVisit& host, const Perception& q, d
   }
   const Eigen::Vector2d front = door_.centre + kFront * into;
   host.goalInPlace(q, front, through, d);
-  const bool there = (robot - front).norm() < 0.15 && std::abs(normalizeAngle(q.room_pose.theta - through)) < 0.15;
-  return there ? Drive::There : Drive::Driving;
+  return standsAt(q, front, through) ? Drive::There : Drive::Driving;
 }
 
 void SuiteVisit::beginInnerRoom(const RoomVisit& host, const Pose2D& robot_odom) {

@@ -98,9 +98,8 @@ class SuiteVisit {
   /// m, how far past the door's line peek() looks from: a robot radius. The robot's back is at the
   /// line: the laser, past a wall up to a radius thick, sees all of the room behind, and the host
   /// stays in view through the door behind it (a cone of 2 atan(door_min_width / 2 / radius), 110 deg
-  /// for the narrowest door), so the host's EKF keeps matching the host's walls. From a metre in,
-  /// the room behind fills the view and its walls, parallel to the host's, were matched to them: the
-  /// host's place turned by 0.3 rad and the robot could not find its way out (generated building 21).
+  /// for the narrowest door), so the host's EKF keeps matching the host's walls; deeper in, the room
+  /// behind fills the view and its walls, parallel to the host's, can be matched to them.
   double peekDepth() const { return peek_depth_; }
 
   /// The room behind the door begins: its place was created with the robot at its origin, standing
@@ -110,8 +109,7 @@ class SuiteVisit {
   bool insideInner() const { return inside_; }
   RoomVisit& inner() { return inner_; }
   const RoomVisit& inner() const { return inner_; }
-  /// The inner room was left, back at the door's front: its doors seen from inside are kept (not
-  /// when it was a hallway: the doors across a hallway are other rooms').
+  /// The inner room was left, back at the door's front: its doors seen from inside are kept.
   void endInnerRoom();
   /// Each scan of an inner room's visit (`q`, in its place): whether the robot stands past its door.
   void observeInner(const Perception& q);
@@ -131,6 +129,9 @@ class SuiteVisit {
   static constexpr double kRecentTravel = 30.0;
 
  private:
+  /// The robot (`q`, host place) stands within 0.15 m of `p`, facing `theta` within 0.15 rad (as
+  /// RoomVisit::approachDoor stands at a door).
+  static bool standsAt(const Perception& q, const Eigen::Vector2d& p, double theta);
   RoomVisitParams params_;
   laser_features::BuildingRules rules_;
   RoomVisit inner_;
