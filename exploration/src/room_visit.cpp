@@ -196,7 +196,7 @@ std::vector<DoorTrack> RoomVisit::otherDoorsOdom() const {
 }
 
 std::vector<RoomVisit::DoorInPlace> RoomVisit::innerDoors() const {
-  const double min_depth = 0.5 * rules_.door_min_width + rules_.door_jamb_min;
+  const double min_depth = rules_.doorFromCorner();
   std::vector<DoorInPlace> doors;
   for (const SeenDoor& s : other_doors_) {
     if (s.in_wall < 2 || explorer_.depth(s.centre()) < min_depth) continue;

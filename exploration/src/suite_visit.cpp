@@ -157,7 +157,7 @@ bool doorOntoHostHallway(const Perception& q, const Pose2D& host_door, const Roo
   if (std::abs(side) < std::cos(0.25 * kPi)) return false;
   const double sign = side > 0.0 ? 1.0 : -1.0;
   const double side_wall = (inner.centre - c).dot(wall) * sign;
-  const double clear = 0.5 * rules.door_min_width + rules.door_jamb_min;
+  const double clear = rules.doorFromCorner();
   for (const laser_features::Opening& o : q.openings) {
     if (!rules.isDoor(o.width, o.room_behind)) continue;
     const Eigen::Vector2d r = transformPoint(q.room_pose, o.center) - c;

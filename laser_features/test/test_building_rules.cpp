@@ -130,6 +130,15 @@ TEST(BuildingRules, ADoorInAnEndWallIsNarrowerThanTheHallwayByTwoJambs) {
   EXPECT_NE(why.find("door_jamb_min"), std::string::npos);
 }
 
+// A door's centre lies half the narrowest door and a frame from the corner of its wall: 0.55 m with
+// the office defaults; a wider frame moves it out with it.
+TEST(BuildingRules, ADoorsCentreLiesHalfADoorAndAFrameFromItsWallsCorner) {
+  BuildingRules rules;
+  EXPECT_NEAR(rules.doorFromCorner(), 0.55, 1e-12);
+  rules.door_jamb_min = 0.3;
+  EXPECT_NEAR(rules.doorFromCorner(), 0.65, 1e-12);
+}
+
 TEST(BuildingRules, NoInvertedRange) {
   const BuildingRules rules;
   EXPECT_TRUE(rules.valid());

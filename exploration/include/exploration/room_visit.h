@@ -123,7 +123,7 @@ class RoomVisit {
   /// one (a suite) or into another hallway. A door in the entry's wall lies on that wall's line (to
   /// within the direction error of the entry door over the room, a few centimetres per metre); one in
   /// a side wall lies past the corner by at least half the narrowest door plus a jamb
-  /// (BuildingRules::door_min_width / 2 + door_jamb_min), one in the back wall by the room's depth.
+  /// (BuildingRules::doorFromCorner), one in the back wall by the room's depth.
   /// Seen from inside at least twice as a gap between two pieces of one wall (laser_features'
   /// collinear-gap cue: the gaps between table and chair legs have no wall on either side), and
   /// leading out of the room (RoomExplorer::leadsOutOfRoom, kDoorPassage behind it: a gap between

@@ -55,7 +55,7 @@ bool hallwayBehindDoor(const Perception& q, const laser_features::Pose2D& door_i
 /// (BuildingRules::isDoor) centred on the hallway's near wall line -- within half the narrowest
 /// hallway of it, since the hallway's far wall lies a hallway's width beyond and the room's own
 /// furniture stands inside it -- and beyond the host's side wall by a door's half width and its jamb
-/// (door_min_width / 2 + door_jamb_min: the host's own doors lie on the other side). A door in the
+/// (BuildingRules::doorFromCorner: the host's own doors lie on the other side). A door in the
 /// host's back wall (within 45 deg of the entry's direction) leads away from that hallway: false.
 /// `why`: where along the wall the door was seen, for the log.
 bool doorOntoHostHallway(const Perception& q, const laser_features::Pose2D& host_door,

@@ -83,6 +83,11 @@ struct BuildingRules {
   bool fitsInEndWall(double opening_width, double hallway_width) const {
     return opening_width + 2.0 * door_jamb_min <= hallway_width + 2.0 * width_tolerance;
   }
+  /// m, the least distance from a door's centre to the wall it meets at a corner: half the narrowest
+  /// door and its frame (door_jamb_min). A door this far or farther from a wall's line lies in another
+  /// wall than that one (a side or back wall, not the wall of the door a room was entered by), and a
+  /// door on a wall line lies beyond a side wall by at least this.
+  double doorFromCorner() const { return 0.5 * door_min_width + door_jamb_min; }
   /// Range checks; false with the offending parameter in `error`.
   bool valid(std::string* error = nullptr) const {
     auto fail = [&](const char* why) {
