@@ -256,6 +256,20 @@ void HallwayNavigator::turnAtEnd(const Perception& p, const TopoView& topo, cons
   std::snprintf(why, sizeof(why), " (free ahead %.2f m, left %s, right %s, at %.2f %.2f odom)", v.free_ahead,
                 v.end_open_left ? "open" : "closed", v.end_open_right ? "open" : "closed", p.odom.x, p.odom.y);
   if (ways.empty()) {
+    // A U-turn where the robot turned round a moment ago (less than its clearance driven since)
+    // would face the way it found closed a moment ago: both ways along are closed (a stub the
+    // route turned it into, a lane blocked both ways). It turns to the freer side instead of round
+    // and round for ever.
+    const bool again = at.travel - u_turn_travel_ < follower_.viewParams().clearance;
+    u_turn_travel_ = at.travel;
+    if (again) {
+      const bool to_left = follower_.freeAlong(left, p, topo) >= follower_.freeAlong(right, p, topo);
+      ++stats_.turns;
+      beginTurn(to_left ? left : right, topo, {});
+      step->text = std::string("hallway end where the robot turned round: turning to the freer side, ") +
+                   (to_left ? "left" : "right") + why;
+      return;
+    }
     ++stats_.u_turns;
     beginTurn(back, topo, {});
     step->text = "hallway end: turning round" + std::string(why);

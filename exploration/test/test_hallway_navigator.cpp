@@ -248,6 +248,38 @@ TEST(HallwayNavigator, TurnsRoundAtADeadEndAndFollowsTheHallwayBack) {
   EXPECT_LT(back.x, robot.x - 1.0);
 }
 
+// Where the robot turned round and finds the way back closed too (a pocket both ways: a stub the
+// route turned it into, a lane blocked both ways), it turns to the freer side instead of round again:
+// U-turns on the spot would go on for ever.
+TEST(HallwayNavigator, TurnedRoundIntoAClosedWayItTurnsToTheFreerSide) {
+  Hallway pocket(false);
+  pocket.walls.clear();  // 3.4 m by 1.6 m, closed: the robot 1.0 m from its west wall, 2.4 m from its east one
+  pocket.wall(0.0, -0.8, 3.4, -0.8);
+  pocket.wall(3.4, -0.8, 3.4, 0.8);
+  pocket.wall(3.4, 0.8, 0.0, 0.8);
+  pocket.wall(0.0, 0.8, 0.0, -0.8);
+  HallwayNavigator nav = navigator();
+  Pose2D robot{1.0, 0.0, 0.5 * kPi};
+  nav.faceRobotsBin(pocket.perceive(robot, 0.0), belief("frontier"));
+  const Followed first = followUntilChange(&nav, pocket, &robot, 5);
+  ASSERT_EQ(first.step.kind, HallwayStep::Turning) << first.step.text;
+  EXPECT_EQ(first.step.text.rfind("hallway end: turning round", 0), 0u) << first.step.text;
+  bool turned = false;
+  for (int i = 0; i < 100 && !turned; ++i) {
+    Decision d;
+    turned = nav.turn(pocket.perceive(robot, 0.1 * i), false, false, 0.0, &d);
+    step(d, &robot);
+  }
+  ASSERT_TRUE(turned);
+  const Followed again = followUntilChange(&nav, pocket, &robot, 5);
+  ASSERT_EQ(again.step.kind, HallwayStep::Turning) << again.step.text;
+  EXPECT_EQ(again.step.text.rfind("hallway end where the robot turned round: turning to the freer side, left", 0), 0u)
+      << again.step.text;
+  ASSERT_TRUE(again.last.theta);
+  EXPECT_NEAR(*again.last.theta, 0.0, 1e-6);  // east: the freer side
+  EXPECT_EQ(nav.stats().u_turns, 1);
+}
+
 // A door passed on a new stretch is stopped for and entered as a new opening; while pomdp_topo
 // checks whether the door's node is a known one, it is passed.
 TEST(HallwayNavigator, StopsForADoorPassedOnANewStretch) {

@@ -135,13 +135,13 @@ class HallwayFollower {
   /// The way `way_robot` (robot frame) is the hallway's from here on: its offset is kept, its bin
   /// returned (to turn to).
   int takeWay(double way_robot, const Perception& p, const TopoView& topo);
+  /// m, the free distance along `bin` (the ahead sector).
+  double freeAlong(int bin, const Perception& p, const TopoView& topo) const;
 
  private:
   /// 0: the hallway at the start runs along the robot's own bin, 1: across it; none: no walls seen
   /// on both sides of the robot.
   std::optional<int> startHallwayAxis(const Perception& p, const TopoView& topo) const;
-  /// The free distance along `bin` (the ahead sector).
-  double freeAlong(int bin, const Perception& p, const TopoView& topo) const;
   /// The map heading of `dir_robot` (robot frame).
   static double mapHeading(double dir_robot, const Perception& p, const TopoView& topo);
 

@@ -179,6 +179,7 @@ class HallwayNavigator {
   };
   std::optional<WayLine> way_line_;
   double pending_branch_travel_ = -1.0;
+  double u_turn_travel_ = -1e9;  // m, travel at the last U-turn at a hallway's end
   // s, when ways not taken were last recorded: no "complete" until pomdp_topo's map has them (it is
   // published after every scan; kRecordSettleTime is many scans).
   double recorded_stamp_ = -1e9;
