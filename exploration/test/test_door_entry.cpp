@@ -237,6 +237,18 @@ TEST(HallwayDoors, AGapInTheEndWallNeedsNoLineSupportOfItsEdges) {
   EXPECT_TRUE(doors.inEndWall(odom, {seen_well}, 0.0, v).has_value());
 }
 
+// Drives 5 m east past an opening 3 m ahead, `aside` m to the left, seeing the walls of `view`: whether
+// the opening is passed as a door to enter.
+bool passesOpening(HallwayDoors* doors, const exploration::HallwayView& view, double aside) {
+  for (int i = 0; i <= 100; ++i) {
+    const laser_features::Pose2D odom{0.05 * i, 0.0, 0.0};
+    const auto walls = doors->track(odom, {opening({3.0 - odom.x, aside}, 0.5 * kPi, 0.9)}, 0.0, view, odom.x);
+    DoorTrack d;
+    if (doors->passed(odom, 0.0, walls, &d)) return true;
+  }
+  return false;
+}
+
 // A door is the hallway's own (tracked, and entered once passed) within half the widest hallway of
 // the travel line (BuildingRules::hallwayReach), whatever the widest hallway is: the reach
 // pomdp_topo passes side openings within.
@@ -246,15 +258,7 @@ TEST(HallwayDoors, ADoorIsTrackedWithinHalfTheWidestHallway) {
       BuildingRules rules;
       rules.hallway_max_width = hallway_max_width;
       HallwayDoors doors{HallwayDoorParams(), rules};
-      const exploration::HallwayView no_walls;
-      bool passed = false;
-      for (int i = 0; i <= 100 && !passed; ++i) {  // 5 m east past a door 3 m ahead, `aside` m to the left
-        const laser_features::Pose2D odom{0.05 * i, 0.0, 0.0};
-        const auto walls = doors.track(odom, {opening({3.0 - odom.x, aside}, 0.5 * kPi, 0.9)}, 0.0, no_walls, odom.x);
-        DoorTrack d;
-        passed = doors.passed(odom, 0.0, walls, &d);
-      }
-      EXPECT_EQ(passed, aside <= 0.5 * hallway_max_width)
+      EXPECT_EQ(passesOpening(&doors, exploration::HallwayView(), aside), aside <= 0.5 * hallway_max_width)
           << "widest hallway " << hallway_max_width << " m, door " << aside << " m aside";
     }
   }
@@ -269,14 +273,7 @@ TEST(HallwayDoors, ADoorPassedLiesInItsSidesWallNotInFrontOfIt) {
     exploration::HallwayView wall_left;
     wall_left.left_wall = true;
     wall_left.left_lateral = 1.2;
-    bool passed = false;
-    for (int i = 0; i <= 100 && !passed; ++i) {  // 5 m east past an opening 3 m ahead, `aside` m to the left
-      const laser_features::Pose2D odom{0.05 * i, 0.0, 0.0};
-      const auto walls = doors.track(odom, {opening({3.0 - odom.x, aside}, 0.5 * kPi, 0.9)}, 0.0, wall_left, odom.x);
-      DoorTrack d;
-      passed = doors.passed(odom, 0.0, walls, &d);
-    }
-    EXPECT_EQ(passed, aside == 1.2) << "an opening " << aside << " m aside, its wall 1.2 m";
+    EXPECT_EQ(passesOpening(&doors, wall_left, aside), aside == 1.2) << "an opening " << aside << " m aside, its wall 1.2 m";
   }
 }
 
