@@ -20,10 +20,6 @@ HallwayFollower::HallwayFollower(const HallwayFollowerParams& params, const Hall
   view_.min_mouth = rules.hallway_min_width - rules.width_tolerance;
   view_.widest_hallway = rules.widestHallway();
   view_.wall_max_lateral = rules.hallwayReach();
-  // From the mid-line this hallway's own wall lies up to half the widest hallway aside; a side is
-  // open only where the robot's corridor reaches a clearance past that (with 2.0 m, the walls of a
-  // 4 m hallway opened).
-  view_.side_open_distance = 0.5 * view_.widest_hallway + view_.clearance;
 }
 
 double HallwayFollower::odomHeadingOfBin(int bin, const TopoView& topo) const {

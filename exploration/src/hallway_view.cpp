@@ -88,43 +88,33 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
                         const HallwayViewParams& params, double range_cap) {
   HallwayView v;
   v.free_ahead = freeDistance(points, direction, params.ahead_sector, range_cap);
+  // A side is open where a hallway's mouth is, and only there: a door lets a side sector see into
+  // the room behind it whenever it is wider than the sector's chord at the wall (a 1.2 m door at
+  // 0.75 m, in a 1.5 m hallway, subtends 77 deg), but no door is as wide as the narrowest hallway.
+  const auto open = [&](const Eigen::Vector2d& origin, int side) {
+    return mouthBeside(points, origin, direction, side, params.clearance, params.min_mouth, params.side_open_distance);
+  };
+  v.open_left = open(Eigen::Vector2d::Zero(), 1);
+  v.open_right = open(Eigen::Vector2d::Zero(), -1);
 
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction));
   const Eigen::Vector2d n(-u.y(), u.x());  // left
-  // A hallway's two walls lie at most the widest hallway apart wherever the robot stands across it:
-  // the nearest wall to each side within that width are this hallway's walls when together they
-  // are no wider. A wall without such a partner is this hallway's only within half the widest
-  // hallway (wall_max_lateral); farther, it bounds an open area or lies beyond a crossing. (Half
-  // the widest hallway for each wall alone would drop the far wall of a 3.6 m hallway as soon as
-  // the robot is 0.2 m off its mid-line, and take the far side for an open way.)
-  std::optional<double> left, right;
-  for (const auto& l : lines) {
-    const std::optional<WallBeside> w = wallBeside(l, direction, u, n, params, params.widest_hallway);
-    if (!w) continue;
-    std::optional<double>& side = w->lateral > 0.0 ? left : right;
-    if (!side || std::abs(w->lateral) < std::abs(*side)) side = w->lateral;
-  }
-  if (!(left && right && *left - *right <= params.widest_hallway)) {
-    if (left && *left > params.wall_max_lateral) left.reset();
-    if (right && -*right > params.wall_max_lateral) right.reset();
-  }
-  v.left_wall = left.has_value();
-  v.right_wall = right.has_value();
-  if (left) v.left_lateral = *left;
-  if (right) v.right_lateral = *right;
-  // The walls' direction: every wall line within half the widest hallway, and the far wall's own.
   double weight = 0.0, sin_sum = 0.0, cos_sum = 0.0;
   for (const auto& l : lines) {
-    const std::optional<WallBeside> w = wallBeside(l, direction, u, n, params, params.widest_hallway);
+    const std::optional<WallBeside> w = wallBeside(l, direction, u, n, params, params.wall_max_lateral);
     if (!w) continue;
-    const bool near = std::abs(w->lateral) <= params.wall_max_lateral;
-    const bool far_wall = (left && std::abs(w->lateral - *left) < params.wall_same_lateral) ||
-                          (right && std::abs(w->lateral - *right) < params.wall_same_lateral);
-    if (!near && !far_wall) continue;
-    const double len = l.length();
+    const double len = l.length(), diff = w->diff, lateral = w->lateral;
+    if (lateral > 0.0 && (!v.left_wall || lateral < v.left_lateral)) {
+      v.left_wall = true;
+      v.left_lateral = lateral;
+    }
+    if (lateral < 0.0 && (!v.right_wall || lateral > v.right_lateral)) {
+      v.right_wall = true;
+      v.right_lateral = lateral;
+    }
     // Mean of the doubled angles: undirected lines average without the pi ambiguity.
-    sin_sum += len * std::sin(2.0 * w->diff);
-    cos_sum += len * std::cos(2.0 * w->diff);
+    sin_sum += len * std::sin(2.0 * diff);
+    cos_sum += len * std::cos(2.0 * diff);
     weight += len;
   }
   // How far the walls reach ahead: every line along the direction at either wall's lateral offset.
@@ -150,17 +140,6 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   } else if (v.right_wall) {
     v.centre_offset = std::max(0.0, v.right_lateral + params.min_wall_clearance);
   }
-  // A side is open where a hallway's mouth is, and only there: a door lets a side sector see into
-  // the room behind it whenever it is wider than the sector's chord at the wall (a 1.2 m door at
-  // 0.75 m, in a 1.5 m hallway, subtends 77 deg), but no door is as wide as the narrowest hallway.
-  // Seen from the mid-line between two walls (the robot off it would see past its near wall's
-  // distance towards the far one), else from the robot.
-  const auto open = [&](const Eigen::Vector2d& origin, int side) {
-    return mouthBeside(points, origin, direction, side, params.clearance, params.min_mouth, params.side_open_distance);
-  };
-  const Eigen::Vector2d mid_line = v.left_wall && v.right_wall ? Eigen::Vector2d(v.centre_offset * n) : Eigen::Vector2d::Zero();
-  v.open_left = open(mid_line, 1);
-  v.open_right = open(mid_line, -1);
   // Along an open area's wall (a lobby, a hall, a hallway open on one side to either): the doors and
   // the hallways leaving the area are along its walls, and from its middle the robot sees none of
   // them. The robot keeps to the wall it sees as to a hallway's (the one-wall distance) rather than

@@ -398,7 +398,7 @@ TEST(HallwayView, AlongAnOpenAreasWallTheMidLineKeepsTheOneWallDistance) {
       EXPECT_TRUE(open.open_area_beside);
       EXPECT_NEAR(open.centre_offset, side * (to_wall - params.min_wall_clearance), 1e-9);
       if (to_wall > params.wall_max_lateral) continue;
-      // A 3.8 m hallway (the widest is 4 m): its far wall is the hallway's, not an open area's.
+      // A 3.8 m hallway (the widest is 4 m): its far wall is seen in the scan, not as a wall beside.
       std::vector<Eigen::Vector2d> hall_pts;
       std::vector<laser_features::LineSegment> hall_lines;
       addWall(&hall_pts, &hall_lines, {-6.0, side * to_wall}, {6.0, side * to_wall});
@@ -407,51 +407,6 @@ TEST(HallwayView, AlongAnOpenAreasWallTheMidLineKeepsTheOneWallDistance) {
       EXPECT_FALSE(hall.open_area_beside);
       if (!hall.left_wall || !hall.right_wall)
         EXPECT_NEAR(hall.centre_offset, side * std::min(0.0, to_wall - params.min_wall_clearance), 1e-9);
-    }
-  }
-}
-
-// A hallway's two walls lie at most the widest hallway apart, wherever the robot stands across it:
-// off the mid-line of a wide hallway its far wall is still one of the hallway's walls (not dropped
-// for lying beyond half the widest hallway), the mid-line between them, and neither side open.
-TEST(HallwayView, TheFarWallOfAWideHallwayIsItsWallWithTheRobotOffItsMidLine) {
-  const HallwayViewParams params;
-  for (const double width : {3.2, 3.6, 4.0}) {
-    for (const double off : {-0.5, -0.3, 0.3, 0.5}) {
-      SCOPED_TRACE(std::to_string(width) + " m hallway, robot " + std::to_string(off) + " m left of its mid-line");
-      std::vector<Eigen::Vector2d> pts;
-      std::vector<laser_features::LineSegment> lines;
-      addWall(&pts, &lines, {-6.0, 0.5 * width - off}, {6.0, 0.5 * width - off});
-      addWall(&pts, &lines, {-6.0, -0.5 * width - off}, {6.0, -0.5 * width - off});
-      const auto v = viewHallway(pts, lines, 0.0, params);
-      ASSERT_TRUE(v.left_wall && v.right_wall);
-      EXPECT_NEAR(v.width(), width, 1e-9);
-      EXPECT_NEAR(v.centre_offset, -off, 1e-9);
-      EXPECT_FALSE(v.open_left);
-      EXPECT_FALSE(v.open_right);
-      EXPECT_FALSE(v.open_area_beside);
-    }
-  }
-}
-
-// The dead end of a hallway as wide as the widest (4 m) is a dead end: from its mid-line the
-// hallway's own walls lie half its width aside, short of where a side opens (half the widest
-// hallway and a clearance). Read as open, each side was a corner and a U-turn became two turns.
-TEST(HallwayView, AWideHallwaysDeadEndIsNoCorner) {
-  const HallwayViewParams params;
-  for (const double width : {3.6, 4.0}) {
-    for (const double off : {0.0, 0.4}) {
-      SCOPED_TRACE(std::to_string(width) + " m hallway, robot " + std::to_string(off) + " m left of its mid-line");
-      std::vector<Eigen::Vector2d> pts;
-      std::vector<laser_features::LineSegment> lines;
-      const double l = 0.5 * width - off, r = -0.5 * width - off;
-      addWall(&pts, &lines, {-6.0, l}, {1.5, l});
-      addWall(&pts, &lines, {-6.0, r}, {1.5, r});
-      addWall(&pts, &lines, {1.5, r}, {1.5, l});
-      const auto v = viewHallway(pts, lines, 0.0, params);
-      EXPECT_NEAR(v.free_ahead, 1.5, 0.05);
-      EXPECT_FALSE(v.end_open_left);
-      EXPECT_FALSE(v.end_open_right);
     }
   }
 }

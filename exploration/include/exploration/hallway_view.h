@@ -20,6 +20,8 @@ namespace exploration {
 
 struct HallwayViewParams {
   double ahead_sector = 0.17;          // rad (10 deg), half-width of the sector of the free distance ahead
+  double side_open_distance = 2.0;     // m, the robot's corridor into a side is free this far at an open way
+                                       // (a branch's mouth, an open area's side)
   // rad (15 deg), lines this close to the direction are walls; m, shorter lines are no hallway walls
   // (the defaults are laser_features::HallwayWallsParams', whose rule finds a wing's walls)
   double wall_parallel_tolerance = laser_features::HallwayWallsParams().parallel_tolerance;
@@ -32,13 +34,8 @@ struct HallwayViewParams {
   double clearance = 0.35;             // m, the robot's radius and safety margin
   double min_mouth = 1.4;              // m, the narrowest hallway's mouth: hallway_min_width - width_tolerance
   double widest_hallway = 4.3;         // m, hallway_max_width + width_tolerance
-  double wall_max_lateral = 2.0;       // m, a wall farther to the side is this hallway's only with one on
-                                       // the other side within widest_hallway of it:
+  double wall_max_lateral = 2.0;       // m, walls farther to the side are not this hallway's:
                                        // BuildingRules::hallwayReach, half hallway_max_width
-  double side_open_distance = 2.5;     // m, the robot's corridor into a side is free this far (from the
-                                       // mid-line) at an open way (a branch's mouth, an open area's side):
-                                       // half widest_hallway, where this hallway's own wall may be, and a
-                                       // clearance past it
 };
 
 struct HallwayView {

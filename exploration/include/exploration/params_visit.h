@@ -70,6 +70,7 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("mission/accept_angle", &m.accept_angle);
   HallwayViewParams& h = c.hallway;
   visit("hallway/ahead_sector", &h.ahead_sector);
+  visit("hallway/side_open_distance", &h.side_open_distance);
   visit("hallway/wall_parallel_tolerance", &h.wall_parallel_tolerance);
   visit("hallway/wall_min_length", &h.wall_min_length);
   visit("hallway/min_wall_clearance", &h.min_wall_clearance);
