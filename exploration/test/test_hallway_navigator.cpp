@@ -253,13 +253,13 @@ TEST(HallwayNavigator, TurnsRoundAtADeadEndAndFollowsTheHallwayBack) {
 // U-turns on the spot would go on for ever.
 TEST(HallwayNavigator, TurnedRoundIntoAClosedWayItTurnsToTheFreerSide) {
   Hallway pocket(false);
-  pocket.walls.clear();  // 3.4 m by 1.6 m, closed: the robot 1.0 m from its west wall, 2.4 m from its east one
-  pocket.wall(0.0, -0.8, 3.4, -0.8);
-  pocket.wall(3.4, -0.8, 3.4, 0.8);
-  pocket.wall(3.4, 0.8, 0.0, 0.8);
+  pocket.walls.clear();  // 2.6 m by 1.6 m, closed: the robot 0.8 m from its west wall, 1.8 m from its east one
+  pocket.wall(0.0, -0.8, 2.6, -0.8);
+  pocket.wall(2.6, -0.8, 2.6, 0.8);
+  pocket.wall(2.6, 0.8, 0.0, 0.8);
   pocket.wall(0.0, 0.8, 0.0, -0.8);
   HallwayNavigator nav = navigator();
-  Pose2D robot{1.0, 0.0, 0.5 * kPi};
+  Pose2D robot{0.8, 0.0, 0.5 * kPi};
   nav.faceRobotsBin(pocket.perceive(robot, 0.0), belief("frontier"));
   const Followed first = followUntilChange(&nav, pocket, &robot, 5);
   ASSERT_EQ(first.step.kind, HallwayStep::Turning) << first.step.text;
