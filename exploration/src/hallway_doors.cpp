@@ -114,10 +114,6 @@ bool HallwayDoors::passed(const Pose2D& odom, double dir_robot, const Walls& wal
     const double lateral = (t.centre_odom - robot).dot(nrm);
     const std::optional<double>& wall = walls[lateral > 0.0 ? 0 : 1];
     if (wall && std::abs(lateral) > *wall + params_.wall_tolerance) continue;
-    // Nor in front of it: a door lies in its side's wall. An opening nearer the robot's line (in a
-    // crossing, a wing's mouth or a door across it seen from the side) is no door beside the robot;
-    // a robot centred in a 3.6 m hallway stopped for one 0.02 m aside with its wall 1.71 m away.
-    if (wall && std::abs(lateral) < *wall - params_.wall_tolerance) continue;
     // A door taken already on this stretch, tracked a second time: its first sightings from afar
     // lay beyond door_same_distance of the later ones (large_floor run 14: room_4_16's door entered
     // by a track of 5 sightings, and again by one of 97, 0.24 m from it, after visiting the room

@@ -264,19 +264,6 @@ TEST(HallwayDoors, ADoorIsTrackedWithinHalfTheWidestHallway) {
   }
 }
 
-// A door lies in its side's wall: with the left wall 1.2 m aside, a door passed in it is entered; an
-// opening passed 0.5 m aside, in front of the wall (in a crossing: a wing's mouth, or a door across
-// it seen from the side), is not, nor is one behind the wall.
-TEST(HallwayDoors, ADoorPassedLiesInItsSidesWallNotInFrontOfIt) {
-  for (const double aside : {0.5, 1.2, 1.7}) {
-    HallwayDoors doors{HallwayDoorParams(), BuildingRules()};
-    exploration::HallwayView wall_left;
-    wall_left.left_wall = true;
-    wall_left.left_lateral = 1.2;
-    EXPECT_EQ(passesOpening(&doors, wall_left, aside), aside == 1.2) << "an opening " << aside << " m aside, its wall 1.2 m";
-  }
-}
-
 // Passing along +x beside doors in the left wall (y = 1), each seen within 6 m: the doors passed.
 // `far_shift`: seen from farther than 2.5 m along, the first door appears this much further on;
 // `drift`: after the first door passed a room is visited (HallwayDoors::roomVisited) and the
