@@ -131,7 +131,7 @@ bool RoomVisit::approachDoor(const Perception& q, double elapsed, Decision* d) {
   const Eigen::Vector2d robot(q.room_pose.x, q.room_pose.y);
   const Eigen::Vector2d a = Eigen::Vector2d(door_in_place_.x, door_in_place_.y) - 0.6 * unitVector(door_in_place_.theta);
   goalInPlace(q, a, door_in_place_.theta, d);
-  return (robot - a).norm() < 0.15 || elapsed > 30.0;
+  return (robot - a).norm() < kArrived || elapsed > 30.0;
 }
 
 double RoomVisit::doorRefinement() const {

@@ -85,8 +85,8 @@ SuiteVisit::Drive SuiteVisit::driveToDoor(const RoomVisit& host, const Perceptio
 }
 
 bool SuiteVisit::standsAt(const Perception& q, const Eigen::Vector2d& p, double theta) {
-  return (Eigen::Vector2d(q.room_pose.x, q.room_pose.y) - p).norm() < 0.15 &&
-         std::abs(normalizeAngle(q.room_pose.theta - theta)) < 0.15;
+  return (Eigen::Vector2d(q.room_pose.x, q.room_pose.y) - p).norm() < RoomVisit::kArrived &&
+         std::abs(normalizeAngle(q.room_pose.theta - theta)) < RoomVisit::kArrived;
 }
 
 SuiteVisit::Drive SuiteVisit::peek(const RoomVisit& host, const Perception& q, double elapsed, Decision* d) {
@@ -101,7 +101,7 @@ SuiteVisit::Drive SuiteVisit::peek(const RoomVisit& host, const Perception& q, d
   if (peek_step_ == PeekStep::In) {
     const Eigen::Vector2d past = door_.centre - peek_depth_ * into;
     host.goalInPlace(q, past, through, d);
-    if ((robot - past).norm() < 0.15) peek_step_ = PeekStep::Look;
+    if ((robot - past).norm() < RoomVisit::kArrived) peek_step_ = PeekStep::Look;
     return Drive::Driving;
   }
   if (peek_step_ == PeekStep::Look) {

@@ -44,6 +44,7 @@ class RoomVisit {
  public:
   static constexpr int kExitAttempts = 3;      // ways out tried before the robot counts as stuck inside
   static constexpr double kDoorPassage = 1.0;  // m, from the door's centre: where the robot passes it
+  static constexpr double kArrived = 0.15;     // m (and rad): the robot stands at a goal in a room within this
 
   /// `rules` and `doors`: a door seen on the approach to a new room is one of the building's doors
   /// (BuildingRules), facing the way the tracked one does within doors.side_angle, within

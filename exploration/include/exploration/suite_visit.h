@@ -129,8 +129,8 @@ class SuiteVisit {
   static constexpr double kRecentTravel = 30.0;
 
  private:
-  /// The robot (`q`, host place) stands within 0.15 m of `p`, facing `theta` within 0.15 rad (as
-  /// RoomVisit::approachDoor stands at a door).
+  /// The robot (`q`, host place) stands within RoomVisit::kArrived of `p` (m), facing `theta` within
+  /// as many rad (as RoomVisit::approachDoor stands at a door).
   static bool standsAt(const Perception& q, const Eigen::Vector2d& p, double theta);
   RoomVisitParams params_;
   laser_features::BuildingRules rules_;
