@@ -103,32 +103,55 @@ bool HallwayDoors::passed(const Pose2D& odom, double dir_robot, const Walls& wal
   const double heading = normalizeAngle(dir_robot + odom.theta);
   const Eigen::Vector2d u = unitVector(heading), nrm = unitVector(heading + 0.5 * kPi);
   for (DoorTrack& t : tracks_) {
-    if (t.decided || t.sightings < 3) continue;
+    if (t.decided || t.sightings < kMinSightings) continue;
     const double along = (t.centre_odom - robot).dot(u);
     if (along > -params_.pass_distance) continue;
-    t.decided = true;
-    if (!rules_.isDoorTracked(t.width, t.room_sightings)) continue;  // a hallway's mouth
-    if (along < -params_.pass_distance - 1.0) continue;  // seen only from behind: too late
-    // Behind the wall known now, though tracked while none was (large_floor: just after a turn into
-    // a hallway, a gap 1.58 m aside with the wall found 1.04 m aside by the time it was passed).
-    const double lateral = (t.centre_odom - robot).dot(nrm);
-    const std::optional<double>& wall = walls[lateral > 0.0 ? 0 : 1];
-    if (wall && std::abs(lateral) > *wall + params_.wall_tolerance) continue;
-    // A door taken already on this stretch, tracked a second time: its first sightings from afar
-    // lay beyond door_same_distance of the later ones (large_floor run 14: room_4_16's door entered
-    // by a track of 5 sightings, and again by one of 97, 0.24 m from it, after visiting the room
-    // across the hallway). Two tracks both located are one door only where their spans overlap.
-    const bool taken_before = std::any_of(tracks_.begin(), tracks_.end(), [&](const DoorTrack& k) {
-      const double span = k.located && t.located ? 0.5 * (k.width + t.width) : kSameDoorSpan;
-      return k.taken && (k.centre_odom - t.centre_odom).norm() < span &&
-             std::abs(normalizeAngle(k.into_odom - t.into_odom)) < 0.5;
-    });
-    if (taken_before) continue;
-    t.taken = true;
-    *door = t;
-    return true;
+    if (along < -params_.pass_distance - 1.0) {  // seen only from behind: too late
+      t.decided = true;
+      continue;
+    }
+    if (offer(t, (t.centre_odom - robot).dot(nrm), walls, door)) return true;
   }
   return false;
+}
+
+bool HallwayDoors::besideEnd(const Pose2D& odom, double dir_robot, const Walls& walls, double free_ahead,
+                             const std::array<bool, 2>& closed, DoorTrack* door) {
+  const Eigen::Vector2d robot(odom.x, odom.y);
+  const double heading = normalizeAngle(dir_robot + odom.theta);
+  const Eigen::Vector2d u = unitVector(heading), nrm = unitVector(heading + 0.5 * kPi);
+  for (DoorTrack& t : tracks_) {
+    if (t.decided || t.sightings < kMinSightings) continue;
+    const double along = (t.centre_odom - robot).dot(u), lateral = (t.centre_odom - robot).dot(nrm);
+    // Not passed (passed() has those), and in a side wall short of the end wall (a door lies on its
+    // wall: wall_tolerance).
+    if (along <= -params_.pass_distance || along > free_ahead + params_.wall_tolerance) continue;
+    if (!closed[lateral > 0.0 ? 0 : 1]) continue;  // the side the robot turns to: its way on
+    if (offer(t, lateral, walls, door)) return true;
+  }
+  return false;
+}
+
+bool HallwayDoors::offer(DoorTrack& t, double lateral, const Walls& walls, DoorTrack* door) {
+  t.decided = true;
+  if (!rules_.isDoorTracked(t.width, t.room_sightings)) return false;  // a hallway's mouth
+  // Behind the wall known now, though tracked while none was (large_floor: just after a turn into
+  // a hallway, a gap 1.58 m aside with the wall found 1.04 m aside by the time it was passed).
+  const std::optional<double>& wall = walls[lateral > 0.0 ? 0 : 1];
+  if (wall && std::abs(lateral) > *wall + params_.wall_tolerance) return false;
+  // A door taken already on this stretch, tracked a second time: its first sightings from afar
+  // lay beyond door_same_distance of the later ones (large_floor run 14: room_4_16's door entered
+  // by a track of 5 sightings, and again by one of 97, 0.24 m from it, after visiting the room
+  // across the hallway). Two tracks both located are one door only where their spans overlap.
+  const bool taken_before = std::any_of(tracks_.begin(), tracks_.end(), [&](const DoorTrack& k) {
+    const double span = k.located && t.located ? 0.5 * (k.width + t.width) : kSameDoorSpan;
+    return k.taken && (k.centre_odom - t.centre_odom).norm() < span &&
+           std::abs(normalizeAngle(k.into_odom - t.into_odom)) < 0.5;
+  });
+  if (taken_before) return false;
+  t.taken = true;
+  *door = t;
+  return true;
 }
 
 std::optional<DoorTrack> HallwayDoors::inEndWall(const Pose2D& odom, const std::vector<laser_features::Opening>& openings,

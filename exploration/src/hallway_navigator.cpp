@@ -54,6 +54,7 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
 
   recordWaysNotTaken(sure, at.travel, p.stamp, d);
   if (localized && sure && followRoute(p, topo, at, &step, d)) return step;
+  if (enterDoorAfterTurn(p, topo, at, &step, d)) return step;
   if (enterPassedDoor(p, topo, dir_robot, v, at, &step, d)) return step;
   if (turnIntoRouteBranch(p, topo, sure, dir_robot, v, at, &step, d)) return step;
   if (intoWayAtAngle(p, blocked, d)) {
@@ -69,7 +70,16 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
   if (lane) step.text = "passing an obstacle in the hallway";
   if (follower_.atEnd(v) && !lane && !blocked && enterEndWallDoor(p, topo, dir_robot, v, at, &step, d)) return step;
   if ((follower_.atEnd(v) && !lane) || blocked) {
+    // A door in a side wall between the robot and the end wall is never passed: the robot turns
+    // here (the outer wall of an L corner, a dead end's side walls next to its end). It is entered
+    // once turned, when the map builder has the turn's node to record it at, as a door passed
+    // would be.
+    DoorTrack beside;
+    const bool door_beside = !blocked && !at.mission_door &&
+                             doors_.besideEnd(p.odom, dir_robot, walls_, v.free_ahead,
+                                              {{!v.end_open_left, !v.end_open_right}}, &beside);
     turnAtEnd(p, topo, v, at, &step);
+    if (door_beside) door_after_turn_ = beside;
     if (blocked) step.text = "motion blocked: " + step.text;
     turnGoal(p, d);
     return step;
@@ -160,40 +170,53 @@ bool HallwayNavigator::actOnRoute(const RouteAction& action, const Perception& p
 bool HallwayNavigator::enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v,
                                        const HallwayContext& at, HallwayStep* step, Decision* d) {
   // Doors: entered once passed, if new (frontier) or known and unexplored, and the belief is sure.
-  const HallwayDoors::Walls walls = doors_.track(p.odom, p.openings, dir_robot, v, at.travel);
+  walls_ = doors_.track(p.odom, p.openings, dir_robot, v, at.travel);
   DoorTrack door;
-  if (doors_.passed(p.odom, dir_robot, walls, &door)) {
-    if (door_entry_.justLeft(door, at.travel)) {
-      step->text = "door passed: the one just left";
-    } else if (!at.mission_door && door_entry_.otherDoorOfRoomLeft(door, at.travel)) {
-      // The room's other door is an explored way into it: recorded so (on a new stretch's node, or
-      // the node a trusted belief gives, as every record), not entered as a new room.
-      if (topo.mode == "frontier" || beliefTrusted(topo, at.travel)) {
-        Request rec;
-        rec.kind = Request::RecordOpening;
-        rec.bearing = follower_.topoBearing(door.into_odom, topo);
-        rec.width = door.width;
-        rec.explored = true;
-        d->requests.push_back(rec);
-      }
-      step->text = "door passed: another door of the room just left";
-    } else if (const std::optional<EntryOpening> entry = mayEnter(topo, at, door)) {
-      entering_ = *entry;
-      door_ = door;
-      // Where the door was taken to be (the log tells a door tracked wrongly from a real one).
-      const Eigen::Vector2d rel = transformPoint(inverse(p.odom), door.centre_odom);  // robot frame
-      char where[128];
-      char wall[40] = "no wall known";
-      if (door.wall_lateral >= 0.0) std::snprintf(wall, sizeof(wall), "its wall %.2f m aside", door.wall_lateral);
-      std::snprintf(where, sizeof(where), " (%.2f m wide, %d sightings, at %.2f m ahead, %.2f m left, %s)", door.width,
-                    door.sightings, rel.x(), rel.y(), wall);
-      step->kind = HallwayStep::StopForDoor;
-      step->text = std::string("stopping at a door to enter the room") + where;
-      d->stop = true;
-      return true;
+  return doors_.passed(p.odom, dir_robot, walls_, &door) &&
+         stopAtDoor(door, "stopping at a door to enter the room", p, topo, at, step, d);
+}
+
+bool HallwayNavigator::enterDoorAfterTurn(const Perception& p, const TopoView& topo, const HallwayContext& at,
+                                          HallwayStep* step, Decision* d) {
+  if (!door_after_turn_) return false;
+  const DoorTrack door = *door_after_turn_;
+  door_after_turn_.reset();
+  return stopAtDoor(door, "stopping at a door beside the hallway's end turned at, to enter the room", p, topo, at,
+                    step, d);
+}
+
+bool HallwayNavigator::stopAtDoor(const DoorTrack& door, const char* what, const Perception& p, const TopoView& topo,
+                                  const HallwayContext& at, HallwayStep* step, Decision* d) {
+  if (door_entry_.justLeft(door, at.travel)) {
+    step->text = "door passed: the one just left";
+  } else if (!at.mission_door && door_entry_.otherDoorOfRoomLeft(door, at.travel)) {
+    // The room's other door is an explored way into it: recorded so (on a new stretch's node, or
+    // the node a trusted belief gives, as every record), not entered as a new room.
+    if (topo.mode == "frontier" || beliefTrusted(topo, at.travel)) {
+      Request rec;
+      rec.kind = Request::RecordOpening;
+      rec.bearing = follower_.topoBearing(door.into_odom, topo);
+      rec.width = door.width;
+      rec.explored = true;
+      d->requests.push_back(rec);
     }
-    ++stats_.doors_passed;
+    step->text = "door passed: another door of the room just left";
+  } else if (const std::optional<EntryOpening> entry = mayEnter(topo, at, door)) {
+    entering_ = *entry;
+    door_ = door;
+    // Where the door was taken to be (the log tells a door tracked wrongly from a real one).
+    const Eigen::Vector2d rel = transformPoint(inverse(p.odom), door.centre_odom);  // robot frame
+    char where[128];
+    char wall[40] = "no wall known";
+    if (door.wall_lateral >= 0.0) std::snprintf(wall, sizeof(wall), "its wall %.2f m aside", door.wall_lateral);
+    std::snprintf(where, sizeof(where), " (%.2f m wide, %d sightings, at %.2f m ahead, %.2f m left, %s)", door.width,
+                  door.sightings, rel.x(), rel.y(), wall);
+    step->kind = HallwayStep::StopForDoor;
+    step->text = what + std::string(where);
+    d->stop = true;
+    return true;
   }
+  ++stats_.doors_passed;
   return false;
 }
 
@@ -356,6 +379,7 @@ bool HallwayNavigator::intoWayAtAngle(const Perception& p, bool blocked, Decisio
 
 void HallwayNavigator::beginTurn(int bin, const TopoView& topo, std::vector<int> not_taken) {
   way_line_.reset();
+  door_after_turn_.reset();
   // Turns keep the hallway's offset from the axes: a wing's crossings and U-turns are square to it.
   turn_bin_ = follower_.headingBins().wrap(bin);
   turn_odom_heading_ = normalizeAngle(follower_.odomHeadingAtOffset(turn_bin_, topo));
@@ -416,6 +440,7 @@ std::optional<EntryOpening> HallwayNavigator::enterAfterStop(const TopoView& top
 void HallwayNavigator::backFromRoom(const HallwayDirection& direction, const DoorTrack& door_left,
                                     const std::vector<DoorTrack>& other_doors, double travel) {
   way_line_.reset();
+  door_after_turn_.reset();
   follower_.setDirection(direction);
   follower_.forgetGoal();
   door_entry_.leftBy(door_left, other_doors, travel);

@@ -32,11 +32,12 @@ using laser_features::Pose2D;
 namespace {
 
 // A hallway along +x, 2 m wide (y in [-1, 1]), from x = -10 to its dead end at x = 20; with
-// `door`, a 0.9 m door in its left wall at x = 5 to a room 4 m deep.
+// `door`, a 0.9 m door in its left wall at x = `door_x` (5 m) to a room 4 m deep.
 struct Hallway : exploration::test::SegmentWorld {
   bool door = false;
+  double door_x = 5.0;
 
-  explicit Hallway(bool with_door) : door(with_door) {
+  explicit Hallway(bool with_door, double at_x = 5.0) : door(with_door), door_x(at_x) {
     wall(-10.0, -1.0, 20.0, -1.0);
     wall(-10.0, -1.0, -10.0, 1.0);
     wall(20.0, -1.0, 20.0, 1.0);
@@ -44,11 +45,11 @@ struct Hallway : exploration::test::SegmentWorld {
       wall(-10.0, 1.0, 20.0, 1.0);
       return;
     }
-    wall(-10.0, 1.0, 4.55, 1.0);
-    wall(5.45, 1.0, 20.0, 1.0);
-    wall(3.0, 1.0, 3.0, 5.0);
-    wall(3.0, 5.0, 7.0, 5.0);
-    wall(7.0, 5.0, 7.0, 1.0);
+    wall(-10.0, 1.0, door_x - 0.45, 1.0);
+    wall(door_x + 0.45, 1.0, 20.0, 1.0);
+    wall(door_x - 2.0, 1.0, door_x - 2.0, 5.0);
+    wall(door_x - 2.0, 5.0, std::min(20.0, door_x + 2.0), 5.0);
+    wall(std::min(20.0, door_x + 2.0), 5.0, std::min(20.0, door_x + 2.0), 1.0);
   }
 
   // The scan's points and the walls' lines (all of them) in the robot frame; the door as
@@ -70,10 +71,10 @@ struct Hallway : exploration::test::SegmentWorld {
       l.end = laser_features::transformPoint(to_robot, w.b);
       p.lines.push_back(l);
     }
-    if (door && std::abs(robot.x - 5.0) < 6.0) {
+    if (door && std::abs(robot.x - door_x) < 6.0) {
       laser_features::Opening o;
-      o.left = laser_features::transformPoint(to_robot, Eigen::Vector2d(4.55, 1.0));
-      o.right = laser_features::transformPoint(to_robot, Eigen::Vector2d(5.45, 1.0));
+      o.left = laser_features::transformPoint(to_robot, Eigen::Vector2d(door_x - 0.45, 1.0));
+      o.right = laser_features::transformPoint(to_robot, Eigen::Vector2d(door_x + 0.45, 1.0));
       o.center = 0.5 * (o.left + o.right);
       o.theta = laser_features::normalizeAngle(0.5 * kPi - robot.theta);
       o.width = 0.9;
@@ -304,6 +305,37 @@ TEST(HallwayNavigator, StopsForADoorPassedOnANewStretch) {
   const std::optional<EntryOpening> entry = nav.enterAfterStop(belief("frontier"), at, &why);
   ASSERT_TRUE(entry);
   EXPECT_EQ(entry->node, -1);  // a new door, at pomdp_topo's current node
+  EXPECT_NEAR(entry->bearing, 0.5 * kPi, 0.05);
+}
+
+// A door in a side wall between the robot and the hallway's end wall is never passed: the robot turns
+// there. It is entered once the robot has turned (the map builder has the turn's node then), not
+// forgotten with the hallway left.
+TEST(HallwayNavigator, ADoorBesideTheHallwaysEndIsEnteredOnceTurned) {
+  const Hallway h(true, 19.2);  // the door's centre 0.8 m from the end wall: ahead where the robot turns
+  HallwayNavigator nav = navigator();
+  Pose2D robot{12.0, 0.0, 0.0};
+  const Followed run = followUntilChange(&nav, h, &robot, 400);
+  ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
+  EXPECT_EQ(run.step.text.rfind("hallway end: turning round", 0), 0u) << run.step.text;
+  EXPECT_LT(robot.x, 19.2 - 0.3);  // the door not passed
+  bool turned = false;
+  for (int i = 0; i < 100 && !turned; ++i) {
+    Decision d;
+    turned = nav.turn(h.perceive(robot, 0.1 * i), false, false, run.travel, &d);
+    step(d, &robot);
+  }
+  ASSERT_TRUE(turned);
+  const Followed after = followUntilChange(&nav, h, &robot, 5);
+  ASSERT_EQ(after.step.kind, HallwayStep::StopForDoor) << after.step.text;
+  EXPECT_EQ(after.step.text.rfind("stopping at a door beside the hallway's end turned at", 0), 0u) << after.step.text;
+  EXPECT_NEAR(nav.door().centre_odom.x(), 19.2, 0.1);
+  EXPECT_NEAR(nav.door().into_odom, 0.5 * kPi, 0.05);
+  const TopoGraph none;
+  std::string why;
+  const std::optional<EntryOpening> entry =
+      nav.enterAfterStop(belief("frontier"), HallwayContext{none, after.travel + run.travel, nullptr}, &why);
+  ASSERT_TRUE(entry) << why;
   EXPECT_NEAR(entry->bearing, 0.5 * kPi, 0.05);
 }
 

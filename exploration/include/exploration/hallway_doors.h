@@ -57,6 +57,9 @@ class HallwayDoors {
   // An opening seen within 45 deg of abeam (|along| <= |lateral|) has both jambs in view: its
   // centre is found to within its half-width. At a grazing angle the near jamb hides the far one.
   static constexpr double kAbeam = 1.0;  // |along| / |lateral| at most
+  // Sightings a track needs to be offered for entering: a gap seen in one or two scans is most often
+  // a grazing view between furniture and a wall.
+  static constexpr int kMinSightings = 3;
   using Walls = std::array<std::optional<double>, 2>;  // wallLateral of the left and the right side
 
   HallwayDoors(const HallwayDoorParams& params, const laser_features::BuildingRules& rules)
@@ -68,6 +71,12 @@ class HallwayDoors {
               double dir_robot, const HallwayView& v, double travel);
   /// A door passed (pass_distance behind), not behind its side's wall in `walls`.
   bool passed(const laser_features::Pose2D& odom, double dir_robot, const Walls& walls, DoorTrack* door);
+  /// At a hallway's end (its end wall `free_ahead` away): a door tracked beside the robot on a side
+  /// closed there (`closed`: left, right) and not passed yet, no farther ahead than the end wall.
+  /// The robot goes no farther along this hallway, so the door is passed now; offered as `passed`
+  /// offers one. The turn that follows would forget it.
+  bool besideEnd(const laser_features::Pose2D& odom, double dir_robot, const Walls& walls, double free_ahead,
+                 const std::array<bool, 2>& closed, DoorTrack* door);
   /// A tracked door beside the robot (within kSameDoorSpan along) on the side `side` (+1 left, -1 right):
   /// a door by BuildingRules::isDoorTracked, seen twice at least.
   std::optional<DoorTrack> abeam(const laser_features::Pose2D& odom, double dir_robot, double side) const;
@@ -90,6 +99,10 @@ class HallwayDoors {
   }
 
  private:
+  /// `t` (at `lateral` from the robot, + left) is decided now: offered as a door to enter (true,
+  /// copied to `door`) when it is a door by the building rules, on its side's wall in `walls`, and
+  /// not taken already on this stretch.
+  bool offer(DoorTrack& t, double lateral, const Walls& walls, DoorTrack* door);
   /// The lateral distance (m) of the wall line on `side` (0 left, 1 right): seen in `v`, or seen
   /// within wall_memory of travel on this stretch; none if neither.
   std::optional<double> wallLateral(const laser_features::Pose2D& odom, double dir_robot, const HallwayView& v,

@@ -131,6 +131,14 @@ class HallwayNavigator {
   bool actOnRoute(const RouteAction& action, const Perception& p, const TopoView& topo, HallwayStep* step, Decision* d);
   bool enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v,
                        const HallwayContext& at, HallwayStep* step, Decision* d);
+  /// The door beside the hallway's end (HallwayDoors::besideEnd) the robot turned at, once turned.
+  bool enterDoorAfterTurn(const Perception& p, const TopoView& topo, const HallwayContext& at, HallwayStep* step,
+                          Decision* d);
+  /// A door passed or beside the end: stops to enter it (true) unless it is the door just left,
+  /// another door of the room just left (recorded explored) or not to be entered (DoorEntry).
+  /// `what` begins the state's text.
+  bool stopAtDoor(const DoorTrack& door, const char* what, const Perception& p, const TopoView& topo,
+                  const HallwayContext& at, HallwayStep* step, Decision* d);
   /// At a dead end (no side open), a door in the end wall is entered as a door passed would be.
   bool enterEndWallDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v,
                         const HallwayContext& at, HallwayStep* step, Decision* d);
@@ -157,6 +165,8 @@ class HallwayNavigator {
   double branch_record_distance_;
   HallwayFollower follower_;
   HallwayDoors doors_;  // the doors along the hallway being followed
+  HallwayDoors::Walls walls_;  // the walls the doors were gated with this tick
+  std::optional<DoorTrack> door_after_turn_;  // beside the hallway's end: entered once turned
   DoorEntry door_entry_;
   RoutePolicy route_;
   HallwayStats stats_;
