@@ -383,7 +383,16 @@ void HallwayNavigator::beginTurn(int bin, const TopoView& topo, std::vector<int>
   // Turns keep the hallway's offset from the axes: a wing's crossings and U-turns are square to it.
   turn_bin_ = follower_.headingBins().wrap(bin);
   turn_odom_heading_ = normalizeAngle(follower_.odomHeadingAtOffset(turn_bin_, topo));
-  pending_branches_ = std::move(not_taken);
+  // The ways not taken at the last turn and not recorded yet (a turn again within
+  // branch_record_distance: a T whose way taken ends at once) stay to record: the map builder keeps
+  // one node for turns within its node_radius, which branch_record_distance does not pass. The way
+  // this turn takes is no longer one.
+  std::vector<int> pending;
+  for (int b : pending_branches_) {
+    if (b != turn_bin_ && std::find(not_taken.begin(), not_taken.end(), b) == not_taken.end()) pending.push_back(b);
+  }
+  pending.insert(pending.end(), not_taken.begin(), not_taken.end());
+  pending_branches_ = std::move(pending);
   pending_branch_travel_ = -1.0;
   doors_.clear();  // the doors and walls seen so far belong to the hallway being left
 }

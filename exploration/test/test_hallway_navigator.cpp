@@ -426,3 +426,59 @@ TEST(HallwayNavigator, AWingNotTakenAtAHallwaysEndIsAnUnexploredOpening) {
     EXPECT_NEAR(recorded[0], 0.5 * kPi * std::round(angle / (0.5 * kPi)), 1e-6) << angle;  // the wing's bin
   }
 }
+
+// A T whose way taken ends at once (its arm shorter than the robot's end distance plus the distance
+// driven before the ways not taken are recorded): the robot turns again, here back into the hallway
+// it came by, and the way not taken at the T is still recorded, not dropped with the first turn.
+// Dropped, the exploration would end "complete" with the T's other arm never seen.
+TEST(HallwayNavigator, AWayNotTakenIsRecordedThoughTheRobotTurnsAgainAtOnce) {
+  Hallway t(false);
+  t.walls.clear();  // 3.6 m wide along +x (y in [-1.8, 1.8]) to a T at x in [20, 22]: north 0.4 m deep, south 10.2 m
+  t.wall(-10.0, -1.8, -10.0, 1.8);
+  t.wall(-10.0, 1.8, 20.0, 1.8);
+  t.wall(20.0, 1.8, 20.0, 2.2);
+  t.wall(20.0, 2.2, 22.0, 2.2);
+  t.wall(22.0, 2.2, 22.0, -12.0);
+  t.wall(-10.0, -1.8, 20.0, -1.8);
+  t.wall(20.0, -1.8, 20.0, -12.0);
+  t.wall(20.0, -12.0, 22.0, -12.0);
+  HallwayNavigator nav = navigator();
+  Pose2D robot{14.0, 0.0, 0.0};
+  const TopoGraph none;
+  double travel = 0.0;
+  std::vector<std::string> turns;
+  std::vector<double> recorded;
+  double recorded_travel = 0.0;
+  for (int i = 0; i < 1500 && recorded.empty(); ++i) {
+    Decision d;
+    const Pose2D before = robot;
+    const HallwayStep s = nav.follow(t.perceive(robot, 0.1 * i), belief("frontier"), false,
+                                     HallwayContext{none, travel, nullptr}, &d);
+    for (const exploration::Request& r : d.requests) {
+      if (r.kind == exploration::Request::RecordOpening) recorded.push_back(r.bearing);
+    }
+    if (!recorded.empty()) recorded_travel = travel;
+    if (s.kind == HallwayStep::Turning) {
+      turns.push_back(s.text);
+      bool turned = false;
+      for (int k = 0; k < 100 && !turned; ++k) {
+        Decision dt;
+        turned = nav.turn(t.perceive(robot, 0.1 * i), false, false, travel, &dt);
+        step(dt, &robot);
+      }
+      ASSERT_TRUE(turned);
+      continue;
+    }
+    step(d, &robot);
+    travel += std::hypot(robot.x - before.x, robot.y - before.y);
+  }
+  ASSERT_GE(turns.size(), 2u);
+  EXPECT_EQ(turns[0].rfind("hallway end: turning left", 0), 0u) << turns[0];
+  EXPECT_NE(turns[0].find("left open, right open"), std::string::npos) << turns[0];
+  EXPECT_EQ(turns[1].rfind("hallway end: turning left", 0), 0u) << turns[1];
+  ASSERT_EQ(recorded.size(), 1u);
+  EXPECT_NEAR(recorded[0], -0.5 * kPi, 1e-6);  // the T's south arm
+  // Once the robot has driven branch_record_distance from the T (6.7 m from the start), not when it
+  // comes back to the T from the hallway's far end.
+  EXPECT_LT(recorded_travel, 10.0);
+}
