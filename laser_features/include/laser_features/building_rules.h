@@ -36,7 +36,8 @@ struct BuildingRules {
   /// m, the widest hallway as measured: no hallway's walls are farther apart (an open area's are).
   double widestHallway() const { return hallway_max_width + width_tolerance; }
   /// m, how far aside of a robot on a hallway's mid-line that hallway's walls and side openings lie:
-  /// half the widest hallway. A wall or opening farther aside is not the hallway's own (an open
+  /// half hallway_max_width (the stated widest hallway, without the width tolerance widestHallway()
+  /// adds for a measured width). A wall or opening farther aside is not the hallway's own (an open
   /// area's, or a room's far wall seen through a door). Every node that asks "is this beside my
   /// hallway" asks this.
   double hallwayReach() const { return 0.5 * hallway_max_width; }
