@@ -116,7 +116,7 @@ bool HallwayDoors::passed(const Pose2D& odom, double dir_robot, const Walls& wal
 }
 
 bool HallwayDoors::besideEnd(const Pose2D& odom, double dir_robot, const Walls& walls, double free_ahead,
-                             const std::array<bool, 2>& closed, DoorTrack* door) {
+                             const std::array<bool, 2>& closed, bool turning_round, DoorTrack* door) {
   const Eigen::Vector2d robot(odom.x, odom.y);
   const double heading = normalizeAngle(dir_robot + odom.theta);
   const Eigen::Vector2d u = unitVector(heading), nrm = unitVector(heading + 0.5 * kPi);
@@ -125,7 +125,8 @@ bool HallwayDoors::besideEnd(const Pose2D& odom, double dir_robot, const Walls& 
     const double along = (t.centre_odom - robot).dot(u), lateral = (t.centre_odom - robot).dot(nrm);
     // Not passed (passed() has those), and in a side wall short of the end wall (a door lies on its
     // wall: wall_tolerance).
-    if (along <= -params_.pass_distance || along > free_ahead + params_.wall_tolerance) continue;
+    const double min_along = turning_round ? params_.pass_distance : -params_.pass_distance;
+    if (along <= min_along || along > free_ahead + params_.wall_tolerance) continue;
     if (!closed[lateral > 0.0 ? 0 : 1]) continue;  // the side the robot turns to: its way on
     if (offer(t, lateral, walls, door)) return true;
   }

@@ -74,12 +74,14 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
     // here (the outer wall of an L corner, a dead end's side walls next to its end). It is entered
     // once turned, when the map builder has the turn's node to record it at, as a door passed
     // would be.
-    DoorTrack beside;
-    const bool door_beside = !blocked && !at.mission_door &&
-                             doors_.besideEnd(p.odom, dir_robot, walls_, v.free_ahead,
-                                              {{!v.end_open_left, !v.end_open_right}}, &beside);
+    HallwayDoors doors_at_end = doors_;  // the turn forgets the doors tracked
+    const int back = follower_.headingBins().wrap(follower_.bin() + follower_.headingBins().bins / 2);
     turnAtEnd(p, topo, v, at, &step);
-    if (door_beside) door_after_turn_ = beside;
+    DoorTrack beside;
+    if (!blocked && !at.mission_door &&
+        doors_at_end.besideEnd(p.odom, dir_robot, walls_, v.free_ahead, {{!v.end_open_left, !v.end_open_right}},
+                               turn_bin_ == back, &beside))
+      door_after_turn_ = beside;
     if (blocked) step.text = "motion blocked: " + step.text;
     turnGoal(p, d);
     return step;

@@ -74,9 +74,11 @@ class HallwayDoors {
   /// At a hallway's end (its end wall `free_ahead` away): a door tracked beside the robot on a side
   /// closed there (`closed`: left, right) and not passed yet, no farther ahead than the end wall.
   /// The robot goes no farther along this hallway, so the door is passed now; offered as `passed`
-  /// offers one. The turn that follows would forget it.
+  /// offers one. The turn that follows would forget it. `turning_round`: a door within
+  /// pass_distance of abeam lies on the robot's way back and is passed on it as any door (track()
+  /// takes a door first seen more than pass_distance behind for passed before); it is left to that.
   bool besideEnd(const laser_features::Pose2D& odom, double dir_robot, const Walls& walls, double free_ahead,
-                 const std::array<bool, 2>& closed, DoorTrack* door);
+                 const std::array<bool, 2>& closed, bool turning_round, DoorTrack* door);
   /// A tracked door beside the robot (within kSameDoorSpan along) on the side `side` (+1 left, -1 right):
   /// a door by BuildingRules::isDoorTracked, seen twice at least.
   std::optional<DoorTrack> abeam(const laser_features::Pose2D& odom, double dir_robot, double side) const;
