@@ -1,7 +1,8 @@
 // The hallway's navigation on its own, on a straight hallway of wall segments: setting off along it,
 // following its mid-line, a U-turn at its dead end, the stop at a door passed on a new stretch and
-// the opening it is entered as (or passed, when pomdp_topo checks a loop), and what the known map
-// says: no unexplored opening left, a mission's door with no route.
+// the opening it is entered as (or passed, when pomdp_topo checks a loop), the doors beside a
+// hallway's end, the ways not taken at a turn, and what the known map says: no unexplored opening
+// left, a mission's door with no route.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -337,6 +338,63 @@ TEST(HallwayNavigator, ADoorBesideTheHallwaysEndIsEnteredOnceTurned) {
       nav.enterAfterStop(belief("frontier"), HallwayContext{none, after.travel + run.travel, nullptr}, &why);
   ASSERT_TRUE(entry) << why;
   EXPECT_NEAR(entry->bearing, 0.5 * kPi, 0.05);
+}
+
+// Turning round, a door within pass_distance of abeam lies on the robot's way back: it is passed and
+// entered there as any door, not taken at the end (which would change nothing but the moment).
+TEST(HallwayNavigator, TurningRoundADoorAbeamIsPassedOnTheWayBack) {
+  const Hallway h(true, 18.85);  // the robot turns round at x = 18.7: the door 0.15 m ahead
+  HallwayNavigator nav = navigator();
+  Pose2D robot{12.0, 0.0, 0.0};
+  const Followed run = followUntilChange(&nav, h, &robot, 400);
+  ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
+  EXPECT_EQ(run.step.text.rfind("hallway end: turning round", 0), 0u) << run.step.text;
+  bool turned = false;
+  for (int i = 0; i < 100 && !turned; ++i) {
+    Decision d;
+    turned = nav.turn(h.perceive(robot, 0.1 * i), false, false, run.travel, &d);
+    step(d, &robot);
+  }
+  ASSERT_TRUE(turned);
+  const double x_turned = robot.x;
+  const Followed after = followUntilChange(&nav, h, &robot, 100);
+  ASSERT_EQ(after.step.kind, HallwayStep::StopForDoor) << after.step.text;
+  EXPECT_EQ(after.step.text.rfind("stopping at a door to enter the room", 0), 0u) << after.step.text;
+  EXPECT_LT(robot.x, x_turned - 0.1);  // driven on to pass it
+  EXPECT_NEAR(nav.door().centre_odom.x(), 18.85, 0.1);
+}
+
+// At an L corner the door in the outer wall (beside the robot where it turns, on the side that stays
+// closed) ends up behind the robot once it has turned: it is entered then, not forgotten.
+TEST(HallwayNavigator, ADoorInACornersOuterWallIsEnteredOnceTurned) {
+  Hallway corner(true, 9.0);  // the door (x in [8.55, 9.45]) in the left wall of the corner's square
+  corner.walls.clear();       // a 2 m hallway along +x turning right at x = 10 into one along -y (x in [8, 10])
+  corner.wall(-10.0, -1.0, -10.0, 1.0);
+  corner.wall(-10.0, 1.0, 8.55, 1.0);
+  corner.wall(9.45, 1.0, 10.0, 1.0);
+  corner.wall(6.0, 1.0, 6.0, 5.0);  // the room behind the door
+  corner.wall(6.0, 5.0, 10.0, 5.0);
+  corner.wall(10.0, 5.0, 10.0, -12.0);
+  corner.wall(-10.0, -1.0, 8.0, -1.0);
+  corner.wall(8.0, -1.0, 8.0, -12.0);
+  HallwayNavigator nav = navigator();
+  Pose2D robot{2.0, 0.0, 0.0};
+  const Followed run = followUntilChange(&nav, corner, &robot, 400);
+  ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
+  EXPECT_EQ(run.step.text.rfind("hallway end: turning right", 0), 0u) << run.step.text;
+  EXPECT_NE(run.step.text.find("left closed, right open"), std::string::npos) << run.step.text;
+  bool turned = false;
+  for (int i = 0; i < 100 && !turned; ++i) {
+    Decision d;
+    turned = nav.turn(corner.perceive(robot, 0.1 * i), false, false, run.travel, &d);
+    step(d, &robot);
+  }
+  ASSERT_TRUE(turned);
+  const Followed after = followUntilChange(&nav, corner, &robot, 5);
+  ASSERT_EQ(after.step.kind, HallwayStep::StopForDoor) << after.step.text;
+  EXPECT_NEAR(nav.door().centre_odom.x(), 9.0, 0.1);
+  EXPECT_NEAR(nav.door().centre_odom.y(), 1.0, 0.1);
+  EXPECT_NEAR(nav.door().into_odom, 0.5 * kPi, 0.05);
 }
 
 // On the known map: with no unexplored opening left the exploration is complete; a mission's door
