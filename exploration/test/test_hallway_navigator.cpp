@@ -142,6 +142,17 @@ Followed followUntilChange(HallwayNavigator* nav, const Hallway& h, Pose2D* robo
   return run;
 }
 
+// Turns on the spot (HallwayNavigator::turn) for at most 100 ticks; true once turned.
+bool turnOnTheSpot(HallwayNavigator* nav, const Hallway& h, Pose2D* robot, double travel) {
+  for (int i = 0; i < 100; ++i) {
+    Decision d;
+    const bool turned = nav->turn(h.perceive(*robot, 0.1 * i), false, false, travel, &d);
+    step(d, robot);
+    if (turned) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 // Mid-hallway on a new stretch the robot sets off the way it faces and the way behind it is an
@@ -266,13 +277,7 @@ TEST(HallwayNavigator, TurnedRoundIntoAClosedWayItTurnsToTheFreerSide) {
   const Followed first = followUntilChange(&nav, pocket, &robot, 5);
   ASSERT_EQ(first.step.kind, HallwayStep::Turning) << first.step.text;
   EXPECT_EQ(first.step.text.rfind("hallway end: turning round", 0), 0u) << first.step.text;
-  bool turned = false;
-  for (int i = 0; i < 100 && !turned; ++i) {
-    Decision d;
-    turned = nav.turn(pocket.perceive(robot, 0.1 * i), false, false, 0.0, &d);
-    step(d, &robot);
-  }
-  ASSERT_TRUE(turned);
+  ASSERT_TRUE(turnOnTheSpot(&nav, pocket, &robot, 0.0));
   const Followed again = followUntilChange(&nav, pocket, &robot, 5);
   ASSERT_EQ(again.step.kind, HallwayStep::Turning) << again.step.text;
   EXPECT_EQ(again.step.text.rfind("hallway end where the robot turned round: turning to the freer side, left", 0), 0u)
@@ -320,13 +325,7 @@ TEST(HallwayNavigator, ADoorBesideTheHallwaysEndIsEnteredOnceTurned) {
   ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
   EXPECT_EQ(run.step.text.rfind("hallway end: turning round", 0), 0u) << run.step.text;
   EXPECT_LT(robot.x, 19.2 - 0.3);  // the door not passed
-  bool turned = false;
-  for (int i = 0; i < 100 && !turned; ++i) {
-    Decision d;
-    turned = nav.turn(h.perceive(robot, 0.1 * i), false, false, run.travel, &d);
-    step(d, &robot);
-  }
-  ASSERT_TRUE(turned);
+  ASSERT_TRUE(turnOnTheSpot(&nav, h, &robot, run.travel));
   const Followed after = followUntilChange(&nav, h, &robot, 5);
   ASSERT_EQ(after.step.kind, HallwayStep::StopForDoor) << after.step.text;
   EXPECT_EQ(after.step.text.rfind("stopping at a door beside the hallway's end turned at", 0), 0u) << after.step.text;
@@ -349,13 +348,7 @@ TEST(HallwayNavigator, TurningRoundADoorAbeamIsPassedOnTheWayBack) {
   const Followed run = followUntilChange(&nav, h, &robot, 400);
   ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
   EXPECT_EQ(run.step.text.rfind("hallway end: turning round", 0), 0u) << run.step.text;
-  bool turned = false;
-  for (int i = 0; i < 100 && !turned; ++i) {
-    Decision d;
-    turned = nav.turn(h.perceive(robot, 0.1 * i), false, false, run.travel, &d);
-    step(d, &robot);
-  }
-  ASSERT_TRUE(turned);
+  ASSERT_TRUE(turnOnTheSpot(&nav, h, &robot, run.travel));
   const double x_turned = robot.x;
   const Followed after = followUntilChange(&nav, h, &robot, 100);
   ASSERT_EQ(after.step.kind, HallwayStep::StopForDoor) << after.step.text;
@@ -383,13 +376,7 @@ TEST(HallwayNavigator, ADoorInACornersOuterWallIsEnteredOnceTurned) {
   ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
   EXPECT_EQ(run.step.text.rfind("hallway end: turning right", 0), 0u) << run.step.text;
   EXPECT_NE(run.step.text.find("left closed, right open"), std::string::npos) << run.step.text;
-  bool turned = false;
-  for (int i = 0; i < 100 && !turned; ++i) {
-    Decision d;
-    turned = nav.turn(corner.perceive(robot, 0.1 * i), false, false, run.travel, &d);
-    step(d, &robot);
-  }
-  ASSERT_TRUE(turned);
+  ASSERT_TRUE(turnOnTheSpot(&nav, corner, &robot, run.travel));
   const Followed after = followUntilChange(&nav, corner, &robot, 5);
   ASSERT_EQ(after.step.kind, HallwayStep::StopForDoor) << after.step.text;
   EXPECT_NEAR(nav.door().centre_odom.x(), 9.0, 0.1);
@@ -459,13 +446,7 @@ TEST(HallwayNavigator, AWingNotTakenAtAHallwaysEndIsAnUnexploredOpening) {
     ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
     EXPECT_EQ(run.step.text.rfind("hallway end: turning right (free ahead", 0), 0u) << run.step.text;
     EXPECT_NE(run.step.text.find("left closed, right open"), std::string::npos) << run.step.text;
-    bool turned = false;
-    for (int i = 0; i < 100 && !turned; ++i) {
-      Decision d;
-      turned = nav.turn(h.perceive(robot, 0.1 * i), false, false, run.travel, &d);
-      step(d, &robot);
-    }
-    ASSERT_TRUE(turned);
+    ASSERT_TRUE(turnOnTheSpot(&nav, h, &robot, run.travel));
     // Along the new stretch until the ways not taken are recorded.
     std::vector<double> recorded;
     const TopoGraph none;
@@ -518,13 +499,7 @@ TEST(HallwayNavigator, AWayNotTakenIsRecordedThoughTheRobotTurnsAgainAtOnce) {
     if (!recorded.empty()) recorded_travel = travel;
     if (s.kind == HallwayStep::Turning) {
       turns.push_back(s.text);
-      bool turned = false;
-      for (int k = 0; k < 100 && !turned; ++k) {
-        Decision dt;
-        turned = nav.turn(t.perceive(robot, 0.1 * i), false, false, travel, &dt);
-        step(dt, &robot);
-      }
-      ASSERT_TRUE(turned);
+      ASSERT_TRUE(turnOnTheSpot(&nav, t, &robot, travel));
       continue;
     }
     step(d, &robot);
