@@ -12,6 +12,22 @@ using laser_features::Pose2D;
 using laser_features::transformPoint;
 using laser_features::unitVector;
 
+namespace {
+
+// A tracked door's place from the robot (odometry `odom`), along the travel direction (`dir_robot`,
+// robot frame) and to its left.
+struct TravelFrame {
+  TravelFrame(const Pose2D& odom, double dir_robot)
+      : robot(odom.x, odom.y),
+        u(unitVector(normalizeAngle(dir_robot + odom.theta))),
+        nrm(unitVector(normalizeAngle(dir_robot + odom.theta) + 0.5 * kPi)) {}
+  double along(const Eigen::Vector2d& p) const { return (p - robot).dot(u); }
+  double lateral(const Eigen::Vector2d& p) const { return (p - robot).dot(nrm); }
+  Eigen::Vector2d robot, u, nrm;
+};
+
+}  // namespace
+
 std::optional<double> HallwayDoors::wallLateral(const Pose2D& odom, double dir_robot, const HallwayView& v, int side,
                                                 double travel) {
   const bool seen = side == 0 ? v.left_wall : v.right_wall;
@@ -84,45 +100,38 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
 }
 
 std::optional<DoorTrack> HallwayDoors::abeam(const Pose2D& odom, double dir_robot, double side) const {
-  const Eigen::Vector2d robot(odom.x, odom.y);
-  const double heading = normalizeAngle(dir_robot + odom.theta);
-  const Eigen::Vector2d u = unitVector(heading), nrm = unitVector(heading + 0.5 * kPi);
+  const TravelFrame f(odom, dir_robot);
   for (const DoorTrack& t : tracks_) {
     // A door by the building rules: an opening a hallway's mouth could be as wide as, with no room
     // seen behind it, is no door (a short narrow hallway is such a mouth).
     if (t.sightings < 2 || !rules_.isDoorTracked(t.width, t.room_sightings)) continue;
-    const Eigen::Vector2d rel = t.centre_odom - robot;
     // Within kSameDoorSpan along: the door abeam, not one farther on.
-    if (std::abs(rel.dot(u)) <= kSameDoorSpan && rel.dot(nrm) * side > 0.0) return t;
+    if (std::abs(f.along(t.centre_odom)) <= kSameDoorSpan && f.lateral(t.centre_odom) * side > 0.0) return t;
   }
   return std::nullopt;
 }
 
 bool HallwayDoors::passed(const Pose2D& odom, double dir_robot, const Walls& walls, DoorTrack* door) {
-  const Eigen::Vector2d robot(odom.x, odom.y);
-  const double heading = normalizeAngle(dir_robot + odom.theta);
-  const Eigen::Vector2d u = unitVector(heading), nrm = unitVector(heading + 0.5 * kPi);
+  const TravelFrame f(odom, dir_robot);
   for (DoorTrack& t : tracks_) {
     if (t.decided || t.sightings < kMinSightings) continue;
-    const double along = (t.centre_odom - robot).dot(u);
+    const double along = f.along(t.centre_odom);
     if (along > -params_.pass_distance) continue;
     if (along < -params_.pass_distance - 1.0) {  // seen only from behind: too late
       t.decided = true;
       continue;
     }
-    if (offer(t, (t.centre_odom - robot).dot(nrm), walls, door)) return true;
+    if (offer(t, f.lateral(t.centre_odom), walls, door)) return true;
   }
   return false;
 }
 
 bool HallwayDoors::besideEnd(const Pose2D& odom, double dir_robot, const Walls& walls, double free_ahead,
                              const std::array<bool, 2>& closed, bool turning_round, DoorTrack* door) {
-  const Eigen::Vector2d robot(odom.x, odom.y);
-  const double heading = normalizeAngle(dir_robot + odom.theta);
-  const Eigen::Vector2d u = unitVector(heading), nrm = unitVector(heading + 0.5 * kPi);
+  const TravelFrame f(odom, dir_robot);
   for (DoorTrack& t : tracks_) {
     if (t.decided || t.sightings < kMinSightings) continue;
-    const double along = (t.centre_odom - robot).dot(u), lateral = (t.centre_odom - robot).dot(nrm);
+    const double along = f.along(t.centre_odom), lateral = f.lateral(t.centre_odom);
     // Not passed (passed() has those), and in a side wall short of the end wall (a door lies on its
     // wall: wall_tolerance).
     const double min_along = turning_round ? params_.pass_distance : -params_.pass_distance;
