@@ -103,6 +103,11 @@ bool GridPlanner::traversable(int ix, int iy) const {
   return pass_[static_cast<std::size_t>(y) * width_ + x] == kOpen;
 }
 
+bool GridPlanner::clearLine(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const {
+  int ca = 0, cb = 0;
+  return cellOf(a, &ca) && cellOf(b, &cb) && lineOfSight(ca, cb);
+}
+
 bool GridPlanner::cellOf(const Eigen::Vector2d& p, int* index) const {
   if (!finite(p) || !hasMap()) return false;
   const double fx = std::floor(p.x() / resolution_) - min_x_, fy = std::floor(p.y() / resolution_) - min_y_;

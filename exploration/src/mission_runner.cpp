@@ -219,14 +219,14 @@ std::optional<MissionEnd> MissionRunner::driveToGoal(const Perception& q, RoomVi
     best_ = left;
     best_time_ = now;
   }
-  while (path_index_ < path_.size() && (path_[path_index_] - robot).norm() < 0.3) ++path_index_;
+  path_.advance(robot, visit.pathPlanner());
   const bool stalled = now - best_time_ > params_.stall_time;
   bool blocked_at_goal = false;  // the controller gave up on the final goal (sent before this tick)
   if (entering) {
     visit.goalInPlace(q, door + (room.entry_depth + room.entry_goal_extra) * into, door_pose.theta, d);
     goal_odom_valid_ = false;
-  } else if (error.distance > 0.6 && path_index_ + 1 < path_.size()) {
-    visit.goalInPlace(q, path_[path_index_], std::nullopt, d);
+  } else if (error.distance > 0.6 && path_.beforeLast()) {
+    visit.goalInPlace(q, path_.current(), std::nullopt, d);
     goal_odom_valid_ = false;
   } else if (std::optional<MissionEnd> end = finalGoal(q, visit, error, motion, &blocked_at_goal, d)) {
     return end;
@@ -237,7 +237,7 @@ std::optional<MissionEnd> MissionRunner::driveToGoal(const Perception& q, RoomVi
   if (stalled) {
     return MissionEnd{false, "the goal is not reachable: no progress for " + std::to_string(int(params_.stall_time)) +
                                  " s, stopped at the closest reachable pose" + error.text + " (grid path of " +
-                                 std::to_string(path_.size()) + " waypoints, at " + std::to_string(path_index_) + ")"};
+                                 std::to_string(path_.size()) + " waypoints, at " + std::to_string(path_.index()) + ")"};
   }
   if (elapsed > visit.params().time_limit)
     return MissionEnd{false, "the goal was not reached in " + std::to_string(int(visit.params().time_limit)) + " s" + error.text};
@@ -248,9 +248,8 @@ void MissionRunner::planPath(RoomVisit& visit, const Eigen::Vector2d& robot, con
                              double now) {
   last_plan_ = now;
   path_.clear();
-  path_index_ = 0;
   const std::optional<Path> path = visit.pathTo(robot, goal);
-  if (path) path_ = path->waypoints;
+  if (path) path_.set(path->waypoints);
   // Progress is along the way to the goal (the grid path's length), not straight at it: going
   // round furniture first leads away. A path found a metre longer than the last path (what was
   // unseen is blocked) starts the progress anew; no path (straight at the goal) never does, so a

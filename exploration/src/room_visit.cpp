@@ -229,15 +229,14 @@ void RoomVisit::beginExit() {
 
 void RoomVisit::planExit() {
   exit_path_.clear();
-  exit_index_ = 0;
-  if (auto path = explorer_.pathToExit(last_position_)) exit_path_ = path->waypoints;
+  if (auto path = explorer_.pathToExit(last_position_)) exit_path_.set(path->waypoints);
 }
 
 bool RoomVisit::followExitPath(const Perception& q, double elapsed, Decision* d) {
   const Eigen::Vector2d robot(q.room_pose.x, q.room_pose.y);
-  while (exit_index_ < exit_path_.size() && (exit_path_[exit_index_] - robot).norm() < 0.3) ++exit_index_;
-  if (exit_index_ >= exit_path_.size() || elapsed > params_.exit_time_limit) return true;
-  goalInPlace(q, exit_path_[exit_index_], std::nullopt, d);
+  exit_path_.advance(robot, explorer_.exitPlanner());
+  if (exit_path_.done() || elapsed > params_.exit_time_limit) return true;
+  goalInPlace(q, exit_path_.current(), std::nullopt, d);
   return false;
 }
 

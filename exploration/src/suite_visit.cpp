@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <algorithm>
 #include <limits>
+#include <utility>
 
 namespace exploration {
 
@@ -58,8 +59,7 @@ bool SuiteVisit::nextDoor(RoomVisit& host, const Eigen::Vector2d& robot) {
   }
   door_ = todo_[best_index];
   todo_.erase(todo_.begin() + long(best_index));
-  path_ = best_path;
-  path_index_ = 0;
+  path_.set(std::move(best_path));
   peek_step_ = PeekStep::In;
   looks_ = door_sightings_ = 0;
   behind_ = Behind::Room;
@@ -73,11 +73,11 @@ SuiteVisit::Drive SuiteVisit::driveToDoor(const RoomVisit& host, const Perceptio
     return Drive::Failed;
   }
   const Eigen::Vector2d robot(q.room_pose.x, q.room_pose.y);
-  while (path_index_ + 1 < path_.size() && (path_[path_index_] - robot).norm() < 0.3) ++path_index_;
+  path_.advance(robot, host.pathPlanner());
   const Eigen::Vector2d front = door_.centre + kFront * unitVector(door_.into);
   const double facing = normalizeAngle(door_.into + kPi);
-  if (path_index_ + 1 < path_.size()) {
-    host.goalInPlace(q, path_[path_index_], std::nullopt, d);
+  if (path_.beforeLast()) {
+    host.goalInPlace(q, path_.current(), std::nullopt, d);
     return Drive::Driving;
   }
   host.goalInPlace(q, front, facing, d);

@@ -2,6 +2,9 @@
 // a 360-beam laser at 10 Hz ray-cast against segments and circles, and a check of every command
 // against the speed and acceleration limits.
 #include "exploration/motion_controller.h"
+#include "exploration/frontier_explorer.h"
+#include "exploration/occupancy_grid.h"
+#include "exploration/waypoint_follower.h"
 
 #include <gtest/gtest.h>
 
@@ -441,6 +444,104 @@ INSTANTIATE_TEST_SUITE_P(Obstacles, AroundObstacle,
                                            ObstacleCase{"pillar", withPillar(), 0.0},
                                            ObstacleCase{"thin wall", withWall(), 0.0},
                                            ObstacleCase{"slalom", slalom(), 0.0}));
+
+// ---------------------------------------------------------------------------------------------
+// Along a grid path (GridPlanner + WaypointFollower, as a room visit drives to a door or a goal)
+
+/// The grid a room visit would have of `world` within `bounds`: the cells within half a cell of an
+/// obstacle Occupied, the others Free.
+OccupancyGrid gridOf(const World& world, const GridBounds& bounds) {
+  OccupancyGrid grid(OccupancyGridParams(), bounds);
+  const double half = 0.5 * grid.resolution();
+  const CellIndex lo = grid.worldToCell({bounds.min_x + half, bounds.min_y + half});
+  const CellIndex hi = grid.worldToCell({bounds.max_x - half, bounds.max_y - half});
+  for (int iy = lo.y; iy <= hi.y; ++iy)
+    for (int ix = lo.x; ix <= hi.x; ++ix)
+      grid.setCell(ix, iy, world.clearance(grid.cellCenter(ix, iy)) < half ? CellState::Occupied : CellState::Free);
+  return grid;
+}
+
+/// Plans from the sim's pose to `goal` and drives the path one waypoint at a time (the last one
+/// the goal). Returns the sim time the goal took, or +inf when not reached within `max_time`.
+double followPath(Sim* sim, const OccupancyGrid& grid, const Vector2d& goal, double max_time) {
+  GridPlanner planner;
+  planner.setMap(grid);
+  const std::optional<Path> path = planner.plan(sim->pose.translation(), goal);
+  if (!path) return std::numeric_limits<double>::infinity();
+  WaypointFollower follower;
+  follower.set(path->waypoints);
+  std::size_t sent = path->waypoints.size();
+  const double start = sim->t;
+  while (sim->t - start < max_time) {
+    follower.advance(sim->pose.translation(), planner);
+    if (follower.done()) return sim->t - start;
+    if (follower.index() != sent) {  // a new goal for each waypoint, as the exploration node sends
+      sent = follower.index();
+      sim->mc.setGoal(follower.current().x(), follower.current().y(), std::nullopt);
+    }
+    sim->step();
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+// A path bends round a table's corner into the lane between the table and a wall, 0.88 m wide:
+// 0.18 m more than the robot with its margin. A robot that turned for the next waypoint as soon as
+// it was near the bend would head across the table's corner, find no free heading into the lane
+// and turn to and fro (a mission once spun for 600 s so, beside a table, and never left the room).
+TEST(WaypointFollower, ABendRoundAnObstacleIsDrivenToBeforeTheWayOnIsTaken) {
+  World world = room();
+  world.wall(-4.0, 1.0, 4.0, 1.0);        // the wall along the lane
+  world.box(-0.75, -0.94, 0.75, 1.06);    // the table: x in [-1.5, 0], y in [-2.0, 0.12]
+  Sim sim(world);
+  sim.pose = Pose2D{0.9, -1.5, kPi / 2.0};
+  const OccupancyGrid grid = gridOf(world, GridBounds{-5.0, -5.0, 5.0, 0.98});
+  const Vector2d goal(-2.5, 0.55);
+  const double took = followPath(&sim, grid, goal, 60.0);
+  EXPECT_LT(took, 30.0) << "stopped at (" << sim.pose.x << ", " << sim.pose.y << "): " << sim.mc.statusText();
+  EXPECT_GT(sim.min_clearance, sim.p.robot_radius);
+  EXPECT_WITHIN_LIMITS(sim);
+  std::printf("[          ] round the table's corner in %.1f s, min clearance %.3f m\n", took, sim.min_clearance);
+}
+
+TEST(WaypointFollower, AWaypointIsPassedNearItWhereTheWayOnIsClearAndOnItOtherwise) {
+  World world = room();
+  world.box(0.0, 0.0, 0.5, 0.5);  // a block: the path from below-right to above-left bends round it
+  const OccupancyGrid grid = gridOf(world, GridBounds{-3.0, -3.0, 3.0, 3.0});
+  GridPlanner planner;
+  planner.setMap(grid);
+  const Vector2d start(1.5, -1.5), goal(-1.5, 1.5);
+  const std::optional<Path> path = planner.plan(start, goal);
+  ASSERT_TRUE(path.has_value());
+  const std::vector<Vector2d>& w = path->waypoints;
+  // A bend k of the path where the robot a quarter metre short of it, on the way to it, has the
+  // block's corner between itself and the next waypoint.
+  std::size_t k = 1;
+  const auto shortOf = [&](std::size_t i) { return Vector2d(w[i] + 0.25 * (w[i - 1] - w[i]).normalized()); };
+  while (k + 1 < w.size() && !((w[k - 1] - w[k]).norm() > 0.25 && !planner.clearLine(shortOf(k), w[k + 1]))) ++k;
+  ASSERT_LT(k + 1, w.size()) << "no bend round the block's corner";
+  const std::vector<Vector2d> from_bend(w.begin() + long(k), w.end());
+
+  WaypointFollower follower;
+  follower.set(from_bend);
+  follower.advance(shortOf(k), planner);  // within kPassRadius, but the way on is not clear
+  EXPECT_EQ(follower.index(), 0u);
+  follower.advance(w[k] + Vector2d(0.05, 0.0), planner);  // on the bend (within kOnWaypoint): passed
+  EXPECT_EQ(follower.index(), 1u);
+  // Near the bend on its outer side (away from the block at the origin), the way on clear: passed
+  // without driving onto it.
+  const Vector2d outside = w[k] + 0.25 * w[k].normalized();
+  ASSERT_TRUE(planner.clearLine(outside, w[k + 1]));
+  follower.set(from_bend);
+  follower.advance(outside, planner);
+  EXPECT_EQ(follower.index(), 1u);
+  // Far from the first waypoint nothing is passed; near the last one the path is done.
+  follower.set(w);
+  follower.advance(goal + Vector2d(0.2, 0.0), planner);
+  EXPECT_EQ(follower.index(), 0u);
+  follower.set({goal});
+  follower.advance(goal + Vector2d(0.2, 0.0), planner);
+  EXPECT_TRUE(follower.done());
+}
 
 TEST(MotionController, DeadEndEndsBlocked) {
   // A corridor 1.6 m wide, closed ahead, open behind; the goal is behind its end wall.

@@ -89,6 +89,9 @@ class GridPlanner {
   /// In the snapshot: not blocked by an obstacle, its inflation or (without allow_unknown) the
   /// unknown.
   bool traversable(int ix, int iy) const;
+  /// In the snapshot: every cell the segment between the cells of a and b touches is traversable
+  /// (the line of sight paths are simplified by). False outside the snapshot.
+  bool clearLine(const Eigen::Vector2d& a, const Eigen::Vector2d& b) const;
   /// Cells settled by the last search.
   std::size_t expandedCells() const { return expanded_; }
   /// The snapshot's cell size, m, and extent (as the grid's).

@@ -14,6 +14,7 @@
 #include "exploration/hallway_doors.h"
 #include "exploration/room_visit.h"
 #include "exploration/topo_route.h"
+#include "exploration/waypoint_follower.h"
 #include "laser_features/geometry.h"
 
 #include <Eigen/Core>
@@ -161,8 +162,7 @@ class MissionRunner {
   bool goal_odom_valid_ = false;
   int refines_ = 0;                 // times the goal was sent again after the controller reached it
   bool entered_ = false;            // the robot has been entry_depth inside the door
-  std::vector<Eigen::Vector2d> path_;  // grid path to the goal (place frame)
-  size_t path_index_ = 0;
+  WaypointFollower path_;  // grid path to the goal (place frame)
   double last_plan_ = -1e9;         // s, when the grid path was last planned
   double best_ = 0.0;               // m, the shortest way left to the goal so far ...
   double best_time_ = 0.0;          // s, ... when it got 5 cm shorter last

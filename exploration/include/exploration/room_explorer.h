@@ -152,6 +152,9 @@ class RoomExplorer {
   /// furniture not yet seen round is otherwise unreachable). None when unreachable on the grid,
   /// before start() or for non-finite points.
   std::optional<Path> pathTo(const Eigen::Vector2d& robot, const Eigen::Vector2d& goal);
+  /// The planners whose snapshots made the last pathToExit() and pathTo() paths.
+  const GridPlanner& exitPlanner() const { return explorer_.planner(); }
+  const GridPlanner& pathPlanner() const { return optimistic_planner_; }
   /// Where pathToExit() heads for (pose frame).
   Eigen::Vector2d exitPoint() const;
 

@@ -15,6 +15,7 @@
 #include "exploration/hallway_doors.h"
 #include "exploration/room_explorer.h"
 #include "exploration/topo_route.h"
+#include "exploration/waypoint_follower.h"
 #include "laser_features/building_rules.h"
 #include "laser_features/geometry.h"
 
@@ -143,6 +144,8 @@ class RoomVisit {
   std::optional<Path> pathTo(const Eigen::Vector2d& robot, const Eigen::Vector2d& goal) {
     return explorer_.pathTo(robot, goal);
   }
+  /// The planner whose snapshot made the last pathTo() path.
+  const GridPlanner& pathPlanner() const { return explorer_.pathPlanner(); }
 
  private:
   struct DoorSighting {
@@ -181,8 +184,7 @@ class RoomVisit {
   Eigen::Vector2d last_position_ = Eigen::Vector2d::Zero();  // the robot in the place when last seen inside
   double last_plan_ = -1e9;         // s, when the frontier goal was last chosen
   std::optional<Eigen::Vector2d> goal_;  // the frontier goal
-  std::vector<Eigen::Vector2d> exit_path_;  // place frame
-  size_t exit_index_ = 0;
+  WaypointFollower exit_path_;  // place frame
   int exit_step_ = 0;               // through the door: 0 inside the door, 1 outside, 2 back on the hallway
   double exit_step_since_ = 0.0;    // s
   int exit_attempts_ = 0;           // ways out of the room tried that ended still inside it

@@ -27,6 +27,7 @@
 #include "exploration/hallway_doors.h"
 #include "exploration/room_explorer.h"
 #include "exploration/room_visit.h"
+#include "exploration/waypoint_follower.h"
 #include "laser_features/building_rules.h"
 
 #include <Eigen/Core>
@@ -137,8 +138,7 @@ class SuiteVisit {
   RoomVisit inner_;
   std::vector<RoomVisit::DoorInPlace> todo_;  // the host's inner doors not visited yet (host place)
   RoomVisit::DoorInPlace door_;               // the one being visited
-  std::vector<Eigen::Vector2d> path_;          // to its front, host place
-  std::size_t path_index_ = 0;
+  WaypointFollower path_;                      // to its front, host place
   bool inside_ = false;
   bool through_ = false;   // observeInner: past the inner door's line
   enum class PeekStep { In, Look, Out };
