@@ -407,12 +407,13 @@ void Coordinator::leaveRoom(const Perception& q, Decision* d) {
                                   std::to_string(visit().exitAttempts() + 1) + ")");
     return;
   }
-  // Still inside after every attempt: the exploration stops rather than map the room as a hallway;
-  // a mission goes on from where the robot is.
-  if (exit == RoomVisit::Exit::Stuck && !mission_.active()) {
-    finish(false, "could not leave place " + std::to_string(place_id_) + " through its door (" +
-                      std::to_string(RoomVisit::kExitAttempts) + " attempts)", d);
-    return;
+  // Still inside after every attempt: never on as on a hallway (the room would be taken for
+  // hallways). The exploration stops; a mission ends, the robot in the room, whose next mission
+  // leaves it afresh.
+  if (exit == RoomVisit::Exit::Stuck) {
+    const std::string why = "could not leave place " + std::to_string(place_id_) + " through its door (" +
+                            std::to_string(RoomVisit::kExitAttempts) + " attempts)";
+    return mission_.active() ? endMission(false, why, d) : finish(false, why, d);
   }
   if (suite_.insideInner()) return backInHost(d);
   backOnHallway(exit == RoomVisit::Exit::Back, d);

@@ -657,8 +657,8 @@ struct MissionRun {
   int ticks = 0;
 };
 
-// An ideal robot (0.05 m or 0.1 rad per 0.1 s tick towards the goal) on the mission; the place
-// frame is the odometry frame. `relocation(k)` is ekf_local_map's verdict on the k-th relocation.
+// An ideal robot (from `start`, 0.05 m or 0.1 rad per 0.1 s tick towards the goal, where `free`
+// lets it) on the mission; the place frame is the odometry frame. `relocation(k)` is ekf_local_map's verdict on the k-th relocation.
 // `correction_at_goal`: the EKF's estimate jumps by this (place frame) the first time the
 // controller has reached a goal within 1 cm of `goal` (an EKF correction after the final turn).
 // `correction_in_room`: it jumps by this 2 s after the relocation; from then on the EKF's pose
@@ -667,9 +667,11 @@ template <typename Verdict, typename EachTick>
 MissionRun runMission(Coordinator* c, Verdict relocation, EachTick each_tick, const std::string& verdict = "test",
                       int max_ticks = 3000, const Eigen::Vector2d& correction_at_goal = Eigen::Vector2d::Zero(),
                       const Eigen::Vector2d& goal = Eigen::Vector2d::Zero(),
-                      const Eigen::Vector2d& correction_in_room = Eigen::Vector2d::Zero(), int pose_every = 1) {
+                      const Eigen::Vector2d& correction_in_room = Eigen::Vector2d::Zero(), int pose_every = 1,
+                      const Pose2D& start = Pose2D(), const std::function<bool(const Pose2D&)>& free = nullptr) {
   Hallway h;
   MissionRun run;
+  run.robot = start;
   bool corrected = false;
   double t = 0.0;
   int relocations = 0;
@@ -704,8 +706,10 @@ MissionRun runMission(Coordinator* c, Verdict relocation, EachTick each_tick, co
     reached = to.norm() < 0.005 && (!d.theta || std::abs(laser_features::normalizeAngle(*d.theta - run.robot.theta)) < 0.01);
     if (to.norm() > 0.01) {
       const Eigen::Vector2d step = to.norm() > 0.05 ? Eigen::Vector2d(0.05 * to.normalized()) : to;
-      run.robot.x += step.x();
-      run.robot.y += step.y();
+      Pose2D next = run.robot;
+      next.x += step.x();
+      next.y += step.y();
+      if (!free || free(next)) run.robot = next;
     } else if (d.theta) {
       const double e = laser_features::normalizeAngle(*d.theta - run.robot.theta);
       run.robot.theta += std::max(-0.1, std::min(0.1, e));
@@ -870,6 +874,42 @@ TEST(CoordinatorMission, ACancelledMissionEndsAtOnceAndClosesThePlaceItRelocated
   EXPECT_EQ(count(d.requests, Request::ClosePlace), 1);
   EXPECT_TRUE(d.stop);
   EXPECT_TRUE(c.idle());
+}
+
+// A robot that cannot get out of a room (its way out blocked) is never taken to be on the hallway:
+// a mission that went on from inside the room followed the room as a hallway, and every later
+// mission failed from there. The mission ends saying why, the robot in the room; the next mission
+// leaves it afresh.
+TEST(CoordinatorMission, AMissionThatCannotLeaveTheRoomEndsThereAndTheNextOneLeavesIt) {
+  Coordinator c(missionParams());
+  TopoGraph g = exploredHallway();  // and place 5 behind a south door at the hallway's end
+  g.addNode(GraphNode{1, 2, 10.0, 0.0, {GraphOpening{-0.5 * kPi, 0.9, true, 5, {10.0, -1.0, -0.5 * kPi}}}});
+  c.setGraph(g);
+  startIdle(&c);
+  std::string why;
+  ASSERT_TRUE(c.startMission(4, Pose2D{5.0, 3.0, 0.0}, &why)) << why;
+  MissionRun run = runMission(&c, [](int) { return true; });
+  ASSERT_TRUE(c.missionOutcome().success) << c.missionOutcome().message;
+  // To place 5: the way out of place 4 (its door's line at y = 1) is shut.
+  const Pose2D in_room = run.robot;
+  ASSERT_TRUE(c.startMission(5, Pose2D{10.0, -3.0, 0.0}, &why)) << why;
+  bool on_hallway_inside = false;
+  const auto shut = [&](const Pose2D& next) { return next.y >= 1.3; };
+  const auto watch = [&](Coordinator* co, int) { on_hallway_inside |= co->mode() == CoordinatorMode::Topological; };
+  run = runMission(&c, [](int) { return true; }, watch, "test", 30000, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(),
+                   Eigen::Vector2d::Zero(), 1, in_room, shut);
+  EXPECT_FALSE(c.missionActive());
+  EXPECT_FALSE(c.missionOutcome().success);
+  EXPECT_NE(c.missionOutcome().message.find("could not leave place 4 through its door"), std::string::npos)
+      << c.missionOutcome().message;
+  EXPECT_FALSE(on_hallway_inside) << "the room was taken for the hallway";
+  EXPECT_EQ(c.mode(), CoordinatorMode::Metric);
+  // The next mission, the way out open: out of place 4 onto the hallway.
+  ASSERT_TRUE(c.startMission(5, Pose2D{10.0, -3.0, 0.0}, &why)) << why;
+  run = runMission(&c, [](int) { return true; }, [](Coordinator*, int) {}, "test", 1500, Eigen::Vector2d::Zero(),
+                   Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), 1, run.robot);
+  EXPECT_LT(run.robot.y, 0.5) << c.state();
+  EXPECT_EQ(c.mode(), CoordinatorMode::Topological) << c.state();
 }
 
 TEST(CoordinatorMission, AGoalJustInsideTheDoorIsReached) {
