@@ -78,20 +78,10 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
     const int back = follower_.headingBins().wrap(follower_.bin() + follower_.headingBins().bins / 2);
     turnAtEnd(p, topo, v, at, &step);
     DoorTrack beside;
-    door_after_turn_in_end_wall_ = false;
     if (!blocked && !at.mission_door &&
         doors_at_end.besideEnd(p.odom, dir_robot, walls_, v.free_ahead, {{!v.end_open_left, !v.end_open_right}},
-                               turn_bin_ == back, &beside)) {
+                               turn_bin_ == back, &beside))
       door_after_turn_ = beside;
-    } else if (!blocked && !at.mission_door && v.end_open_left != v.end_open_right && turn_bin_ != back) {
-      // At an L corner (one side open, turned to), the end wall goes on as the new hallway's side
-      // wall from the corner: a door in it lies beside or behind the robot once turned and is passed
-      // on no later way along that hallway. It is entered once turned, as a door beside the end is.
-      // (At a T or a crossing the robot comes back along the far wall for the other arm and passes
-      // it then.)
-      door_after_turn_ = doors_.inEndWall(p.odom, p.openings, dir_robot, v);
-      door_after_turn_in_end_wall_ = door_after_turn_.has_value();
-    }
     if (blocked) step.text = "motion blocked: " + step.text;
     turnGoal(p, d);
     return step;
@@ -193,11 +183,8 @@ bool HallwayNavigator::enterDoorAfterTurn(const Perception& p, const TopoView& t
   if (!door_after_turn_) return false;
   const DoorTrack door = *door_after_turn_;
   door_after_turn_.reset();
-  return stopAtDoor(door,
-                    door_after_turn_in_end_wall_
-                        ? "stopping at a door in the end wall of the corner turned at, to enter the room"
-                        : "stopping at a door beside the hallway's end turned at, to enter the room",
-                    p, topo, at, step, d);
+  return stopAtDoor(door, "stopping at a door beside the hallway's end turned at, to enter the room", p, topo, at,
+                    step, d);
 }
 
 bool HallwayNavigator::stopAtDoor(const DoorTrack& door, const char* what, const Perception& p, const TopoView& topo,
@@ -239,9 +226,8 @@ bool HallwayNavigator::enterEndWallDoor(const Perception& p, const TopoView& top
                                         const HallwayView& v, const HallwayContext& at, HallwayStep* step,
                                         Decision* d) {
   // A room at a hallway's end has its door in the end wall: no door passes beside the robot there.
-  // At a dead end the door ahead is entered as a door passed would be, unless the robot came out of
-  // it. With a side open the robot turns first: at an L corner the door is entered once turned
-  // (follow), at a T or a crossing it is passed on the way back along the far wall.
+  // At a dead end (a side open is a way on, and a door in the far wall of a crossing is passed on
+  // it) the door ahead is entered as a door passed would be, unless the robot came out of it.
   if (v.end_open_left || v.end_open_right || at.mission_door) return false;
   const std::optional<DoorTrack> door = doors_.inEndWall(p.odom, p.openings, dir_robot, v);
   if (!door || door_entry_.justLeft(*door, at.travel) || door_entry_.otherDoorOfRoomLeft(*door, at.travel)) return false;

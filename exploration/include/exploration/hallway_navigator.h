@@ -167,7 +167,6 @@ class HallwayNavigator {
   HallwayDoors doors_;  // the doors along the hallway being followed
   HallwayDoors::Walls walls_;  // the walls the doors were gated with this tick
   std::optional<DoorTrack> door_after_turn_;  // beside the hallway's end: entered once turned
-  bool door_after_turn_in_end_wall_ = false;  // ... in an L corner's end wall (the log says which)
   DoorEntry door_entry_;
   RoutePolicy route_;
   HallwayStats stats_;
