@@ -161,11 +161,14 @@ RouteAction RoutePolicy::atBranch(const RouteContext& at, const RouteStep& route
     return RouteAction{RouteAction::None, {}, why};
   }
   // A route that turns into the same branch towards the same goal again and again goes round in a
-  // circle (a belief that moves back as the robot turns, look-alike junctions): the goal's opening
-  // is given up after max_route_attempts such turns, as after as many U-turns.
-  if (!at.mission && ++branch_turns_[{route.next_node, route.goal_node}] > params_.max_route_attempts)
+  // circle (a belief that moves back as the robot turns, look-alike junctions): after
+  // max_route_attempts such turns the goal's opening is given up, or a mission's door counts as
+  // missed, as after as many U-turns.
+  if (++branch_turns_[{route.next_node, route.goal_node}] > params_.max_route_attempts) {
+    if (at.mission) return RouteAction{RouteAction::MissedDoor, {}, ""};
     return giveUp(route.goal_node, route.goal_bearing, route.goal_width,
                   "missed an opening of node " + std::to_string(route.goal_node));
+  }
   return RouteAction{RouteAction::TurnIntoBranch, {},
                      "turning into the branch of node " + std::to_string(near) + " towards node " +
                          std::to_string(route.goal_node)};

@@ -263,3 +263,42 @@ TEST(RoutePolicy, AnOpeningMissedIsSetAsideTriedOnceMoreThenGivenUp) {
   EXPECT_FALSE(policy.plan(g, topo.position, nullptr).found);
   EXPECT_EQ(policy.stats().openings_given_up, 2);
 }
+
+// A mission's route that turns into the same branch towards its door again and again (the belief
+// moves back to the junction as the robot turns, or flips between two look-alike junctions) goes
+// round in circles: a mission once turned into two branches in turn for 390 m until its client gave
+// up. After max_route_attempts such turns the door counts as missed (the coordinator resets the
+// belief, and ends the mission after mission/max_relocation_failures misses), as after as many
+// turns round; the turns count afresh when the belief is reset.
+TEST(RoutePolicy, AMissionThatKeepsTurningIntoTheSameBranchMissesItsDoor) {
+  using exploration::RouteAction;
+  exploration::RoutePolicyParams params;
+  exploration::RoutePolicy policy(params, laser_features::BuildingRules());
+  // The hallway above, explored, and a branch north at node 2 to a door node 4 with place 7's door.
+  TopoGraph g = hallway(true, true);
+  g.addNode(GraphNode{4, 0, 10.0, 5.0, {GraphOpening{0.0, 0.9, true, 7, {0.0, 0.0, 0.0}}}});
+  g.addEdge(GraphEdge{3, 2, 4, 0.5 * kPi, 5.0});
+  const std::optional<exploration::PlaceDoor> door = g.placeDoor(7);
+  ASSERT_TRUE(door.has_value());
+  exploration::TopoView topo;
+  topo.valid = true;
+  topo.mode = "localized";
+  topo.confident = true;
+  topo.position.valid = true;
+  topo.position.at_node = true;
+  topo.position.id = 2;  // at the junction, heading east, again and again
+  topo.position.heading = 0.0;
+  double travel = 100.0;
+  const auto turnAtTheJunction = [&]() {
+    travel += 10.0;
+    const exploration::RouteStep r = policy.plan(g, topo.position, &*door);
+    EXPECT_TRUE(r.found);
+    EXPECT_EQ(r.next_node, 2u);
+    const exploration::RouteContext at{g, topo, travel, true};
+    return policy.atBranch(at, r, true, std::nullopt).kind;
+  };
+  for (int i = 0; i < params.max_route_attempts; ++i) EXPECT_EQ(turnAtTheJunction(), RouteAction::TurnIntoBranch);
+  EXPECT_EQ(turnAtTheJunction(), RouteAction::MissedDoor);
+  policy.clearAttempts();  // the belief reset
+  EXPECT_EQ(turnAtTheJunction(), RouteAction::TurnIntoBranch);
+}

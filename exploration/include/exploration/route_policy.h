@@ -54,7 +54,7 @@ struct RouteAction {
     TurnIntoBranch,  // turn into the route's branch beside the robot (RouteStep::next_heading)
     SetAside,        // the route's goal opening is set aside unreached until the others are explored
     GiveUp,          // the route's goal opening is given up unreached: `record` marks it explored
-    MissedDoor,      // a mission's door was not found after max_route_attempts turns round towards it
+    MissedDoor,      // a mission's door was not found after max_route_attempts turns (round or into a branch) towards it
   };
   Kind kind = None;
   Request record;    // GiveUp
@@ -105,8 +105,12 @@ class RoutePolicy {
     last_turn_travel_ = travel;
     goal_pass_node_ = -1;
   }
-  /// The turns round towards each goal count afresh (a mission starts, its belief is reset).
-  void clearAttempts() { route_attempts_.clear(); }
+  /// The turns round and into branches towards each goal count afresh (a mission starts, its
+  /// belief is reset).
+  void clearAttempts() {
+    route_attempts_.clear();
+    branch_turns_.clear();
+  }
 
   /// Unexplored openings the route plans for (those set aside are not, until retrySetAside).
   size_t openingsLeft(const TopoGraph& graph) const;
