@@ -34,6 +34,16 @@ TopoGraph hallway(bool door_explored, bool branch_explored) {
   return g;
 }
 
+// A confident belief at `pos`.
+exploration::TopoView localizedAt(const GraphPosition& pos) {
+  exploration::TopoView topo;
+  topo.valid = true;
+  topo.mode = "localized";
+  topo.confident = true;
+  topo.position = pos;
+  return topo;
+}
+
 GraphPosition onEdge(uint32_t edge, double offset, double heading) {
   GraphPosition p;
   p.valid = true;
@@ -210,11 +220,7 @@ TEST(RoutePolicy, AnOpeningMissedIsSetAsideTriedOnceMoreThenGivenUp) {
   // (back towards node 1) with the route pointing east would turn round: here it heads east past
   // node 2 on edge 2, and the route to the branch points back west.
   const TopoGraph g = hallway(false, false);
-  exploration::TopoView topo;
-  topo.valid = true;
-  topo.mode = "localized";
-  topo.confident = true;
-  topo.position = onEdge(2, 2.0, 0.0);  // 2 m past node 2, towards the end 3
+  const exploration::TopoView topo = localizedAt(onEdge(2, 2.0, 0.0));  // 2 m past node 2, towards the end 3
   double travel = 100.0;
   // Misses until the route's goal is set aside: turn round max_route_attempts times, then the miss.
   RouteAction last;  // the last action missUntil() returned the kind of
@@ -280,14 +286,12 @@ TEST(RoutePolicy, AMissionThatKeepsTurningIntoTheSameBranchMissesItsDoor) {
   g.addEdge(GraphEdge{3, 2, 4, 0.5 * kPi, 5.0});
   const std::optional<exploration::PlaceDoor> door = g.placeDoor(7);
   ASSERT_TRUE(door.has_value());
-  exploration::TopoView topo;
-  topo.valid = true;
-  topo.mode = "localized";
-  topo.confident = true;
-  topo.position.valid = true;
-  topo.position.at_node = true;
-  topo.position.id = 2;  // at the junction, heading east, again and again
-  topo.position.heading = 0.0;
+  GraphPosition junction;  // at the junction, heading east, again and again
+  junction.valid = true;
+  junction.at_node = true;
+  junction.id = 2;
+  junction.heading = 0.0;
+  const exploration::TopoView topo = localizedAt(junction);
   double travel = 100.0;
   const auto turnAtTheJunction = [&]() {
     travel += 10.0;
