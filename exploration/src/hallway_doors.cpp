@@ -18,12 +18,13 @@ namespace {
 // robot frame) and to its left.
 struct TravelFrame {
   TravelFrame(const Pose2D& odom, double dir_robot)
-      : robot(odom.x, odom.y),
-        u(unitVector(normalizeAngle(dir_robot + odom.theta))),
-        nrm(unitVector(normalizeAngle(dir_robot + odom.theta) + 0.5 * kPi)) {}
+      : robot(odom.x, odom.y), heading(normalizeAngle(dir_robot + odom.theta)), u(unitVector(heading)),
+        nrm(unitVector(heading + 0.5 * kPi)) {}
   double along(const Eigen::Vector2d& p) const { return (p - robot).dot(u); }
   double lateral(const Eigen::Vector2d& p) const { return (p - robot).dot(nrm); }
-  Eigen::Vector2d robot, u, nrm;
+  Eigen::Vector2d robot;
+  double heading;  // rad, odometry frame
+  Eigen::Vector2d u, nrm;
 };
 
 }  // namespace
