@@ -272,7 +272,7 @@ void MapBuilder::frontierTurn(int k, const Scan& scan, const FrontEnd& fe) {
       // Still at the node, turned to where it has no way (the start node, the robot having faced a
       // wall): the stretch to map starts from the node the other way, not the known map.
       EdgeExit exit;
-      if (mode_ == Mode::Frontier && !map_->exitWithHeading(n, binHeading(new_bin), 0.25 * kPi, &exit)) {
+      if (mode_ == Mode::Frontier && !map_->wayOn(n, binHeading(new_bin), 0.25 * kPi, &exit)) {
         startFrontier(n, new_bin, 0.0, scan.travel);
         return;
       }
@@ -317,7 +317,7 @@ void MapBuilder::frontierTurn(int k, const Scan& scan, const FrontEnd& fe) {
     if (node->type == NodeType::Start || node->type == NodeType::Door) node->type = NodeType::Junction;
   }
   EdgeExit exit;
-  if (map_->exitWithHeading(n, binHeading(new_bin), 0.25 * kPi, &exit)) {
+  if (map_->wayOn(n, binHeading(new_bin), 0.25 * kPi, &exit)) {
     becomeLocalizedAt(n, new_bin);
   } else {
     startFrontier(n, new_bin, 0.0, scan.travel);
@@ -488,7 +488,7 @@ bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const
       continue;
     }
     EdgeExit exit;
-    if (!map_->exitWithHeading(m.id, go, 0.25 * kPi, &exit)) continue;  // nothing to verify against
+    if (!map_->wayOn(m.id, go, 0.25 * kPi, &exit)) continue;  // nothing to verify against
     Candidate c;
     c.node = m.id;
     c.prior = std::log(1.0 - params_.loop_new_place_prior) - d * d / (2.0 * sigma * sigma);
@@ -515,7 +515,7 @@ bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const
     uint32_t at = m.id;
     for (int hops = 0; hops < 64 && base < params_.loop_verify_distance + 2.0; ++hops) {
       EdgeExit x;
-      if (!map_->exitWithHeading(at, go, 0.25 * kPi, &x)) break;
+      if (!map_->wayOn(at, go, 0.25 * kPi, &x)) break;
       const TopoEdge* e = map_->edge(x.edge);
       for (const EdgeLandmark& l : e->landmarks) {
         EdgeLandmark r = l;
@@ -596,13 +596,13 @@ void MapBuilder::processLoopCheck(const Scan& scan, const FrontEnd& fe) {
         if (std::abs(u - base) <= params_.node_radius) {
           EdgeExit x;
           const TopoNode* n = map_->node(at);
-          possible = map_->exitWithHeading(at, new_heading, 0.25 * kPi, &x) ||
+          possible = map_->wayOn(at, new_heading, 0.25 * kPi, &x) ||
                      std::any_of(n->openings.begin(), n->openings.end(), [&](const NodeOpening& o) {
                        return headingBins().sameWay(o.bearing, new_heading);
                      });
         }
         EdgeExit x;
-        if (!map_->exitWithHeading(at, binHeading(loop_bin_), 0.25 * kPi, &x)) break;
+        if (!map_->wayOn(at, binHeading(loop_bin_), 0.25 * kPi, &x)) break;
         base += map_->edge(x.edge)->length;
         at = x.other;
         if (base > u + params_.node_radius) break;
@@ -792,7 +792,7 @@ void MapBuilder::processLocalized(const Scan& scan) {
     if (ml >= 0 && params_.mapping && was_sure) {
       const PomdpLocalizer::State st = localizer_->state(size_t(ml));
       EdgeExit x;
-      if (st.kind == PomdpLocalizer::State::Node && !map_->exitWithHeading(st.id, st.heading, 0.25 * kPi, &x) &&
+      if (st.kind == PomdpLocalizer::State::Node && !map_->wayOn(st.id, st.heading, 0.25 * kPi, &x) &&
           localizer_->belief()[size_t(ml)] > 0.5) {
         const TopoNode* at = map_->node(st.id);
         const auto end = end_beyond_.find({st.id, binOf(st.heading)});

@@ -158,13 +158,27 @@ void PomdpLocalizer::setMap(const TopologicalMap& map) {
     }
     return found;
   };
-  for (DirEdge& d : dir_edges_) d.next = exitWithHeading(d.end, d.heading);
+  // The rule of TopologicalMap::wayOn: where a node has no exit, a neighbour's across a staggered
+  // crossing's link.
+  const laser_features::BuildingRules& rules = map.buildingRules();
+  auto wayOn = [&](int32_t node, double heading) {
+    const int32_t own = exitWithHeading(node, heading);
+    if (own >= 0 || map.hasOpeningToward(node_ids_[node], heading)) return own;
+    for (int32_t link : exits[node]) {
+      const DirEdge& l = dir_edges_[link];
+      if (!TopologicalMap::staggeredLink(l.length, l.heading, heading, rules)) continue;
+      const int32_t on = exitWithHeading(l.end, heading);
+      if (on >= 0 && dir_edges_[on].end != node) return on;
+    }
+    return int32_t(-1);
+  };
+  for (DirEdge& d : dir_edges_) d.next = wayOn(d.end, d.heading);
   node_exit_.resize(size_t(num_nodes) * bins_);
   node_exit_back_.resize(size_t(num_nodes) * bins_);
   for (int32_t n = 0; n < num_nodes; ++n) {
     for (int b = 0; b < bins_; ++b) {
-      node_exit_[n * bins_ + b] = exitWithHeading(n, binHeading(b));
-      node_exit_back_[n * bins_ + b] = exitWithHeading(n, binHeading(b) + kPi);
+      node_exit_[n * bins_ + b] = wayOn(n, binHeading(b));
+      node_exit_back_[n * bins_ + b] = wayOn(n, binHeading(b) + kPi);
     }
   }
 

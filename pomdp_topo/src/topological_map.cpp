@@ -301,6 +301,35 @@ bool TopologicalMap::exitWithHeading(uint32_t node, double heading, double toler
   return found;
 }
 
+bool TopologicalMap::hasOpeningToward(uint32_t node, double heading) const {
+  const TopoNode* n = this->node(node);
+  return n != nullptr && std::any_of(n->openings.begin(), n->openings.end(), [&](const NodeOpening& o) {
+           return bins_.sameWay(o.bearing, heading);
+         });
+}
+
+bool TopologicalMap::staggeredLink(double link_length, double link_heading, double heading,
+                                   const laser_features::BuildingRules& rules) {
+  const double angle = std::abs(normalizeAngle(link_heading - heading));
+  return link_length < rules.hallway_min_width && angle > 0.25 * laser_features::kPi &&
+         angle < 0.75 * laser_features::kPi;
+}
+
+bool TopologicalMap::wayOn(uint32_t node, double heading, double tolerance, EdgeExit* exit) const {
+  if (exitWithHeading(node, heading, tolerance, exit)) return true;
+  if (hasOpeningToward(node, heading)) return false;  // a branch of its own, not the neighbour's
+  for (const EdgeExit& link : exits(node)) {
+    const TopoEdge* e = edge(link.edge);
+    if (e == nullptr || !staggeredLink(e->length, link.heading, heading, rules_)) continue;
+    EdgeExit on;
+    if (exitWithHeading(link.other, heading, tolerance, &on) && on.other != node) {
+      *exit = on;
+      return true;
+    }
+  }
+  return false;
+}
+
 void TopologicalMap::assign(std::map<uint32_t, TopoNode> nodes, std::map<uint32_t, TopoEdge> edges,
                             uint32_t next_node_id, uint32_t next_edge_id) {
   nodes_ = std::move(nodes);

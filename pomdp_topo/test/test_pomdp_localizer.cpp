@@ -1181,4 +1181,47 @@ TEST(PomdpAllocation, SteadyStateStepsDoNotAllocate) {
 }
 
 }  // namespace
+// The localizer's travel follows TopologicalMap::wayOn: at a staggered crossing (the hallway's
+// east part leaves a node 1.2 m across the stem from the one its west part leaves) the belief
+// drives on across the offset, with no turn, onto the other node's edge; through the node from
+// the west edge too.
+TEST(PomdpTransition, DrivesOnAcrossAStaggeredCrossing) {
+  TopologicalMap map;
+  auto node = [&](double x, double y) {
+    TopoNode n;
+    n.type = NodeType::Junction;
+    n.pose = Pose2D{x, y, 0.0};
+    return map.addNode(n);
+  };
+  const uint32_t south = node(0, 0), north = node(0, 1.2), east = node(6, 0), west = node(-6, 1.2);
+  map.addEdge(south, north, 0.5 * kPi, 1.2);
+  const uint32_t to_east = map.addEdge(south, east, 0.0, 6.0);
+  const uint32_t to_west = map.addEdge(north, west, kPi, 6.0);
+  PomdpLocalizer loc(exactParams());
+  loc.setMap(map);
+  ASSERT_TRUE(loc.resetToNode(north, 0.0));  // at the west part's node, facing east
+  ASSERT_TRUE(loc.predict(travel(2.0)));
+  EXPECT_EQ(best(loc).kind, State::Edge);
+  EXPECT_EQ(best(loc).id, to_east);
+  EXPECT_TRUE(best(loc).forward);
+  EXPECT_NEAR(best(loc).offset, 2.25, 1e-9);  // the cell of 2 m on: the offset across is not travel along
+  // From the cell 1.0-1.5 m along the west edge, heading east, through `north` and on east.
+  ASSERT_TRUE(loc.resetToEdge(to_west, 1.0, false));
+  ASSERT_TRUE(loc.predict(travel(3.0)));
+  EXPECT_EQ(best(loc).kind, State::Edge);
+  EXPECT_EQ(best(loc).id, to_east);
+  EXPECT_NEAR(best(loc).offset, 1.75, 1e-9);  // from the cell centre 1.25 m before `north`
+  // A longer link (1.6 m, a hallway's width): the node has no way on, the travel is blocked.
+  TopologicalMap wide = map;
+  wide.removeEdge(to_west);
+  const uint32_t far_north = wide.addNode(TopoNode());
+  wide.node(far_north)->pose = Pose2D{0, 1.6, 0};
+  wide.addEdge(south, far_north, 0.5 * kPi, 1.6);
+  wide.addEdge(far_north, west, kPi, 6.0);
+  loc.setMap(wide);
+  ASSERT_TRUE(loc.resetToNode(far_north, 0.0));
+  ASSERT_TRUE(loc.predict(travel(2.0)));
+  EXPECT_EQ(loc.mostLikely(), loc.nodeStateIndex(far_north, 0.0));
+}
+
 }  // namespace pomdp_topo

@@ -271,3 +271,56 @@ TEST(TopologicalMap, AStretchPastAnUnrecognizedNodeIsCutThere) {
   ASSERT_TRUE(other.mergeNodes(x, z2));
   for (const auto& [id, e] : other.edges()) EXPECT_NEAR(e.length, 5.0, 1e-9);
 }
+
+// A staggered crossing: the hallway's west part leaves node `north`, its east part node `south`
+// 1.2 m away across the stem (shorter than the narrowest hallway, 1.5 m). Driving on east from
+// `north`, or west from `south`, goes on along the other node's edge; a link as long as a hallway
+// is wide, or one along the way (behind the node), carries nothing on.
+TEST(TopologicalMap, AStaggeredCrossingCarriesTheWayOnAcrossItsShortLink) {
+  for (const double link : {1.2, 1.6}) {
+    TopologicalMap map;
+    const uint32_t south = map.addNode(nodeAt(NodeType::Junction, 0, 0));
+    const uint32_t north = map.addNode(nodeAt(NodeType::Junction, 0, link));
+    const uint32_t east = map.addNode(nodeAt(NodeType::Door, 6, 0));
+    const uint32_t west = map.addNode(nodeAt(NodeType::Door, -6, link));
+    map.addEdge(south, north, 0.5 * kPi, link);
+    const uint32_t to_east = map.addEdge(south, east, 0.0, 6.0);
+    const uint32_t to_west = map.addEdge(north, west, kPi, 6.0);
+    EdgeExit x;
+    EXPECT_FALSE(map.exitWithHeading(north, 0.0, 0.25 * kPi, &x));
+    const bool staggered = link < map.buildingRules().hallway_min_width;
+    ASSERT_EQ(map.wayOn(north, 0.0, 0.25 * kPi, &x), staggered) << "link " << link;
+    if (staggered) {
+      EXPECT_EQ(x.edge, to_east);
+      EXPECT_EQ(x.other, east);
+    }
+    ASSERT_EQ(map.wayOn(south, kPi, 0.25 * kPi, &x), staggered);
+    if (staggered) EXPECT_EQ(x.edge, to_west);
+    // Its own exit first.
+    ASSERT_TRUE(map.wayOn(south, 0.0, 0.25 * kPi, &x));
+    EXPECT_EQ(x.edge, to_east);
+    // Not across the link's own direction: north of `north` there is no way.
+    EXPECT_FALSE(map.wayOn(north, 0.5 * kPi, 0.25 * kPi, &x));
+    EXPECT_FALSE(map.wayOn(east, 0.5 * kPi, 0.25 * kPi, &x));
+  }
+}
+
+// A node with an opening of its own the way on has a branch of its own there (to be mapped), not
+// its neighbour's: at the end of a wide hallway a robot that turns twice within 1.4 m is on the
+// hallway's other side, and the opening it recorded is explored as such.
+TEST(TopologicalMap, ANodesOwnOpeningIsNotCarriedOnToItsNeighbour) {
+  TopologicalMap map;
+  const uint32_t south = map.addNode(nodeAt(NodeType::Junction, 0, 0));
+  const uint32_t north = map.addNode(nodeAt(NodeType::Junction, 0, 1.2));
+  const uint32_t east = map.addNode(nodeAt(NodeType::Door, 6, 0));
+  map.addEdge(south, north, 0.5 * kPi, 1.2);
+  map.addEdge(south, east, 0.0, 6.0);
+  EdgeExit x;
+  ASSERT_TRUE(map.wayOn(north, 0.0, 0.25 * kPi, &x));
+  NodeOpening own;
+  own.bearing = 0.0;
+  own.width = 1.7;
+  ASSERT_TRUE(map.recordOpening(north, own));
+  EXPECT_TRUE(map.hasOpeningToward(north, 0.1));
+  EXPECT_FALSE(map.wayOn(north, 0.0, 0.25 * kPi, &x));
+}

@@ -133,6 +133,7 @@ class TopologicalMap {
   bool differentOpenings(double width_a, double width_b) const { return rules_.differentOpenings(width_a, width_b); }
   /// The building rules that tell a door's width from a junction's (MapBuilder sets its own).
   void setBuildingRules(const laser_features::BuildingRules& rules) { rules_ = rules; }
+  const laser_features::BuildingRules& buildingRules() const { return rules_; }
   /// The heading bins the map's bearings and headings lie on (MapBuilder sets its own): two of
   /// them are one way within HeadingBins::sameWayTolerance.
   void setHeadingBins(const laser_features::HeadingBins& bins) { bins_ = bins; }
@@ -169,6 +170,21 @@ class TopologicalMap {
   std::vector<EdgeExit> exits(uint32_t node) const;
   /// The exit of `node` whose heading is within `tolerance` (rad) of `heading`; false if none.
   bool exitWithHeading(uint32_t node, double heading, double tolerance, EdgeExit* exit) const;
+  /// A staggered crossing: two branches that leave one hallway on opposite sides, or a hallway
+  /// that goes on offset to one side, are recorded at two nodes joined by a short link across the
+  /// way. A robot drives on across the offset without turning: shorter than the narrowest hallway
+  /// (BuildingRules::hallway_min_width), it bends the path by less than 45 deg across a hallway at
+  /// least that wide, which no heading bin registers as a turn. True for a link (length, heading)
+  /// that carries the way `heading` on so: that short, and within 45 deg of a right angle to it.
+  static bool staggeredLink(double link_length, double link_heading, double heading,
+                            const laser_features::BuildingRules& rules);
+  /// The way on from `node` along `heading` (within `tolerance`, rad): its own exit that way, or
+  /// where it has neither an exit nor an opening that way (an opening is a branch of its own, to be
+  /// mapped), the exit that way of a neighbour across a staggeredLink (never one back to `node`).
+  /// False if none.
+  bool wayOn(uint32_t node, double heading, double tolerance, EdgeExit* exit) const;
+  /// Whether `node` has a recorded opening the way of `heading` (HeadingBins::sameWay).
+  bool hasOpeningToward(uint32_t node, double heading) const;
 
   /// Ids the next addNode / addEdge will assign.
   uint32_t nextNodeId() const { return next_node_id_; }
