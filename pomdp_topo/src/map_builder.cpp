@@ -722,18 +722,31 @@ void MapBuilder::gateByDeadReckoning(const Scan& scan) {
       state_positions_states_revision_ != localizer_->mapRevision()) {
     state_positions_.assign(n, Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN()));
     state_bins_.resize(n);
+    state_beyond_map_.assign(n, false);
     for (size_t s = 0; s < n; ++s) {
-      statePosition(localizer_->state(s), &state_positions_[s]);
-      state_bins_[s] = binOf(localizer_->state(s).heading);
+      const PomdpLocalizer::State st = localizer_->state(s);
+      statePosition(st, &state_positions_[s]);
+      state_bins_[s] = binOf(st.heading);
+      EdgeExit x;
+      state_beyond_map_[s] = st.kind == PomdpLocalizer::State::Node && !map_->wayOn(st.id, st.heading, 0.25 * kPi, &x);
     }
     state_positions_revision_ = map_->revision();
     state_positions_states_revision_ = localizer_->mapRevision();
   }
   // A state with no position (NaN) is never gated out.
   auto within = [&](size_t s, double radius) { return !((state_positions_[s] - here).norm() > radius); };
+  // A state at a node heading where no edge leads stands for a robot beyond the known map, on the
+  // way out of that node. It explains whatever lies ahead as unexplored, more cheaply than an edge
+  // whose landmarks are seen a little off (the robot swerving round an obstacle, a hallway offset
+  // at a crossing): where the dead reckoning puts the robot off that way, it is a wrong one.
+  auto onWayOut = [&](size_t s) {
+    if (!by_position || !state_beyond_map_[s] || !(params_.update_position_tolerance > 0.0)) return true;
+    double along = 0.0;
+    return alongWayOut(state_positions_[s], localizer_->state(s).heading, here, &along);
+  };
   gate_allowed_.resize(n);
   for (size_t s = 0; s < n; ++s) {
-    gate_allowed_[s] = within(s, gate) && (!by_heading || state_bins_[s] == scan.heading_bin);
+    gate_allowed_[s] = within(s, gate) && (!by_heading || state_bins_[s] == scan.heading_bin) && onWayOut(s);
   }
   if (!localizer_->restrictTo(gate_allowed_)) {
     event(by_position ? "no belief within " + std::to_string(int(std::lround(gate))) +
@@ -832,8 +845,16 @@ void MapBuilder::processLocalized(const Scan& scan) {
             continue;
           }
           if (beyond_ >= limit) {
+            double s = beyond_;
+            if (!departureAgrees(*at, st.heading, scan, &s)) {
+              event("the belief would leave the known graph at node " + std::to_string(st.id) +
+                    ", where the dead reckoning does not put the robot: it is wrong; reset to uniform");
+              localizer_->setUniform();
+              beyond_ = 0.0;
+              continue;
+            }
             event("leaving the known graph at node " + std::to_string(st.id) + ": new stretch");
-            startFrontier(st.id, binOf(st.heading), beyond_, scan.travel);
+            startFrontier(st.id, binOf(st.heading), s, scan.travel);
             beyond_ = 0.0;
             return;
           }
@@ -866,6 +887,30 @@ void MapBuilder::processLocalized(const Scan& scan) {
     }
   }
   if (sure && params_.mapping && beyond_ == 0.0) updateKnownEdge(scan);
+}
+
+bool MapBuilder::alongWayOut(const Eigen::Vector2d& node, double heading, const Eigen::Vector2d& robot,
+                             double* along) const {
+  const Eigen::Vector2d u = laser_features::unitVector(heading);
+  const Eigen::Vector2d v = robot - node;
+  *along = v.dot(u);
+  const double tolerance = params_.update_position_tolerance;
+  return std::abs(u.x() * v.y() - u.y() * v.x()) <= tolerance && *along >= -tolerance;
+}
+
+bool MapBuilder::departureAgrees(const TopoNode& n, double heading, const Scan& scan, double* s) const {
+  if (!deadReckoningChecks()) return true;
+  // A new stretch starts where the robot is: on the way out of the node, `s` ahead of it. A belief
+  // that reaches the node late (it held behind while the robot drove on) starts it as far along
+  // as the robot is; one the robot is not yet at, or not on the way out of, is wrong.
+  double along = 0.0;
+  const double tolerance = params_.update_position_tolerance;
+  if (!alongWayOut(Eigen::Vector2d(n.pose.x, n.pose.y), heading, Eigen::Vector2d(scan.pose.x, scan.pose.y), &along) ||
+      along < *s - tolerance) {
+    return false;
+  }
+  if (along > *s + tolerance) *s = along;
+  return true;
 }
 
 int MapBuilder::twinWithWay(uint32_t id, double heading) const {

@@ -318,6 +318,84 @@ TEST(MapBuilder, ThePositionGateKeepsALostBeliefNearTheDeadReckonedPosition) {
   }
 }
 
+// A belief at a node heading where no edge leads (beyond the known map) stands for a robot on the
+// way out of that node: there it explains whatever lies ahead as unexplored. Put at the start node
+// facing west while the robot, 4.5 m east of it, drives west along the known hallway, it is gated
+// out (the robot is not on that way out) and the belief finds the robot on the hallway; the map
+// is not extended from the start node. Without the dead-reckoning checks
+// (update_position_tolerance 0) the builder leaves the known graph there, a new stretch where the
+// robot is not. The position gate is set wide (10 m) to leave this to the rule.
+TEST(MapBuilder, ABeliefBeyondTheMapIsOnlyWhereTheRobotIsOnTheWayOutOfItsNode) {
+  for (const double tolerance : {2.5, 0.0}) {
+    SyntheticFloor floor;
+    for (int i = 0; i < 4; ++i) {
+      floor.doors.push_back({{4.0 + 4.5 * i, i % 2 ? -1.1 : 1.1}, i % 2 ? -0.5 * kPi : 0.5 * kPi, 0.9});
+    }
+    MapBuilderParams params;
+    params.position_gate = 10.0;
+    params.update_position_tolerance = tolerance;
+    Drive drive(params);
+    drive.run(&floor, {{1.5, 0}, {20.0, 0}, {6.0, 0}}, 0.0);
+    ASSERT_EQ(drive.builder.mode(), MapBuilder::Mode::Localized);
+    const size_t nodes = drive.map.nodeCount();
+    uint32_t start = 0;
+    for (const auto& [id, n] : drive.map.nodes()) {
+      if (n.type == NodeType::Start) start = id;
+    }
+    ASSERT_TRUE(drive.localizer.resetToNode(start, kPi));
+    drive.localized = drive.right = 0;
+    drive.run(&floor, {{6.0, 0}, {3.0, 0}}, kPi);
+    if (tolerance > 0.0) {
+      EXPECT_EQ(drive.map.nodeCount(), nodes);
+      EXPECT_EQ(drive.builder.mode(), MapBuilder::Mode::Localized);
+      ASSERT_GE(drive.localizer.mostLikely(), 0);
+      const Eigen::Vector2d here(drive.front_end.pose().x, drive.front_end.pose().y);
+      EXPECT_LE((drive.position(drive.localizer.state(size_t(drive.localizer.mostLikely()))) - here).norm(), 1.0);
+    } else {
+      EXPECT_TRUE(drive.map.nodeCount() > nodes || drive.builder.mode() != MapBuilder::Mode::Localized)
+          << "without the checks the builder leaves the known graph at the start node";
+    }
+  }
+}
+
+// A belief that reaches a node late (it lagged behind on a stretch with nothing to place it by)
+// leaves the known graph there when the robot is already well past it: the new stretch starts as
+// far along as the dead reckoning puts the robot, so the next node lies at its true distance. Here
+// the belief is put 3.5 m behind the robot on a featureless stretch before the start node; the
+// robot drives on west 7.5 m past the start and turns round at the hallway's end.
+TEST(MapBuilder, AStretchLeftLateStartsWhereTheRobotIs) {
+  for (const double tolerance : {2.5, 0.0}) {
+    SyntheticFloor floor;
+    for (int i = 0; i < 3; ++i) {
+      floor.doors.push_back({{10.0 + 3.5 * i, i % 2 ? -1.1 : 1.1}, i % 2 ? -0.5 * kPi : 0.5 * kPi, 0.9});
+    }
+    MapBuilderParams params;
+    params.update_position_tolerance = tolerance;
+    Drive drive(params);
+    drive.run(&floor, {{1.5, 0}, {20.0, 0}, {3.0, 0}}, 0.0);
+    ASSERT_EQ(drive.builder.mode(), MapBuilder::Mode::Localized);
+    uint32_t start = 0;
+    for (const auto& [id, n] : drive.map.nodes()) {
+      if (n.type == NodeType::Start) start = id;
+    }
+    EdgeExit first;
+    ASSERT_TRUE(drive.map.exitWithHeading(start, 0.0, 0.25 * kPi, &first));
+    ASSERT_TRUE(drive.localizer.resetToEdge(first.edge, 5.0, false));  // x = 6.5: 3.5 m behind
+    drive.run(&floor, {{3.0, 0}, {-6.0, 0}, {-3.0, 0}}, kPi);
+    const TopoEdge* west = nullptr;
+    for (const auto& [id, e] : drive.map.edges()) {
+      const uint32_t other = e.source == start ? e.target : e.target == start ? e.source : start;
+      if (other != start && drive.map.node(other)->pose.x < 0.0) west = &e;
+    }
+    ASSERT_NE(west, nullptr) << "a stretch west of the start node";
+    if (tolerance > 0.0) {
+      EXPECT_NEAR(west->length, 7.5, 0.6);
+    } else {
+      EXPECT_LT(west->length, 5.0) << "without the dead-reckoning checks the stretch starts where the belief is";
+    }
+  }
+}
+
 // institute's hall_north: doors facing each other across the hallway 0.9 m apart, driven there and
 // back twice. Each door is one opening of one node: a door seen on the way back with the belief a
 // little off along the short edge between them is not added to the other door's node.
@@ -617,7 +695,9 @@ TEST(MapBuilder, ABeliefPastAHallwayEndIsResetNotANewStretch) {
 // robot when there is one): a belief that leaves it backwards while the robot is elsewhere is reset,
 // like one past a hallway end (institute: after the U-turn at hall_south's east end the belief
 // settled on the start, 25 m away, and a copy of the hallway grew from it). Without the parameter
-// (replay: nobody knows what is behind the start) that is a new stretch.
+// (replay: nobody knows what is behind the start) that is a new stretch. The position gate and the
+// dead-reckoning checks are off here (position_gate 0): they would refuse that belief too, the
+// robot being nowhere near the start (ABeliefBeyondTheMapIsOnlyWhereTheRobotIsOnTheWayOutOfItsNode).
 TEST(MapBuilder, AClosedStartNodeIsNotLeftWhereItHasNoWay) {
   for (const bool closed : {true, false}) {
     SyntheticFloor floor;
@@ -625,6 +705,7 @@ TEST(MapBuilder, AClosedStartNodeIsNotLeftWhereItHasNoWay) {
     floor.doors.push_back({{12.0, -1.1}, -0.5 * kPi, 0.9});
     MapBuilderParams params;
     params.start_node_closed = closed;
+    params.position_gate = 0.0;
     Drive drive(params);
     drive.run(&floor, {{1.5, 0}, {20.0, 0}, {8.0, 0}}, 0.0);  // ends heading west, mid-hallway
     const size_t nodes = drive.map.nodeCount();

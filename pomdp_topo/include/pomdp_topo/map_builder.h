@@ -59,7 +59,9 @@ struct MapBuilderParams {
                                        // on its edge) only if its dead-reckoned position lies this close to
                                        // where the belief puts it, and a node the belief would leave the
                                        // known graph from is merged into a node of its type this close
-                                       // that has the way on (twinWithWay); 0 = neither
+                                       // that has the way on (twinWithWay); a belief beyond the known map
+                                       // is kept, and a stretch started, only on its node's way out
+                                       // (alongWayOut, departureAgrees); 0 = none of these
   bool heading_gate = true;            // -, while the heading is trusted (setHeadingTrusted), states whose
                                        // heading bin is not the front end's get no belief
   bool start_node_closed = false;      // -, the start node has no way but its edges and recorded openings (the
@@ -82,6 +84,7 @@ class MapBuilder {
     fe_params_.axis_angle = axis_angle;
     state_bins_.clear();
     state_positions_.clear();
+    state_beyond_map_.clear();
   }
 
   /// Starts: an empty map gets a Start node at the robot and a Frontier along its heading; a
@@ -178,6 +181,15 @@ class MapBuilder {
   /// A node of the same type as `id` within update_position_tolerance of it (position gate on) with
   /// an edge along `heading`, which `id` lacks: one place recorded twice. -1 if none.
   int twinWithWay(uint32_t id, double heading) const;
+  /// Whether the dead reckoning puts the robot on node `n`'s way out along `heading`, where a new
+  /// stretch `*s` m long would start (within update_position_tolerance); `*s` becomes the dead
+  /// reckoning's distance along the way where that is farther by more than the tolerance. True when
+  /// the map is not checked against the dead reckoning (deadReckoningChecks).
+  bool departureAgrees(const TopoNode& n, double heading, const Scan& scan, double* s) const;
+  /// Whether `robot` lies on the way out of a node at `node` along `heading`: within
+  /// update_position_tolerance of that ray, not farther behind the node; `*along` is its distance
+  /// along the way.
+  bool alongWayOut(const Eigen::Vector2d& node, double heading, const Eigen::Vector2d& robot, double* along) const;
   /// update_position_tolerance: the dead-reckoned position of a passed landmark is farther than the
   /// tolerance from `believed` (where the belief puts it, map frame), while the position gate is on.
   bool farFromDeadReckoning(const Eigen::Vector2d& believed, const PassedLandmark& p, const Scan& scan) const;
@@ -234,6 +246,7 @@ class MapBuilder {
   // states change, and its mask: nothing allocated or looked up per scan.
   std::vector<Eigen::Vector2d> state_positions_;
   std::vector<int> state_bins_;  // the heading gate's per-state heading bins, kept with the positions
+  std::vector<bool> state_beyond_map_;  // per state: at a node, heading where no edge leads (wayOn)
   uint64_t state_positions_revision_ = ~0ull, state_positions_states_revision_ = ~0ull;
   std::vector<bool> gate_allowed_;
   bool relocation_pending_ = false;     // an odometry jump happened; not yet confident again
