@@ -48,7 +48,7 @@ struct MapBuilderParams {
   double loop_false_landmark_probability = 0.05;  // -, likelihood of a landmark the old place does not explain
   double loop_decision_log_odds = 3.0; // -, a hypothesis wins when ahead by this (log odds, about 20:1)
   double loop_verify_distance = 6.0;   // m, past this the better hypothesis wins
-  double position_gate = 10.0;         // m, states farther than this from the dead-reckoned position ...
+  double position_gate = 4.0;          // m, states farther than this from the dead-reckoned position ...
   double position_gate_per_m = 0.01;   // m/m, ... plus this per metre travelled since the map and the dead
                                        // reckoning last agreed (a confident belief within position_gate of
                                        // it; a relocation after a jump) get no belief: a look-alike hallway
