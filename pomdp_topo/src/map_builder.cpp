@@ -736,17 +736,19 @@ void MapBuilder::gateByDeadReckoning(const Scan& scan) {
   // A state with no position (NaN) is never gated out.
   auto within = [&](size_t s, double radius) { return !((state_positions_[s] - here).norm() > radius); };
   // A state at a node heading where no edge leads stands for a robot beyond the known map, on the
-  // way out of that node. It explains whatever lies ahead as unexplored, more cheaply than an edge
-  // whose landmarks are seen a little off (the robot swerving round an obstacle, a hallway offset
-  // at a crossing): where the dead reckoning puts the robot off that way, it is a wrong one.
-  auto onWayOut = [&](size_t s) {
-    if (!by_position || !state_beyond_map_[s] || !(params_.update_position_tolerance > 0.0)) return true;
+  // way out of that node, however far along it. It explains whatever lies ahead as unexplored, more
+  // cheaply than an edge whose landmarks are seen a little off (the robot swerving round an
+  // obstacle, a hallway offset at a crossing): it is a wrong one where the dead reckoning puts the
+  // robot off that way, and a right one where it puts the robot on it, however far from the node.
+  const bool by_way_out = by_position && params_.update_position_tolerance > 0.0;
+  auto near = [&](size_t s) {
+    if (!by_way_out || !state_beyond_map_[s]) return within(s, gate);
     double along = 0.0;
     return alongWayOut(state_positions_[s], localizer_->state(s).heading, here, &along);
   };
   gate_allowed_.resize(n);
   for (size_t s = 0; s < n; ++s) {
-    gate_allowed_[s] = within(s, gate) && (!by_heading || state_bins_[s] == scan.heading_bin) && onWayOut(s);
+    gate_allowed_[s] = near(s) && (!by_heading || state_bins_[s] == scan.heading_bin);
   }
   if (!localizer_->restrictTo(gate_allowed_)) {
     event(by_position ? "no belief within " + std::to_string(int(std::lround(gate))) +
@@ -814,6 +816,9 @@ void MapBuilder::processLocalized(const Scan& scan) {
         });
         const bool closed = !opening && (at->type == NodeType::HallwayEnd || end != end_beyond_.end() ||
                                          (at->type == NodeType::Start && params_.start_node_closed));
+        // The travel counts for this state only: another one the belief moves to starts at 0.
+        if (beyond_state_ != ml) beyond_ = 0.0;
+        beyond_state_ = ml;
         if (a.kind == Action::Travel) beyond_ = std::max(0.0, beyond_ + a.distance);
         const double limit = params_.leave_graph_distance + (end != end_beyond_.end() ? end->second : 0.0);
         if (closed && beyond_ >= limit) {
@@ -846,7 +851,12 @@ void MapBuilder::processLocalized(const Scan& scan) {
           }
           if (beyond_ >= limit) {
             double s = beyond_;
-            if (!departureAgrees(*at, st.heading, scan, &s)) {
+            const Departure where = departure(*at, st.heading, scan.pose, &s);
+            if (where == Departure::NotYet) {  // the belief leads the robot out: on when it is there
+              beyond_ = s;
+              continue;
+            }
+            if (where == Departure::Elsewhere) {
               event("the belief would leave the known graph at node " + std::to_string(st.id) +
                     ", where the dead reckoning does not put the robot: it is wrong; reset to uniform");
               localizer_->setUniform();
@@ -898,19 +908,22 @@ bool MapBuilder::alongWayOut(const Eigen::Vector2d& node, double heading, const 
   return std::abs(u.x() * v.y() - u.y() * v.x()) <= tolerance && *along >= -tolerance;
 }
 
-bool MapBuilder::departureAgrees(const TopoNode& n, double heading, const Scan& scan, double* s) const {
-  if (!deadReckoningChecks()) return true;
+MapBuilder::Departure MapBuilder::departure(const TopoNode& n, double heading, const Pose2D& robot, double* s) const {
+  if (!deadReckoningChecks()) return Departure::Here;
   // A new stretch starts where the robot is: on the way out of the node, `s` ahead of it. A belief
   // that reaches the node late (it held behind while the robot drove on) starts it as far along
-  // as the robot is; one the robot is not yet at, or not on the way out of, is wrong.
+  // as the robot is; one that leads the robot waits for it; one off the way out is wrong.
   double along = 0.0;
   const double tolerance = params_.update_position_tolerance;
-  if (!alongWayOut(Eigen::Vector2d(n.pose.x, n.pose.y), heading, Eigen::Vector2d(scan.pose.x, scan.pose.y), &along) ||
-      along < *s - tolerance) {
-    return false;
+  if (!alongWayOut(Eigen::Vector2d(n.pose.x, n.pose.y), heading, Eigen::Vector2d(robot.x, robot.y), &along)) {
+    return Departure::Elsewhere;
+  }
+  if (along < *s - tolerance) {
+    *s = std::max(0.0, along);
+    return Departure::NotYet;
   }
   if (along > *s + tolerance) *s = along;
-  return true;
+  return Departure::Here;
 }
 
 int MapBuilder::twinWithWay(uint32_t id, double heading) const {

@@ -396,6 +396,50 @@ TEST(MapBuilder, AStretchLeftLateStartsWhereTheRobotIs) {
   }
 }
 
+// Leaving the known graph at a node along a heading, the dead-reckoned position decides: on the
+// way out within update_position_tolerance (2.5 m) of `s`, the stretch starts (s kept); farther
+// along, it starts as far along as the robot is (the belief came late); on the way out but short
+// of s by more than the tolerance (the belief leads: the robot circling near the node), not yet,
+// s the robot's distance past the node; off the way out, or behind the node, never. Without the
+// dead-reckoning checks it always starts.
+TEST(MapBuilder, AStretchLeavesANodeWhereTheDeadReckoningPutsTheRobotOnItsWayOut) {
+  for (const double tolerance : {2.5, 0.0}) {
+    SyntheticFloor floor;
+    floor.doors.push_back({{6.0, 1.1}, 0.5 * kPi, 0.9});
+    MapBuilderParams params;
+    params.update_position_tolerance = tolerance;
+    Drive drive(params);
+    drive.run(&floor, {{1.5, 0}, {10.0, 0}, {5.0, 0}}, 0.0);
+    const TopoNode* start = nullptr;
+    for (const auto& [id, n] : drive.map.nodes()) {
+      if (n.type == NodeType::Start) start = &n;
+    }
+    ASSERT_NE(start, nullptr);
+    const double x0 = start->pose.x, y0 = start->pose.y;
+    using D = MapBuilder::Departure;
+    auto at = [&](double along, double lateral, double s, double* out) {  // west of the start
+      *out = s;
+      return drive.builder.departure(*start, kPi, Pose2D{x0 - along, y0 + lateral, kPi}, out);
+    };
+    double s = 0.0;
+    if (tolerance > 0.0) {
+      EXPECT_EQ(at(1.2, 0.3, 1.0, &s), D::Here);
+      EXPECT_DOUBLE_EQ(s, 1.0);
+      EXPECT_EQ(at(7.0, 1.2, 1.0, &s), D::Here);
+      EXPECT_DOUBLE_EQ(s, 7.0);
+      EXPECT_EQ(at(-2.0, 0.0, 3.0, &s), D::NotYet);
+      EXPECT_DOUBLE_EQ(s, 0.0);
+      EXPECT_EQ(at(0.4, 0.0, 3.5, &s), D::NotYet);
+      EXPECT_DOUBLE_EQ(s, 0.4);
+      EXPECT_EQ(at(3.0, 3.0, 1.0, &s), D::Elsewhere);
+      EXPECT_EQ(at(-4.0, 0.0, 1.0, &s), D::Elsewhere);
+    } else {
+      EXPECT_EQ(at(-4.0, 3.0, 1.0, &s), D::Here);
+      EXPECT_DOUBLE_EQ(s, 1.0);
+    }
+  }
+}
+
 // institute's hall_north: doors facing each other across the hallway 0.9 m apart, driven there and
 // back twice. Each door is one opening of one node: a door seen on the way back with the belief a
 // little off along the short edge between them is not added to the other door's node.

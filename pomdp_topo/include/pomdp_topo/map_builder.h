@@ -61,7 +61,7 @@ struct MapBuilderParams {
                                        // known graph from is merged into a node of its type this close
                                        // that has the way on (twinWithWay); a belief beyond the known map
                                        // is kept, and a stretch started, only on its node's way out
-                                       // (alongWayOut, departureAgrees); 0 = none of these
+                                       // (alongWayOut, departure); 0 = none of these
   bool heading_gate = true;            // -, while the heading is trusted (setHeadingTrusted), states whose
                                        // heading bin is not the front end's get no belief
   bool start_node_closed = false;      // -, the start node has no way but its edges and recorded openings (the
@@ -137,6 +137,16 @@ class MapBuilder {
   /// The best candidate's evidence so far, for the log ("3 landmarks matched, 1 expected missed, ...").
   std::string loopEvidence() const;
 
+  /// Where the dead-reckoned position `robot` (the front end's, in the map's frame) lies against
+  /// a new stretch `*s` m out of node `n` along `heading`, within update_position_tolerance: there
+  /// (Here; `*s` becomes the dead reckoning's distance along the way where that is farther by more
+  /// than the tolerance: the belief reached the node late), on the way out but short of that
+  /// (NotYet; `*s` becomes its distance past the node, at least 0: the belief leads the robot out),
+  /// or off the way out (Elsewhere: the belief is wrong). Here when the map is not checked against
+  /// the dead reckoning (deadReckoningChecks).
+  enum class Departure { Here, NotYet, Elsewhere };
+  Departure departure(const TopoNode& n, double heading, const Pose2D& robot, double* s) const;
+
  private:
   struct Candidate {
     uint32_t node = 0;
@@ -181,11 +191,6 @@ class MapBuilder {
   /// A node of the same type as `id` within update_position_tolerance of it (position gate on) with
   /// an edge along `heading`, which `id` lacks: one place recorded twice. -1 if none.
   int twinWithWay(uint32_t id, double heading) const;
-  /// Whether the dead reckoning puts the robot on node `n`'s way out along `heading`, where a new
-  /// stretch `*s` m long would start (within update_position_tolerance); `*s` becomes the dead
-  /// reckoning's distance along the way where that is farther by more than the tolerance. True when
-  /// the map is not checked against the dead reckoning (deadReckoningChecks).
-  bool departureAgrees(const TopoNode& n, double heading, const Scan& scan, double* s) const;
   /// Whether `robot` lies on the way out of a node at `node` along `heading`: within
   /// update_position_tolerance of that ray, not farther behind the node; `*along` is its distance
   /// along the way.
@@ -255,6 +260,7 @@ class MapBuilder {
 
   // Localized.
   double beyond_ = 0.0;     // travel while the most likely state is a node with no exit that way
+  int beyond_state_ = -1;   // the localizer state beyond_ counts for
   // A hallway that ended (U-turn) less than node_radius past a node made no node of its own: how
   // far past that node (node, heading bin) the robot went before turning. Travel that far beyond
   // it is no new stretch. In memory only (a U-turn made after a restart records it again).
