@@ -310,10 +310,7 @@ void MapBuilder::frontierTurn(int k, const Scan& scan, const FrontEnd& fe) {
     if (mode_ == Mode::LoopCheck) return;
   } else {
     TopoNode* node = map_->node(n);
-    const bool present = std::any_of(node->openings.begin(), node->openings.end(), [&](const NodeOpening& o) {
-      return headingBins().sameWay(o.bearing, branch.bearing);
-    });
-    if (!present) node->openings.push_back(branch);
+    if (!map_->hasOpeningToward(n, branch.bearing)) node->openings.push_back(branch);
     if (node->type == NodeType::Start || node->type == NodeType::Door) node->type = NodeType::Junction;
   }
   EdgeExit exit;
@@ -359,10 +356,7 @@ uint32_t MapBuilder::createNode(NodeType type, double pos, const Scan& scan, con
   if (from_last < join) {
     TopoNode* node = map_->node(from_node_);
     for (const NodeOpening& o : openings) {
-      const bool present = std::any_of(node->openings.begin(), node->openings.end(), [&](const NodeOpening& k) {
-        return headingBins().sameWay(k.bearing, o.bearing);
-      });
-      if (!present) node->openings.push_back(o);
+      if (!map_->hasOpeningToward(from_node_, o.bearing)) node->openings.push_back(o);
     }
     if (node->type == NodeType::Start) node->type = type;
     if (node->type == NodeType::Door && type == NodeType::Junction) node->type = NodeType::Junction;
@@ -472,9 +466,7 @@ bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const
     // the T was entered as a new room before the loop closed at the next one).
     bool openings_match = true, seen_from_another_way = false;
     for (const NodeOpening& o : fresh->openings) {
-      const bool opening = std::any_of(m.openings.begin(), m.openings.end(), [&](const NodeOpening& k) {
-        return headingBins().sameWay(k.bearing, o.bearing);
-      });
+      const bool opening = map_->hasOpeningToward(m.id, o.bearing);
       EdgeExit way;
       const bool edge = !opening && map_->exitWithHeading(m.id, o.bearing, headingBins().sameWayTolerance(), &way);
       openings_match = openings_match && (opening || edge);
@@ -595,11 +587,7 @@ void MapBuilder::processLoopCheck(const Scan& scan, const FrontEnd& fe) {
       for (int hops = 0; hops < 64 && !possible; ++hops) {
         if (std::abs(u - base) <= params_.node_radius) {
           EdgeExit x;
-          const TopoNode* n = map_->node(at);
-          possible = map_->wayOn(at, new_heading, 0.25 * kPi, &x) ||
-                     std::any_of(n->openings.begin(), n->openings.end(), [&](const NodeOpening& o) {
-                       return headingBins().sameWay(o.bearing, new_heading);
-                     });
+          possible = map_->wayOn(at, new_heading, 0.25 * kPi, &x) || map_->hasOpeningToward(at, new_heading);
         }
         EdgeExit x;
         if (!map_->wayOn(at, binHeading(loop_bin_), 0.25 * kPi, &x)) break;
@@ -811,9 +799,7 @@ void MapBuilder::processLocalized(const Scan& scan) {
           localizer_->belief()[size_t(ml)] > 0.5) {
         const TopoNode* at = map_->node(st.id);
         const auto end = end_beyond_.find({st.id, binOf(st.heading)});
-        const bool opening = std::any_of(at->openings.begin(), at->openings.end(), [&](const NodeOpening& o) {
-          return headingBins().sameWay(o.bearing, st.heading);
-        });
+        const bool opening = map_->hasOpeningToward(st.id, st.heading);
         const bool closed = !opening && (at->type == NodeType::HallwayEnd || end != end_beyond_.end() ||
                                          (at->type == NodeType::Start && params_.start_node_closed));
         // The travel counts for this state only: another one the belief moves to starts at 0.
@@ -1102,10 +1088,7 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       // door nodes, which the exploration turned round for five times before giving them up.
       if (n->type != NodeType::Junction && !p.landmark.door) continue;
       const NodeOpening o = sideOpening(st.heading, p);
-      const bool present = std::any_of(n->openings.begin(), n->openings.end(), [&](const NodeOpening& k) {
-        return headingBins().sameWay(k.bearing, o.bearing);
-      });
-      if (!present && !farFromNode(*n, p, scan)) {
+      if (!map_->hasOpeningToward(nid, o.bearing) && !farFromNode(*n, p, scan)) {
         n->openings.push_back(o);
         changed = true;
         event("opening added to node " + std::to_string(nid));
