@@ -358,10 +358,12 @@ void Coordinator::peekInner(const Perception& q, Decision* d) {
     state_text_ = seen + "; " + state_text_;  // the verdict in the log, with what follows
     return;
   }
-  // Back in front of the door: a place for the room behind, the robot standing still at its origin.
+  // Back in front of the door: a place for the room behind, the robot standing still at its origin,
+  // which the host keeps (SuiteVisit::keepOrigin) to be relocated at on the way back.
   d->stop = true;
   host_place_id_ = place_id_;
   place_ok_ = false;
+  d->requests.push_back(suite_.keepOrigin(host_place_id_));
   d->requests.push_back(Request{Request::CreatePlace});
   setState(State::InnerPlace, "creating a place for the room behind place " + std::to_string(host_place_id_));
 }
@@ -381,16 +383,17 @@ void Coordinator::createInnerPlace(const Perception& p, Decision* d) {
                                     std::to_string(host_place_id_));
 }
 
-void Coordinator::backInHost(Decision* d) {
-  // The room behind is done: its place closed, the host's again (placed by the odometry since the
-  // EKF's last pose of it: the EKF tracks one place).
+void Coordinator::backInHost(const Perception& q, Decision* d) {
+  // The room behind is done: its place closed, the host's again, relocated where the robot is
+  // (SuiteVisit::relocateHost; the EKF tracks one place).
   d->requests.push_back(Request{Request::ClosePlace});
+  d->requests.push_back(suite_.relocateHost(host_place_id_, q));
   suite_.endInnerRoom();
   place_id_ = host_place_id_;
-  Perception q;
-  q.odom = last_odom_;
-  q = visit_.inPlace(q);
-  if (!toNextInnerRoom(q)) exitHost();
+  Perception h;
+  h.odom = last_odom_;
+  h = visit_.inPlace(h);  // until the EKF's first pose of the host: the odometry since its last one
+  if (!toNextInnerRoom(h)) exitHost();
 }
 
 void Coordinator::leaveRoom(const Perception& q, Decision* d) {
@@ -415,7 +418,7 @@ void Coordinator::leaveRoom(const Perception& q, Decision* d) {
                             std::to_string(RoomVisit::kExitAttempts) + " attempts)";
     return mission_.active() ? endMission(false, why, d) : finish(false, why, d);
   }
-  if (suite_.insideInner()) return backInHost(d);
+  if (suite_.insideInner()) return backInHost(q, d);
   backOnHallway(exit == RoomVisit::Exit::Back, d);
 }
 

@@ -375,7 +375,8 @@ class ExplorationNode {
         break;
       case Request::Relocate: {
         hybrid_slam_msgs::RelocateAtDoor srv;
-        // The door as the laser saw it from the hallway: a few centimetres and degrees.
+        // The door as the laser saw it from the hallway: a few centimetres and degrees (a room behind
+        // another, back in the host at its origin: the EKF's pose in it, closer still).
         srv.request = relocateRequest(r.place_id, r.door_id, r.pose, relocation_sigma_xy_, relocation_sigma_theta_);
         const bool ok = call(local_map_node_ + "/relocate_at_door", &srv) && srv.response.success;
         if (!ok) {

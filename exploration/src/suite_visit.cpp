@@ -145,6 +145,24 @@ void SuiteVisit::endInnerRoom() {
   inside_ = false;
 }
 
+Request SuiteVisit::keepOrigin(int host_place) {
+  Request r;
+  r.kind = Request::AddDoor;
+  r.place_id = host_place;
+  r.door_id = kNodelessDoorIdBase + origins_kept_++;
+  r.pose = Pose2D{0.0, 0.0, 0.0};
+  return r;
+}
+
+Request SuiteVisit::relocateHost(int host_place, const Perception& q) const {
+  Request r;
+  r.kind = Request::Relocate;
+  r.place_id = host_place;
+  r.door_id = kNodelessDoorIdBase + origins_kept_ - 1;
+  r.pose = q.room_pose;
+  return r;
+}
+
 void SuiteVisit::observeInner(const Perception& q) {
   through_ = inner_.explorer().depth(Eigen::Vector2d(q.room_pose.x, q.room_pose.y)) > 0.0;
 }

@@ -295,3 +295,36 @@ TEST(SuiteVisit, ADoorInTheHostsBackWallLeadsAwayFromItsHallway) {
                                                 RoomVisit::DoorInPlace{Eigen::Vector2d(5.5, 2.45), kPi, 0.9, 2},
                                                 BuildingRules()));
 }
+
+// Back from a room behind, the host's place is relocated where the robot stands, not dead reckoned
+// from the host's last EKF pose: the host keeps the room behind's origin (the robot's pose when its
+// place was created) as a door no node names, and the robot's pose in the room behind is its pose
+// from that door. Each room behind has a door of its own; the relocation names the last one.
+// Generated building 15 (seed 15): dead reckoned over a room behind and the 8.5 m back through the
+// host, the robot met the wall 0.9 m beside the host's 0.7 m door, three times.
+TEST(SuiteVisit, BackFromARoomBehindTheHostIsRelocatedAtThatRoomsOrigin) {
+  exploration::SuiteVisit suite{exploration::RoomVisitParams(), exploration::RoomExplorerParams(), BuildingRules(),
+                                HallwayDoorParams()};
+  const Pose2D origin_in_host{-0.85, -8.46, -1.60};  // where the robot stands, facing the inner door
+  const exploration::Request keep = suite.keepOrigin(2);
+  EXPECT_EQ(keep.kind, exploration::Request::AddDoor);
+  EXPECT_EQ(keep.place_id, 2);
+  EXPECT_GE(keep.door_id, exploration::kNodelessDoorIdBase);
+  const Pose2D door_in_host = laser_features::compose(origin_in_host, keep.pose);  // as ekf_local_map stores it
+
+  Perception q;  // back through the inner door, 1.2 m from its origin, turned round
+  q.room_pose = Pose2D{-1.2, 0.1, 3.1};
+  const exploration::Request back = suite.relocateHost(2, q);
+  EXPECT_EQ(back.kind, exploration::Request::Relocate);
+  EXPECT_EQ(back.place_id, 2);
+  EXPECT_EQ(back.door_id, keep.door_id);
+  const Pose2D relocated = laser_features::compose(door_in_host, back.pose);  // as ekf_local_map relocates
+  const Pose2D truth = laser_features::compose(origin_in_host, q.room_pose);
+  EXPECT_NEAR(relocated.x, truth.x, 1e-9);
+  EXPECT_NEAR(relocated.y, truth.y, 1e-9);
+  EXPECT_NEAR(laser_features::normalizeAngle(relocated.theta - truth.theta), 0.0, 1e-9);
+
+  const exploration::Request second = suite.keepOrigin(2);
+  EXPECT_NE(second.door_id, keep.door_id) << "each room behind keeps its own origin";
+  EXPECT_EQ(suite.relocateHost(2, q).door_id, second.door_id);
+}

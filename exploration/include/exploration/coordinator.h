@@ -160,7 +160,7 @@ class Coordinator {
   void toInnerDoor(const Perception& q, Decision* d);
   void peekInner(const Perception& q, Decision* d);
   void createInnerPlace(const Perception& p, Decision* d);
-  void backInHost(Decision* d);
+  void backInHost(const Perception& q, Decision* d);
   /// The host room's way out begins.
   void exitHost();
   // A mission's steps (mission_): out of the room the robot stands in, the relocation at the goal's

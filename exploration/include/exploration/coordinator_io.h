@@ -54,6 +54,11 @@ struct MotionFeedback {
   bool blocked = false;
 };
 
+/// Door ids from here up name doors that no door node names (above any node id, so no mission routes
+/// to them): a replay's crossed doors (PassivePlaces) and, in a host room's place, the origin of each
+/// room behind it (Coordinator: the host is relocated there when the robot comes back).
+constexpr int kNodelessDoorIdBase = 1000000;
+
 /// A request to another node.
 struct Request {
   enum Kind { CreatePlace, AddDoor, RecordOpening, ClosePlace, SaveMaps, Finish, Relocate, ResetBelief };

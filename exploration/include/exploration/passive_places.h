@@ -31,6 +31,7 @@
 #include <vector>
 #include <string>
 
+#include "exploration/coordinator_io.h"
 #include "exploration/door_crossings.h"
 #include "laser_features/geometry.h"
 
@@ -53,7 +54,7 @@ struct PassivePlacesParams {
   bool enter_by_type = true;            // -, the ROOM streak enters a room too (false: only a door crossing does)
   double reentry_distance = 1.0;        // m, a crossed door this close to a known place's door (in map) is that door ...
   double reentry_per_m = 0.03;          // m/m, ... plus this per metre travelled outside places in between (odometry's drift)
-  int path_door_id_base = 1000000;      // -, ids of crossed doors that no door node names (above any node id)
+  int path_door_id_base = kNodelessDoorIdBase;  // -, ids of crossed doors that no door node names (above any node id)
 };
 
 /// Visits every parameter with its name in config/replay_places.yaml (node and test share it).

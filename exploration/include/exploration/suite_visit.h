@@ -112,6 +112,17 @@ class SuiteVisit {
   const RoomVisit& inner() const { return inner_; }
   /// The inner room was left, back at the door's front: its doors seen from inside are kept.
   void endInnerRoom();
+  /// Before the place of the room behind is created (the robot at its origin, the host's place still
+  /// the EKF's): the host keeps the robot's pose, with the EKF's covariance, as a door of its own
+  /// under an id no node names (an AddDoor request at no offset from the robot).
+  Request keepOrigin(int host_place);
+  /// Back in the host from the room behind (`q`: the robot in the room behind's place): the host's
+  /// place relocated at the origin keepOrigin() kept, where the robot's pose in the room behind is its
+  /// pose from that door (a Relocate request). The way out of the host may be a whole room long,
+  /// through a door with a decimetre to spare: the odometry since the EKF's last pose of the host
+  /// drifts more than that over the room behind's coverage and the way back (1-2 % of the distance,
+  /// and the heading's error swings the host's far side); the EKF of the room behind does not.
+  Request relocateHost(int host_place, const Perception& q) const;
   /// Each scan of an inner room's visit (`q`, in its place): whether the robot stands past its door.
   void observeInner(const Perception& q);
   /// The robot stands past the inner door's line (observeInner).
@@ -148,6 +159,7 @@ class SuiteVisit {
   std::string space_;
   std::vector<DoorTrack> inner_doors_odom_;
   int given_up_ = 0;
+  int origins_kept_ = 0;  // keepOrigin() calls: the door ids given
   double peek_depth_ = 0.25;  // m, peekDepth()
   std::vector<std::pair<RoomExtent, double>> recent_rooms_;  // extents (odometry frame), travel when covered
 };
