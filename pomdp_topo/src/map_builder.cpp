@@ -11,7 +11,6 @@ using laser_features::kPi;
 using laser_features::normalizeAngle;
 
 namespace {
-double sideOf(double lateral) { return lateral >= 0.0 ? 1.0 : -1.0; }
 // The node opening a side landmark passed while travelling along the bin heading `heading` (map
 // frame) stands for: across the bin, with the skew of the hallway it was passed in.
 NodeOpening sideOpening(double heading, const PassedLandmark& p) {
@@ -68,31 +67,14 @@ int MapBuilder::currentNode() const {
   return int(near_target == st.forward ? e->target : e->source);
 }
 
-std::string MapBuilder::loopEvidence() const {
-  const Candidate* best = nullptr;
-  for (const auto& c : candidates_) {
-    if (best == nullptr || c.score > best->score) best = &c;
-  }
-  if (best == nullptr) return "no candidate";
-  char text[200];
-  std::snprintf(text, sizeof(text),
-                "best node %u: position prior %.2f, %d landmarks matched, %d unexpected openings, %d expected "
-                "missed, turns %d possible / %d not; new place %.2f",
-                best->node, best->prior, best->matched, best->unexpected, best->missed, best->turns_possible,
-                best->turns_impossible, loop_new_score_);
-  return text;
-}
+std::string MapBuilder::loopEvidence() const { return loop_.evidence(); }
 
-double MapBuilder::loopLogOdds() const {
-  double best = -std::numeric_limits<double>::infinity();
-  for (const auto& c : candidates_) best = std::max(best, c.score);
-  return best - loop_new_score_;
-}
+double MapBuilder::loopLogOdds() const { return loop_.logOdds(); }
 
 void MapBuilder::start(const FrontEnd& fe) {
   fe_params_ = fe.params();
   map_->setHeadingBins(headingBins());
-  candidates_.clear();
+  loop_.clear();
   buffer_.clear();
   relocation_pending_ = false;
   relocated_ = false;
@@ -190,7 +172,7 @@ bool MapBuilder::takeRelocatedPosition(Eigen::Vector2d* position) {
 void MapBuilder::skipTravel(double metres) {
   if (!std::isfinite(metres)) return;
   travel_base_ += metres;
-  loop_travel0_ += metres;
+  loop_.skipTravel(metres);
 }
 
 void MapBuilder::process(const std::vector<Action>& actions, const Observation& observation,
@@ -247,7 +229,7 @@ void MapBuilder::processFrontier(const Scan& scan, const FrontEnd& fe) {
     Scan rest = scan;
     rest.passed.clear();
     for (const PassedLandmark& p : scan.passed) {
-      if (p.travel > loop_travel0_ - 1e-9) rest.passed.push_back(p);
+      if (p.travel > loop_.travel0() - 1e-9) rest.passed.push_back(p);
     }
     processLoopCheck(rest, fe);
     return;
@@ -412,205 +394,29 @@ Fingerprint MapBuilder::fingerprintAt(const Eigen::Vector2d& position, const Fro
   return f;
 }
 
-double MapBuilder::fingerprintSimilarity(const Fingerprint& a, const Fingerprint& b) const {
-  if (a.entries.empty() && b.entries.empty()) return 1.0;
-  if (a.entries.empty() || b.entries.empty()) return 0.0;
-  std::vector<bool> used(b.entries.size(), false);
-  size_t matched = 0;
-  for (const auto& ea : a.entries) {
-    for (size_t j = 0; j < b.entries.size(); ++j) {
-      if (used[j] || b.entries[j].kind != ea.kind) continue;
-      if (std::abs(normalizeAngle(b.entries[j].bearing - ea.bearing)) <= params_.fingerprint_tolerance) {
-        used[j] = true;
-        ++matched;
-        break;
-      }
-    }
-  }
-  return 2.0 * double(matched) / double(a.entries.size() + b.entries.size());
-}
-
 // ---- Loop closing (Tapus & Siegwart: two belief peaks tracked until one remains) -------------
 
 bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const Scan& scan) {
-  const TopoNode* fresh = map_->node(new_node);
-  const double h = binHeading(frontier_bin_);  // the way the robot came
-  // The way it goes on: straight past a door; the branch it turned to at a junction. The old node
-  // must have that way too, and the path beyond it is what the hypotheses are verified against
-  // (a corner has no way straight on: verifying along the arrival heading never saw a ring close
-  // at a corner, only at a door, with a duplicate of every corner in between).
   const int go_bin = departure_bin_ >= 0 ? departure_bin_ : frontier_bin_;
-  const double go = binHeading(go_bin);
   const double gate = params_.loop_gate_base + params_.loop_gate_per_m * travel_since_localized_;
-  const double sigma = 0.5 * gate;
-  candidates_.clear();
-  // The nodes of the straight stretch just built are never candidates: coming back to a place
-  // takes a turn.
-  std::vector<uint32_t> stretch = {previous_node};
-  for (uint32_t at = previous_node; stretch.size() < 256;) {
-    EdgeExit back;
-    if (!map_->exitWithHeading(at, normalizeAngle(h + kPi), 0.25 * kPi, &back)) break;
-    at = back.other;
-    if (std::find(stretch.begin(), stretch.end(), at) != stretch.end()) break;
-    stretch.push_back(at);
+  // scan.travel - s_: the travel when the robot was at the new node.
+  if (!loop_.begin(*map_, params_, headingBins(), new_node, previous_node, binHeading(frontier_bin_), go_bin, gate,
+                   scan.travel - s_)) {
+    return false;
   }
-  for (const auto& entry : map_->nodes()) {
-    const TopoNode& m = entry.second;
-    if (m.id == new_node || m.type != fresh->type) continue;
-    if (std::find(stretch.begin(), stretch.end(), m.id) != stretch.end()) continue;
-    const double d = std::hypot(m.pose.x - fresh->pose.x, m.pose.y - fresh->pose.y);
-    if (d > gate) continue;
-    // Every opening of the new node must exist at the old one: as an opening, or as an edge. A stem
-    // coming to a known hallway's T sees the hallway both ways as openings, which the T, made along
-    // the hallway, has as its edges (large_floor: no check started there, and the door just past
-    // the T was entered as a new room before the loop closed at the next one).
-    bool openings_match = true, seen_from_another_way = false;
-    for (const NodeOpening& o : fresh->openings) {
-      const bool opening = map_->hasOpeningToward(m.id, o.bearing);
-      EdgeExit way;
-      const bool edge = !opening && map_->exitWithHeading(m.id, o.bearing, headingBins().sameWayTolerance(), &way);
-      openings_match = openings_match && (opening || edge);
-      seen_from_another_way = seen_from_another_way || edge;
-    }
-    if (!openings_match) continue;
-    // The fingerprint is the view on arrival: from the stem a T shows other openings than from its
-    // hallway, so it is compared only for a node come to the way the old one was.
-    if (!seen_from_another_way && !fresh->fingerprint.entries.empty() && !m.fingerprint.entries.empty() &&
-        fingerprintSimilarity(fresh->fingerprint, m.fingerprint) < params_.loop_fingerprint_min) {
-      continue;
-    }
-    EdgeExit exit;
-    if (!map_->wayOn(m.id, go, 0.25 * kPi, &exit)) continue;  // nothing to verify against
-    Candidate c;
-    c.node = m.id;
-    c.prior = std::log(1.0 - params_.loop_new_place_prior) - d * d / (2.0 * sigma * sigma);
-    c.score = c.prior;
-    // The side openings of a node `base` metres along the path, as landmarks the robot will pass.
-    auto expectOpenings = [&](uint32_t id, double base) {
-      for (const NodeOpening& o : map_->node(id)->openings) {
-        const double s = std::sin(normalizeAngle(o.bearing - go));
-        if (std::abs(s) < 0.7) continue;  // along the hallway: not a side opening
-        EdgeLandmark r;
-        r.type = LandmarkType::Opening;
-        r.distance = base;
-        r.lateral = s > 0 ? 1.0 : -1.0;
-        r.p_lmap = 0.9;
-        c.expected.push_back(r);
-      }
-    };
-    // The old node's own openings first: the new node's door is passed (pass_lag behind the robot)
-    // after the node was made, during the check; unexpected, it counted against every door loop
-    // (small_loop's closed at log odds 0.99, by a hair at the next corner's turn).
-    expectOpenings(m.id, 0.0);
-    // The known path beyond the old node, straight on.
-    double base = 0.0;
-    uint32_t at = m.id;
-    for (int hops = 0; hops < 64 && base < params_.loop_verify_distance + 2.0; ++hops) {
-      EdgeExit x;
-      if (!map_->wayOn(at, go, 0.25 * kPi, &x)) break;
-      const TopoEdge* e = map_->edge(x.edge);
-      for (const EdgeLandmark& l : e->landmarks) {
-        EdgeLandmark r = l;
-        r.distance = base + (x.forward ? l.distance : e->length - l.distance);
-        if (!x.forward) {
-          r.lateral = -l.lateral;
-          r.orientation = normalizeAngle(l.orientation + kPi);
-        }
-        c.expected.push_back(r);
-      }
-      base += e->length;
-      at = x.other;
-      c.expected_nodes.push_back(base);
-      expectOpenings(at, base);
-    }
-    c.path_end = base;
-    c.used.assign(c.expected.size(), false);
-    candidates_.push_back(std::move(c));
-  }
-  if (candidates_.empty()) return false;
   mode_ = Mode::LoopCheck;
-  loop_new_node_ = new_node;
-  loop_prev_node_ = previous_node;
-  loop_bin_ = go_bin;
-  loop_new_score_ = std::log(params_.loop_new_place_prior);
-  loop_travel0_ = scan.travel - s_;  // the travel when the robot was at the new node
   buffer_.clear();
   std::string names;
-  for (const auto& c : candidates_) names += " " + std::to_string(c.node);
+  for (const uint32_t c : loop_.candidates()) names += " " + std::to_string(c);
   event("loop hypothesis: node " + std::to_string(new_node) + " may be node(s)" + names + "; map building paused");
   return true;
 }
 
 void MapBuilder::processLoopCheck(const Scan& scan, const FrontEnd& fe) {
   buffer_.push_back(scan);
-  const double u = scan.travel - loop_travel0_;
-  const double p_new = params_.loop_new_landmark_probability;
-  const double p_false = params_.loop_false_landmark_probability;
-  bool turned = false;
-  for (const PassedLandmark& p : scan.passed) {
-    if (p.heading_bin != loop_bin_) continue;
-    if (p.landmark.type == LandmarkType::Corner && p.landmark.confidence < params_.corner_min_confidence) continue;
-    const double pos = (p.travel - loop_travel0_) + p.landmark.along;
-    loop_new_score_ += std::log(p_new);
-    for (auto& c : candidates_) {
-      bool matched = false;
-      for (size_t i = 0; i < c.expected.size(); ++i) {
-        const EdgeLandmark& l = c.expected[i];
-        if (c.used[i] || l.type != p.landmark.type || sideOf(l.lateral) != sideOf(p.landmark.lateral)) continue;
-        if (std::abs(l.distance - pos) > params_.match_distance) continue;
-        // The new node's own door (distance 0) is no evidence either way: both hypotheses have it
-        // (the candidate was chosen for its openings). Scored like the new place's, it only keeps
-        // it from counting against the old one.
-        c.score += l.distance <= 0.0 ? std::log(p_new) : std::log(std::max(1e-3, l.p_lmap));
-        c.used[i] = true;
-        matched = true;
-        ++c.matched;
-        break;
-      }
-      if (!matched && p.landmark.type == LandmarkType::Opening) ++c.unexpected;
-      // An unexpected opening speaks against the old place; an unexpected corner does not (corners
-      // seen at low confidence on the first pass were never added to the map).
-      if (!matched) c.score += std::log(p.landmark.type == LandmarkType::Opening ? p_false : p_new);
-    }
-  }
-  for (const Action& a : scan.actions) {
-    if (a.kind != Action::Turn) continue;
-    turned = true;
-    loop_new_score_ += std::log(0.5);
-    const int bins = fe_params_.heading_bins;
-    const double new_heading = binHeading(((loop_bin_ + a.turn_bins) % bins + bins) % bins);
-    for (auto& c : candidates_) {
-      // A turn is expected only at a node of the old path with an edge (or opening) that way.
-      bool possible = 2 * std::abs(a.turn_bins) == bins;  // U-turns happen anywhere
-      double base = 0.0;
-      uint32_t at = c.node;
-      for (int hops = 0; hops < 64 && !possible; ++hops) {
-        if (std::abs(u - base) <= params_.node_radius) {
-          EdgeExit x;
-          possible = map_->wayOn(at, new_heading, 0.25 * kPi, &x) || map_->hasOpeningToward(at, new_heading);
-        }
-        EdgeExit x;
-        if (!map_->wayOn(at, binHeading(loop_bin_), 0.25 * kPi, &x)) break;
-        base += map_->edge(x.edge)->length;
-        at = x.other;
-        if (base > u + params_.node_radius) break;
-      }
-      c.score += std::log(possible ? 0.9 : 0.02);
-      ++(possible ? c.turns_possible : c.turns_impossible);
-    }
-  }
-  // Expected landmarks left behind unseen (eq. 5's 1 - p_lmap), and travel past the known path.
-  for (auto& c : candidates_) {
-    for (size_t i = 0; i < c.expected.size(); ++i) {
-      if (c.used[i] || c.expected[i].distance > u - params_.match_distance - fe_params_.pass_lag) continue;
-      // The old node's own openings (distance 0) may have been passed before the check began.
-      if (c.expected[i].distance <= 0.0) continue;
-      c.score += std::log(std::max(1e-3, 1.0 - c.expected[i].p_lmap));
-      c.used[i] = true;
-      ++c.missed;
-    }
-    if (u > c.path_end + params_.node_radius) c.score = -std::numeric_limits<double>::infinity();
-  }
+  const bool turned =
+      loop_.observe(*map_, params_, headingBins(), fe_params_.pass_lag, scan.passed, scan.actions, scan.travel);
+  const double u = scan.travel - loop_.travel0();
   const double odds = loopLogOdds();
   if (odds >= params_.loop_decision_log_odds) {
     decideLoop(true, fe);
@@ -625,27 +431,23 @@ void MapBuilder::decideLoop(bool old_wins, const FrontEnd& fe) {
   std::vector<Scan> scans;
   scans.swap(buffer_);
   if (old_wins) {
-    const Candidate* best = &candidates_.front();
-    for (const auto& c : candidates_) {
-      if (c.score > best->score) best = &c;
-    }
-    const uint32_t keep = best->node;
+    const uint32_t keep = loop_.bestNode();
     const double odds = loopLogOdds();
     const std::string evidence = loopEvidence();
-    candidates_.clear();
+    loop_.clear();
     std::vector<std::pair<uint32_t, uint32_t>> zipped;
     // Zips only within the position gate (when on): positions share the dead reckoning's frame.
-    map_->mergeNodes(keep, loop_new_node_, &zipped,
+    map_->mergeNodes(keep, loop_.newNode(), &zipped,
                      params_.position_gate > 0.0 ? params_.position_gate : std::numeric_limits<double>::infinity());
-    loops_.emplace_back(keep, loop_new_node_);
-    event("loop closed: node " + std::to_string(loop_new_node_) + " merged into node " + std::to_string(keep) +
+    loops_.emplace_back(keep, loop_.newNode());
+    event("loop closed: node " + std::to_string(loop_.newNode()) + " merged into node " + std::to_string(keep) +
           " (log odds " + std::to_string(odds) + "; " + evidence + ")");
     for (const auto& [kept, dropped] : zipped) {
       event("node " + std::to_string(dropped) + " merged into node " + std::to_string(kept) +
             ": the same place, on the stretch the loop closed along");
     }
     // Continue on the known graph from the old node, replaying the motion since.
-    becomeLocalizedAt(keep, loop_bin_);
+    becomeLocalizedAt(keep, loop_.bin());
     for (const Scan& s : scans) {
       for (const Action& a : s.actions) localizer_->predict(a);
     }
@@ -654,12 +456,12 @@ void MapBuilder::decideLoop(bool old_wins, const FrontEnd& fe) {
     return;
   }
   ++loops_rejected_;
-  event("loop hypothesis rejected: node " + std::to_string(loop_new_node_) + " is a new place (log odds " +
+  event("loop hypothesis rejected: node " + std::to_string(loop_.newNode()) + " is a new place (log odds " +
         std::to_string(loopLogOdds()) + "; " + loopEvidence() + ")");
-  candidates_.clear();
-  if (loop_bin_ != frontier_bin_) {
+  loop_.clear();
+  if (loop_.bin() != frontier_bin_) {
     // Turned at the new junction: the new stretch starts there, along the branch taken.
-    startFrontier(loop_new_node_, loop_bin_, 0.0, loop_travel0_);
+    startFrontier(loop_.newNode(), loop_.bin(), 0.0, loop_.travel0());
   } else {
     mode_ = Mode::Frontier;
   }

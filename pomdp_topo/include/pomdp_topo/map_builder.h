@@ -17,6 +17,8 @@
 
 #include "laser_features/building_rules.h"
 #include "pomdp_topo/front_end.h"
+#include "pomdp_topo/loop_hypotheses.h"
+#include "pomdp_topo/map_builder_params.h"
 #include "pomdp_topo/pomdp_localizer.h"
 #include "pomdp_topo/topological_map.h"
 
@@ -25,49 +27,6 @@
 #include <vector>
 
 namespace pomdp_topo {
-
-struct MapBuilderParams {
-  bool mapping = true;                 // -, false: localization only, the map is never changed
-  laser_features::BuildingRules rules;  // side openings up to door_max_width are doors, wider ones
-                                        // junctions (config/building.yaml)
-  double min_node_separation = 0.8;    // m, a side opening this close to the last node joins that node
-  double node_radius = 1.0;            // m, a turn this close to a node happens at that node
-  double corner_min_confidence = 0.5;  // -, corners passed on a new stretch become landmarks above this
-  double landmark_add_confidence = 0.7;  // -, an unknown corner passed on a known edge is added above this
-  double p_lmap_min = 0.2;             // -, landmarks whose p_lmap falls below this are deleted ...
-  int p_lmap_min_observations = 4;     // -, ... once observed (or missed) this many times
-  double match_distance = 0.75;        // m, a passed landmark matches an expected one this close along the edge
-  double fingerprint_radius = 4.0;     // m, tracked features this close to a new node make its fingerprint
-  double fingerprint_tolerance = 0.3;  // rad, fingerprint entries this close in bearing match
-  double leave_graph_distance = 1.0;   // m, travel past a node with no edge in that heading before a new stretch starts
-  double loop_gate_base = 2.0;         // m, a loop candidate lies within base + per_m x distance ...
-  double loop_gate_per_m = 0.05;       // m/m, ... travelled since the last localization on the known graph
-  double loop_fingerprint_min = 0.3;   // -, fingerprint similarity a loop candidate needs, [0, 1]
-  double loop_new_place_prior = 0.1;   // -, prior of "a new look-alike place" against a candidate at its expected spot
-  double loop_new_landmark_probability = 0.3;  // -, likelihood of a landmark on an unexplored stretch
-  double loop_false_landmark_probability = 0.05;  // -, likelihood of a landmark the old place does not explain
-  double loop_decision_log_odds = 3.0; // -, a hypothesis wins when ahead by this (log odds, about 20:1)
-  double loop_verify_distance = 6.0;   // m, past this the better hypothesis wins
-  double position_gate = 4.0;          // m, states farther than this from the dead-reckoned position ...
-  double position_gate_per_m = 0.01;   // m/m, ... plus this per metre travelled since the map and the dead
-                                       // reckoning last agreed (a confident belief within position_gate of
-                                       // it; a relocation after a jump) get no belief: a look-alike hallway
-                                       // 15 m away is no candidate; nodes zipped after a loop closure lie
-                                       // within position_gate; 0 = off
-  double update_position_tolerance = 2.5;  // m, while the position gate is on, an opening passed on the
-                                       // known map is added to it (to the belief's node, or as a door node
-                                       // on its edge) only if its dead-reckoned position lies this close to
-                                       // where the belief puts it, and a node the belief would leave the
-                                       // known graph from is merged into a node of its type this close
-                                       // that has the way on (twinWithWay); a belief beyond the known map
-                                       // is kept, and a stretch started, only on its node's way out
-                                       // (alongWayOut, departure); 0 = none of these
-  bool heading_gate = true;            // -, while the heading is trusted (setHeadingTrusted), states whose
-                                       // heading bin is not the front end's get no belief
-  bool start_node_closed = false;      // -, the start node has no way but its edges and recorded openings (the
-                                       // exploration records an open way behind the robot): a belief leaving it
-                                       // elsewhere is wrong, as past a hallway end; false when nobody records them
-};
 
 class MapBuilder {
  public:
@@ -148,16 +107,6 @@ class MapBuilder {
   Departure departure(const TopoNode& n, double heading, const Pose2D& robot, double* s) const;
 
  private:
-  struct Candidate {
-    uint32_t node = 0;
-    double score = 0.0;  // log likelihood so far, with the position prior
-    std::vector<EdgeLandmark> expected;  // along the path beyond the node, distance from it
-    std::vector<double> expected_nodes;  // distances of the nodes on that path
-    std::vector<bool> used;
-    double path_end = 0.0;               // m, where the known path beyond the node ends
-    double prior = 0.0;                  // the position prior's part of score (log)
-    int matched = 0, unexpected = 0, missed = 0, turns_possible = 0, turns_impossible = 0;  // the evidence, for the log
-  };
   /// What the builder needs of one scan (kept to replay the scans of a rejected loop hypothesis).
   struct Scan {
     std::vector<Action> actions;
@@ -223,7 +172,6 @@ class MapBuilder {
   void addOpeningsAtNode(const PomdpLocalizer::State& st, const Scan& scan);
   void splitEdgeWithDoor(uint32_t edge, double distance, const NodeOpening& opening, bool is_door);
   Fingerprint fingerprintAt(const Eigen::Vector2d& position, const FrontEnd& fe) const;
-  double fingerprintSimilarity(const Fingerprint& a, const Fingerprint& b) const;
   laser_features::HeadingBins headingBins() const { return {fe_params_.axis_angle, fe_params_.heading_bins}; }
   double binHeading(int bin) const;
   int binOf(double heading) const;
@@ -271,14 +219,9 @@ class MapBuilder {
   std::vector<uint32_t> matched_recently_;  // indices of landmarks of last_edge_ matched lately
 
   // LoopCheck.
-  uint32_t loop_new_node_ = 0;
-  uint32_t loop_prev_node_ = 0;
-  int loop_bin_ = 0;          // the heading bin the hypotheses are verified along (the robot's way on)
   int departure_bin_ = -1;    // frontierTurn: the bin the robot leaves the junction it creates along
-  double loop_travel0_ = 0.0; // FrontEnd::travel() at the new node
-  double loop_new_score_ = 0.0;
-  std::vector<Candidate> candidates_;
-  std::vector<Scan> buffer_;
+  LoopHypotheses loop_;
+  std::vector<Scan> buffer_;  // the scans since the new node: replayed as a new stretch if it is one
 
   std::vector<std::string> events_;
   std::vector<std::pair<uint32_t, uint32_t>> loops_;

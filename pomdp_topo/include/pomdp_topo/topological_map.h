@@ -41,6 +41,9 @@ struct EdgeLandmark {
   uint32_t observations = 0; // how many passes contributed to p_lmap (running average, eq. 4)
 };
 
+/// The side of a landmark or opening from its lateral offset (m, left positive): +1 left, -1 right.
+inline double sideOf(double lateral) { return lateral >= 0.0 ? 1.0 : -1.0; }
+
 /// An opening at a node: a door into a room, or a hallway branch at a junction.
 struct NodeOpening {
   double bearing = 0.0;  // rad, map frame: the direction from the node's centre through the opening,
