@@ -12,6 +12,7 @@ add_library(pomdp_topo_core
   ${POMDP_TOPO_CORE_DIR}/src/map_io.cpp
   ${POMDP_TOPO_CORE_DIR}/src/pomdp_localizer.cpp
   ${POMDP_TOPO_CORE_DIR}/src/front_end.cpp
+  ${POMDP_TOPO_CORE_DIR}/src/dead_reckoning_gate.cpp
   ${POMDP_TOPO_CORE_DIR}/src/loop_hypotheses.cpp
   ${POMDP_TOPO_CORE_DIR}/src/map_builder.cpp
   ${POMDP_TOPO_CORE_DIR}/src/params_check.cpp

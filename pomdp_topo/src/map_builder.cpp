@@ -82,9 +82,7 @@ void MapBuilder::start(const FrontEnd& fe) {
   localizer_->clearOpenWays();
   // A map built from here on is in the dead reckoning's frame; a loaded one is not (until a jump's
   // relocation moves the front end onto it).
-  position_trusted_ = map_->empty();
-  heading_trusted_ = map_->empty();
-  trusted_travel_ = fe.travel();
+  gate_.setTrusted(map_->empty(), map_->empty(), fe.travel());
   if (map_->empty()) {
     if (!params_.mapping) {
       mode_ = Mode::Localized;
@@ -150,8 +148,7 @@ void MapBuilder::odometryJump(const FrontEnd& fe) {
     }
   }
   mode_ = Mode::Localized;
-  position_trusted_ = false;  // the dead reckoning no longer says where the robot is on the map
-  heading_trusted_ = false;
+  gate_.lose();  // the dead reckoning no longer says where the robot is on the map
   refreshLocalizer();
   localizer_->setUniform();
   beyond_ = 0.0;
@@ -332,7 +329,7 @@ uint32_t MapBuilder::createNode(NodeType type, double pos, const Scan& scan, con
   // from the junction that has it by the dead reckoning, was 1.77 m by the travel, made a door node
   // of its own and the room was entered again).
   double from_last = pos;
-  if (const TopoNode* last = map_->node(from_node_); last != nullptr && deadReckoningChecks()) {
+  if (const TopoNode* last = map_->node(from_node_); last != nullptr && gate_.checks(params_)) {
     from_last = std::min(pos, std::hypot(pose.x - last->pose.x, pose.y - last->pose.y));
   }
   if (from_last < join) {
@@ -470,116 +467,6 @@ void MapBuilder::decideLoop(bool old_wins, const FrontEnd& fe) {
 
 // ---- Localized ---------------------------------------------------------------------------------
 
-bool MapBuilder::statePosition(const PomdpLocalizer::State& st, Eigen::Vector2d* p) const {
-  if (st.kind == PomdpLocalizer::State::Edge) {
-    const TopoEdge* e = map_->edge(st.id);
-    return e != nullptr && pointOnEdge(*e, st.offset, p);
-  }
-  const TopoNode* n = map_->node(st.id);
-  if (n == nullptr) return false;
-  *p = Eigen::Vector2d(n->pose.x, n->pose.y);
-  return true;
-}
-
-bool MapBuilder::pointOnEdge(const TopoEdge& e, double d, Eigen::Vector2d* p) const {
-  const TopoNode* a = map_->node(e.source);
-  const TopoNode* b = map_->node(e.target);
-  if (a == nullptr || b == nullptr) return false;
-  *p = Eigen::Vector2d(a->pose.x, a->pose.y);
-  if (e.length > 0.0) *p += (Eigen::Vector2d(b->pose.x, b->pose.y) - *p) * std::clamp(d / e.length, 0.0, 1.0);
-  return true;
-}
-
-void MapBuilder::gateByDeadReckoning(const Scan& scan) {
-  const bool by_position = position_trusted_ && params_.position_gate > 0.0;
-  // The heading: a belief whose heading is not the robot's is a wrong one (large_floor: a belief
-  // heading west at a T while the robot drove east left the known graph along the belief's
-  // heading, and the nine doors passed going east were never made nodes: the rooms were mapped
-  // again later). With a trusted heading the belief's must agree; before, the front end was turned
-  // to the belief's (HeadingRealigner, now only for an untrusted heading).
-  const bool by_heading = heading_trusted_ && params_.heading_gate;
-  if (!by_position && !by_heading) return;
-  // Heading-corrected dead reckoning drifts little in a rectilinear building, and the map's node
-  // positions come from the same dead reckoning: a state far from it is a look-alike elsewhere
-  // (large_floor: a belief at the start node 94 m west of the robot at the east end of the same
-  // hallway started a new stretch there, and the whole hallway was mapped twice).
-  const double gate = by_position
-                          ? params_.position_gate + params_.position_gate_per_m * std::max(0.0, scan.travel - trusted_travel_)
-                          : std::numeric_limits<double>::infinity();
-  const Eigen::Vector2d here(scan.pose.x, scan.pose.y);
-  const size_t n = localizer_->belief().size();
-  if (state_positions_.size() != n || state_positions_revision_ != map_->revision() ||
-      state_positions_states_revision_ != localizer_->mapRevision()) {
-    state_positions_.assign(n, Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN()));
-    state_bins_.resize(n);
-    state_beyond_map_.assign(n, false);
-    for (size_t s = 0; s < n; ++s) {
-      const PomdpLocalizer::State st = localizer_->state(s);
-      statePosition(st, &state_positions_[s]);
-      state_bins_[s] = binOf(st.heading);
-      EdgeExit x;
-      state_beyond_map_[s] = st.kind == PomdpLocalizer::State::Node && !map_->wayOn(st.id, st.heading, 0.25 * kPi, &x);
-    }
-    state_positions_revision_ = map_->revision();
-    state_positions_states_revision_ = localizer_->mapRevision();
-  }
-  // A state with no position (NaN) is never gated out.
-  auto within = [&](size_t s, double radius) { return !((state_positions_[s] - here).norm() > radius); };
-  // A state at a node heading where no edge leads stands for a robot beyond the known map, on the
-  // way out of that node, however far along it. It explains whatever lies ahead as unexplored, more
-  // cheaply than an edge whose landmarks are seen a little off (the robot swerving round an
-  // obstacle, a hallway offset at a crossing): it is a wrong one where the dead reckoning puts the
-  // robot off that way, and a right one where it puts the robot on it, however far from the node.
-  const bool by_way_out = by_position && params_.update_position_tolerance > 0.0;
-  auto near = [&](size_t s) {
-    if (!by_way_out || !state_beyond_map_[s]) return within(s, gate);
-    double along = 0.0;
-    return alongWayOut(state_positions_[s], localizer_->state(s).heading, here, &along);
-  };
-  gate_allowed_.resize(n);
-  for (size_t s = 0; s < n; ++s) {
-    gate_allowed_[s] = near(s) && (!by_heading || state_bins_[s] == scan.heading_bin);
-  }
-  if (!localizer_->restrictTo(gate_allowed_)) {
-    event(by_position ? "no belief within " + std::to_string(int(std::lround(gate))) +
-                            " m of the dead-reckoned position and heading: uniform over the states there"
-                      : "no belief with the dead-reckoned heading: uniform over the states with it");
-    return;
-  }
-  if (!by_position) return;
-  // A confident belief near the dead-reckoned position: the two agree, the drift allowance restarts.
-  const int ml = localizer_->mostLikely();
-  if (ml >= 0 && localizer_->confident() && std::isfinite(state_positions_[size_t(ml)].x()) &&
-      within(size_t(ml), params_.position_gate)) {
-    trusted_travel_ = scan.travel;
-  }
-}
-
-bool MapBuilder::deadReckonedPosition(const PassedLandmark& p, const Scan& scan, Eigen::Vector2d* at) const {
-  if (!deadReckoningChecks()) return false;
-  // The landmark lies this far behind the robot along its travel (as in processLoopCheck).
-  const double back = scan.travel - (p.travel + p.landmark.along);
-  const double h = binHeading(p.heading_bin);
-  *at = Eigen::Vector2d(scan.pose.x - back * std::cos(h), scan.pose.y - back * std::sin(h));
-  return true;
-}
-
-bool MapBuilder::farFromDeadReckoning(const Eigen::Vector2d& believed, const PassedLandmark& p, const Scan& scan) const {
-  Eigen::Vector2d at;
-  return deadReckonedPosition(p, scan, &at) && (at - believed).norm() > params_.update_position_tolerance;
-}
-
-bool MapBuilder::farFromNode(const TopoNode& n, const PassedLandmark& p, const Scan& scan) const {
-  // An opening a node lacks lies beside it, within the reach a node's openings are looked for in
-  // (min_node_separation + match_distance), not update_position_tolerance: with the belief a node
-  // off, the door is the next node's (large_floor: after U-turns on a hallway of doors 2-3 m apart
-  // a door was added to a node 5.7 m from it; room_7_14's door to the node 1.8-1.9 m before the
-  // junction that has it; each time a known room was entered again as a new one).
-  Eigen::Vector2d at;
-  return deadReckonedPosition(p, scan, &at) &&
-         (at - Eigen::Vector2d(n.pose.x, n.pose.y)).norm() > params_.min_node_separation + params_.match_distance;
-}
-
 void MapBuilder::processLocalized(const Scan& scan) {
   double travelled = 0.0;
   for (const Action& a : scan.actions) {
@@ -617,7 +504,7 @@ void MapBuilder::processLocalized(const Scan& scan) {
           continue;
         }
         if (!closed) {
-          const int twin = beyond_ >= limit ? twinWithWay(st.id, st.heading) : -1;
+          const int twin = beyond_ >= limit ? gate_.twinWithWay(*map_, params_, st.id, st.heading) : -1;
           if (twin >= 0) {
             // The node is a known one recorded twice (large_floor: a crossing reached down a stem
             // that goes on into an unexplored one starts no loop check, and the hallway was mapped
@@ -665,7 +552,11 @@ void MapBuilder::processLocalized(const Scan& scan) {
     beyond_ = 0.0;
     localizer_->update(scan.observation);
   }
-  gateByDeadReckoning(scan);
+  if (const std::string said = gate_.gate(*map_, localizer_, params_, headingBins(), scan.pose, scan.travel,
+                                        scan.heading_bin);
+      !said.empty()) {
+    event(said);
+  }
   const int ml = localizer_->mostLikely();
   if (ml < 0) return;
   const bool sure = localizer_->confident();
@@ -675,62 +566,19 @@ void MapBuilder::processLocalized(const Scan& scan) {
   // the map builder's position).
   if (sure && relocation_pending_ && localizer_->belief()[size_t(ml)] >= 0.5) {
     Eigen::Vector2d p;
-    if (statePosition(localizer_->state(size_t(ml)), &p)) {
+    if (statePosition(*map_, localizer_->state(size_t(ml)), &p)) {
       relocation_pending_ = false;
       relocated_ = true;
       relocated_position_ = p;
-      position_trusted_ = true;  // the caller moves the front end there (takeRelocatedPosition)
-      trusted_travel_ = scan.travel;
+      gate_.relocated(scan.travel);  // the caller moves the front end there (takeRelocatedPosition)
       event("relocalized after the odometry jump");
     }
   }
   if (sure && params_.mapping && beyond_ == 0.0) updateKnownEdge(scan);
 }
 
-bool MapBuilder::alongWayOut(const Eigen::Vector2d& node, double heading, const Eigen::Vector2d& robot,
-                             double* along) const {
-  const Eigen::Vector2d u = laser_features::unitVector(heading);
-  const Eigen::Vector2d v = robot - node;
-  *along = v.dot(u);
-  const double tolerance = params_.update_position_tolerance;
-  return std::abs(u.x() * v.y() - u.y() * v.x()) <= tolerance && *along >= -tolerance;
-}
-
 MapBuilder::Departure MapBuilder::departure(const TopoNode& n, double heading, const Pose2D& robot, double* s) const {
-  if (!deadReckoningChecks()) return Departure::Here;
-  // A new stretch starts where the robot is: on the way out of the node, `s` ahead of it. A belief
-  // that reaches the node late (it held behind while the robot drove on) starts it as far along
-  // as the robot is; one that leads the robot waits for it; one off the way out is wrong.
-  double along = 0.0;
-  const double tolerance = params_.update_position_tolerance;
-  if (!alongWayOut(Eigen::Vector2d(n.pose.x, n.pose.y), heading, Eigen::Vector2d(robot.x, robot.y), &along)) {
-    return Departure::Elsewhere;
-  }
-  if (along < *s - tolerance) {
-    *s = std::max(0.0, along);
-    return Departure::NotYet;
-  }
-  if (along > *s + tolerance) *s = along;
-  return Departure::Here;
-}
-
-int MapBuilder::twinWithWay(uint32_t id, double heading) const {
-  if (!deadReckoningChecks()) return -1;
-  const TopoNode* n = map_->node(id);
-  if (n == nullptr) return -1;
-  int best = -1;
-  double best_d = params_.update_position_tolerance;
-  for (const auto& entry : map_->nodes()) {
-    const TopoNode& m = entry.second;
-    if (m.id == id || m.type != n->type) continue;
-    const double d = std::hypot(m.pose.x - n->pose.x, m.pose.y - n->pose.y);
-    EdgeExit x;
-    if (d <= best_d && map_->exitWithHeading(m.id, heading, 0.25 * kPi, &x) && x.other != id) {
-      best = int(m.id);
-      best_d = d;
-    }
-  }
-  return best;
+  return gate_.departure(params_, n, heading, robot, s);
 }
 
 bool MapBuilder::knownOpeningNear(const TopoEdge& e, double d, const PassedLandmark& p, const Scan& scan,
@@ -750,7 +598,7 @@ bool MapBuilder::knownOpeningNear(std::vector<std::pair<uint32_t, double>> todo,
   // still on the door node 2.5 m before).
   const double reach = params_.min_node_separation + params_.match_distance;
   Eigen::Vector2d at;
-  if (deadReckonedPosition(p, scan, &at)) {
+  if (gate_.deadReckonedPosition(params_, headingBins(), p, scan.pose, scan.travel, &at)) {
     for (const auto& [id, k] : map_->nodes()) {
       const double gap = (Eigen::Vector2d(k.pose.x, k.pose.y) - at).norm();
       if (gap >= reach) continue;
@@ -796,7 +644,7 @@ void MapBuilder::addOpeningsAtNode(const PomdpLocalizer::State& st, const Scan& 
     if (binHeading(p.heading_bin) != binHeading(binOf(st.heading))) continue;
     const NodeOpening o = sideOpening(st.heading, p);
     if (knownOpeningNear({{n->id, reach}}, p, scan, o.bearing, o.width)) continue;
-    if (farFromNode(*n, p, scan)) continue;
+    if (gate_.farFromNode(params_, headingBins(), *n, p, scan.pose, scan.travel)) continue;
     n->openings.push_back(o);
     changed = true;
     event("opening added to node " + std::to_string(n->id));
@@ -877,7 +725,10 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       // A new opening creates a new node (an unknown door on a known stretch), where the dead
       // reckoning agrees.
       Eigen::Vector2d believed;
-      if (pointOnEdge(*e, d, &believed) && farFromDeadReckoning(believed, p, scan)) continue;
+      if (map_->pointOnEdge(*e, d, &believed) &&
+          gate_.farFromDeadReckoning(params_, headingBins(), believed, p, scan.pose, scan.travel)) {
+        continue;
+      }
       const double heading = st.heading;
       splitEdgeWithDoor(e->id, d, sideOpening(heading, p), p.landmark.door);
       return;
@@ -890,7 +741,7 @@ void MapBuilder::updateKnownEdge(const Scan& scan) {
       // door nodes, which the exploration turned round for five times before giving them up.
       if (n->type != NodeType::Junction && !p.landmark.door) continue;
       const NodeOpening o = sideOpening(st.heading, p);
-      if (!map_->hasOpeningToward(nid, o.bearing) && !farFromNode(*n, p, scan)) {
+      if (!map_->hasOpeningToward(nid, o.bearing) && !gate_.farFromNode(params_, headingBins(), *n, p, scan.pose, scan.travel)) {
         n->openings.push_back(o);
         changed = true;
         event("opening added to node " + std::to_string(nid));

@@ -354,4 +354,13 @@ void TopologicalMap::setEdgeLength(uint32_t id, double length) {
   ++revision_;
 }
 
+bool TopologicalMap::pointOnEdge(const TopoEdge& e, double d, Eigen::Vector2d* p) const {
+  const TopoNode* a = node(e.source);
+  const TopoNode* b = node(e.target);
+  if (a == nullptr || b == nullptr) return false;
+  *p = Eigen::Vector2d(a->pose.x, a->pose.y);
+  if (e.length > 0.0) *p += (Eigen::Vector2d(b->pose.x, b->pose.y) - *p) * std::clamp(d / e.length, 0.0, 1.0);
+  return true;
+}
+
 }  // namespace pomdp_topo

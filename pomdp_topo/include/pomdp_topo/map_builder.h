@@ -16,6 +16,7 @@
 #pragma once
 
 #include "laser_features/building_rules.h"
+#include "pomdp_topo/dead_reckoning_gate.h"
 #include "pomdp_topo/front_end.h"
 #include "pomdp_topo/loop_hypotheses.h"
 #include "pomdp_topo/map_builder_params.h"
@@ -41,9 +42,7 @@ class MapBuilder {
   /// then on. The per-state bins kept for the heading gate are computed again.
   void setAxis(double axis_angle) {
     fe_params_.axis_angle = axis_angle;
-    state_bins_.clear();
-    state_positions_.clear();
-    state_beyond_map_.clear();
+    gate_.invalidate();
   }
 
   /// Starts: an empty map gets a Start node at the robot and a Frontier along its heading; a
@@ -63,12 +62,11 @@ class MapBuilder {
   /// The front end refused a scan's odometry (a jump past max_odometry_step, a reset of the
   /// odometry): its position is no longer the map's, and the position gate is off from now on.
   void positionLost() {
-    position_trusted_ = false;
-    heading_trusted_ = false;
+    gate_.lose();
   }
   /// The front end's heading is the map's (a map built in this run, no jump since, or agreed with
   /// since: pomdp_topo_node's HeadingRealigner): the heading gate is on (heading_gate).
-  void setHeadingTrusted(bool trusted) { heading_trusted_ = trusted; }
+  void setHeadingTrusted(bool trusted) { gate_.setHeadingTrusted(trusted); }
   /// After an odometry jump, once the belief is confident again: where the map puts the robot (m,
   /// map frame), once; the caller moves the FrontEnd there (FrontEnd::setPosition). False otherwise.
   bool takeRelocatedPosition(Eigen::Vector2d* position);
@@ -97,13 +95,8 @@ class MapBuilder {
   std::string loopEvidence() const;
 
   /// Where the dead-reckoned position `robot` (the front end's, in the map's frame) lies against
-  /// a new stretch `*s` m out of node `n` along `heading`, within update_position_tolerance: there
-  /// (Here; `*s` becomes the dead reckoning's distance along the way where that is farther by more
-  /// than the tolerance: the belief reached the node late), on the way out but short of that
-  /// (NotYet; `*s` becomes its distance past the node, at least 0: the belief leads the robot out),
-  /// or off the way out (Elsewhere: the belief is wrong). Here when the map is not checked against
-  /// the dead reckoning (deadReckoningChecks).
-  enum class Departure { Here, NotYet, Elsewhere };
+  /// a new stretch `*s` m out of node `n` along `heading` (DeadReckoningGate::departure).
+  using Departure = DeadReckoningGate::Departure;
   Departure departure(const TopoNode& n, double heading, const Pose2D& robot, double* s) const;
 
  private:
@@ -129,32 +122,6 @@ class MapBuilder {
   void startFrontier(uint32_t node, int bin, double s, double travel);
   void becomeLocalizedAt(uint32_t node, int bin);
   bool startLoopCheck(uint32_t new_node, uint32_t previous_node, const Scan& scan);
-  /// The map position of a belief state (a node, or along an edge between its nodes' poses).
-  bool statePosition(const PomdpLocalizer::State& st, Eigen::Vector2d* p) const;
-  /// The point `d` metres along edge `e` from its source (clamped to the edge), map frame; false for
-  /// an edge whose nodes are unknown.
-  bool pointOnEdge(const TopoEdge& e, double d, Eigen::Vector2d* p) const;
-  /// The position and heading gates (position_gate, heading_gate): the belief restricted to states
-  /// near the dead-reckoned position and with the dead-reckoned heading.
-  void gateByDeadReckoning(const Scan& scan);
-  /// A node of the same type as `id` within update_position_tolerance of it (position gate on) with
-  /// an edge along `heading`, which `id` lacks: one place recorded twice. -1 if none.
-  int twinWithWay(uint32_t id, double heading) const;
-  /// Whether `robot` lies on the way out of a node at `node` along `heading`: within
-  /// update_position_tolerance of that ray, not farther behind the node; `*along` is its distance
-  /// along the way.
-  bool alongWayOut(const Eigen::Vector2d& node, double heading, const Eigen::Vector2d& robot, double* along) const;
-  /// update_position_tolerance: the dead-reckoned position of a passed landmark is farther than the
-  /// tolerance from `believed` (where the belief puts it, map frame), while the position gate is on.
-  bool farFromDeadReckoning(const Eigen::Vector2d& believed, const PassedLandmark& p, const Scan& scan) const;
-  /// Where the dead reckoning puts a passed landmark (map frame); false while the position gate is
-  /// off or the dead reckoning is not trusted (as farFromDeadReckoning).
-  bool deadReckonedPosition(const PassedLandmark& p, const Scan& scan, Eigen::Vector2d* at) const;
-  /// The map is checked against the dead reckoning (update_position_tolerance): the position gate
-  /// is on, the tolerance set and the front end's position trusted.
-  bool deadReckoningChecks() const {
-    return position_trusted_ && params_.position_gate > 0.0 && params_.update_position_tolerance > 0.0;
-  }
   void decideLoop(bool old_wins, const FrontEnd& fe);
   void updateKnownEdge(const Scan& scan);
   /// A node within min_node_separation + match_distance of `d` along edge `e` (either way, through
@@ -165,9 +132,6 @@ class MapBuilder {
   /// The same from a list of (node, reach left in m).
   bool knownOpeningNear(std::vector<std::pair<uint32_t, double>> todo, const PassedLandmark& p, const Scan& scan,
                         double bearing, double width) const;
-  /// The dead reckoning puts the passed opening `p` farther than min_node_separation +
-  /// match_distance from node `n`: it is not an opening `n` lacks. False without dead reckoning.
-  bool farFromNode(const TopoNode& n, const PassedLandmark& p, const Scan& scan) const;
   /// Doors passed while the belief is at node `st` that no node within reach has: added to it.
   void addOpeningsAtNode(const PomdpLocalizer::State& st, const Scan& scan);
   void splitEdgeWithDoor(uint32_t edge, double distance, const NodeOpening& opening, bool is_door);
@@ -192,16 +156,7 @@ class MapBuilder {
   double travel_base_ = 0.0;
   std::vector<EdgeLandmark> pending_;  // corners on the frontier, distance from from_node_
   double travel_since_localized_ = 0.0;
-  bool position_trusted_ = false;   // the front end's position is in the map's frame (see position_gate)
-  bool heading_trusted_ = false;    // the front end's heading is in the map's frame (see heading_gate)
-  double trusted_travel_ = 0.0;     // FrontEnd::travel() when it last became so
-  // The gates' per-state positions (NaN: none) and heading bins, kept until the map or the localizer's
-  // states change, and its mask: nothing allocated or looked up per scan.
-  std::vector<Eigen::Vector2d> state_positions_;
-  std::vector<int> state_bins_;  // the heading gate's per-state heading bins, kept with the positions
-  std::vector<bool> state_beyond_map_;  // per state: at a node, heading where no edge leads (wayOn)
-  uint64_t state_positions_revision_ = ~0ull, state_positions_states_revision_ = ~0ull;
-  std::vector<bool> gate_allowed_;
+  DeadReckoningGate gate_;  // the belief and the map checked against the dead reckoning
   bool relocation_pending_ = false;     // an odometry jump happened; not yet confident again
   bool relocated_ = false;              // confident again: the position is to be taken
   Eigen::Vector2d relocated_position_ = Eigen::Vector2d::Zero();

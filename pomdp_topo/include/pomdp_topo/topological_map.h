@@ -188,6 +188,9 @@ class TopologicalMap {
   bool wayOn(uint32_t node, double heading, double tolerance, EdgeExit* exit) const;
   /// Whether `node` has a recorded opening the way of `heading` (HeadingBins::sameWay).
   bool hasOpeningToward(uint32_t node, double heading) const;
+  /// The point `d` metres along edge `e` from its source (clamped to the edge), between its nodes'
+  /// display poses (map frame); false for an edge whose nodes are unknown.
+  bool pointOnEdge(const TopoEdge& e, double d, Eigen::Vector2d* p) const;
 
   /// Ids the next addNode / addEdge will assign.
   uint32_t nextNodeId() const { return next_node_id_; }
