@@ -15,6 +15,7 @@ add_library(pomdp_topo_core
   ${POMDP_TOPO_CORE_DIR}/src/dead_reckoning_gate.cpp
   ${POMDP_TOPO_CORE_DIR}/src/loop_hypotheses.cpp
   ${POMDP_TOPO_CORE_DIR}/src/map_builder.cpp
+  ${POMDP_TOPO_CORE_DIR}/src/map_updater.cpp
   ${POMDP_TOPO_CORE_DIR}/src/params_check.cpp
 )
 target_include_directories(pomdp_topo_core PUBLIC

@@ -20,6 +20,7 @@
 #include "pomdp_topo/front_end.h"
 #include "pomdp_topo/loop_hypotheses.h"
 #include "pomdp_topo/map_builder_params.h"
+#include "pomdp_topo/map_updater.h"
 #include "pomdp_topo/pomdp_localizer.h"
 #include "pomdp_topo/topological_map.h"
 
@@ -100,15 +101,7 @@ class MapBuilder {
   Departure departure(const TopoNode& n, double heading, const Pose2D& robot, double* s) const;
 
  private:
-  /// What the builder needs of one scan (kept to replay the scans of a rejected loop hypothesis).
-  struct Scan {
-    std::vector<Action> actions;
-    Observation observation;
-    std::vector<PassedLandmark> passed;
-    double travel = 0.0;  // FrontEnd::travel() after the scan
-    Pose2D pose;          // FrontEnd::pose() after the scan
-    int heading_bin = 0;  // FrontEnd::headingBin() after the scan
-  };
+  using Scan = ScanRecord;
 
   void dispatch(const Scan& scan, const FrontEnd& fe);
   void processFrontier(const Scan& scan, const FrontEnd& fe);
@@ -123,18 +116,6 @@ class MapBuilder {
   void becomeLocalizedAt(uint32_t node, int bin);
   bool startLoopCheck(uint32_t new_node, uint32_t previous_node, const Scan& scan);
   void decideLoop(bool old_wins, const FrontEnd& fe);
-  void updateKnownEdge(const Scan& scan);
-  /// A node within min_node_separation + match_distance of `d` along edge `e` (either way, through
-  /// short edges), or of where the dead reckoning puts the passed opening `p`, has an opening at
-  /// `bearing` (map frame) of a compatible `width`.
-  bool knownOpeningNear(const TopoEdge& e, double d, const PassedLandmark& p, const Scan& scan, double bearing,
-                        double width) const;
-  /// The same from a list of (node, reach left in m).
-  bool knownOpeningNear(std::vector<std::pair<uint32_t, double>> todo, const PassedLandmark& p, const Scan& scan,
-                        double bearing, double width) const;
-  /// Doors passed while the belief is at node `st` that no node within reach has: added to it.
-  void addOpeningsAtNode(const PomdpLocalizer::State& st, const Scan& scan);
-  void splitEdgeWithDoor(uint32_t edge, double distance, const NodeOpening& opening, bool is_door);
   Fingerprint fingerprintAt(const Eigen::Vector2d& position, const FrontEnd& fe) const;
   laser_features::HeadingBins headingBins() const { return {fe_params_.axis_angle, fe_params_.heading_bins}; }
   double binHeading(int bin) const;
@@ -157,6 +138,7 @@ class MapBuilder {
   std::vector<EdgeLandmark> pending_;  // corners on the frontier, distance from from_node_
   double travel_since_localized_ = 0.0;
   DeadReckoningGate gate_;  // the belief and the map checked against the dead reckoning
+  MapUpdater updater_;      // the known map updated while the belief is confident on it
   bool relocation_pending_ = false;     // an odometry jump happened; not yet confident again
   bool relocated_ = false;              // confident again: the position is to be taken
   Eigen::Vector2d relocated_position_ = Eigen::Vector2d::Zero();
@@ -168,10 +150,6 @@ class MapBuilder {
   // far past that node (node, heading bin) the robot went before turning. Travel that far beyond
   // it is no new stretch. In memory only (a U-turn made after a restart records it again).
   std::map<std::pair<uint32_t, int>, double> end_beyond_;
-  int last_edge_ = -1;      // most likely edge and offset at the previous step (eq. 5 misses)
-  bool last_forward_ = true;
-  double last_offset_ = 0.0;
-  std::vector<uint32_t> matched_recently_;  // indices of landmarks of last_edge_ matched lately
 
   // LoopCheck.
   int departure_bin_ = -1;    // frontierTurn: the bin the robot leaves the junction it creates along
