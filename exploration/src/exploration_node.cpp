@@ -169,9 +169,10 @@ class ExplorationNode {
     if (lockstep_.enabled() && topo_.heading_valid) topo_.heading_offset = laser_features::normalizeAngle(topo_heading_ - p.odom.theta);
     auto pose = local_poses_.find(msg->header.stamp.toNSec());
     if (pose != local_poses_.end() && coordinator_->currentPlace() >= 0 &&
-        pose->second.first == coordinator_->currentPlace()) {
+        pose->second.place == coordinator_->currentPlace()) {
       p.room_pose_valid = true;
-      p.room_pose = pose->second.second;
+      p.room_pose = pose->second.pose;
+      p.room_pose_cov = pose->second.cov;
     } else if (coordinator_->currentPlace() >= 0 && last_local_place_ == coordinator_->currentPlace() &&
                std::abs((last_local_stamp_ - msg->header.stamp).toSec()) < 0.3) {
       // The EKF's pose of a slightly older scan, moved by the odometry since (rooms are metric).
@@ -375,9 +376,12 @@ class ExplorationNode {
         break;
       case Request::Relocate: {
         hybrid_slam_msgs::RelocateAtDoor srv;
-        // The door as the laser saw it from the hallway: a few centimetres and degrees (a room behind
-        // another, back in the host at its origin: the EKF's pose in it, closer still).
+        // The door as the laser saw it from the hallway: a few centimetres and degrees; back in a host
+        // room from the room behind, the EKF's pose in that room, with its covariance.
         srv.request = relocateRequest(r.place_id, r.door_id, r.pose, relocation_sigma_xy_, relocation_sigma_theta_);
+        if (r.pose_cov) {
+          for (int k = 0; k < 9; ++k) srv.request.covariance[size_t(k)] = (*r.pose_cov)(k / 3, k % 3);
+        }
         const bool ok = call(local_map_node_ + "/relocate_at_door", &srv) && srv.response.success;
         if (!ok) {
           ROS_WARN("exploration: relocation not started: %s", srv.response.message.c_str());
@@ -508,7 +512,12 @@ class ExplorationNode {
     if (f.compare(0, prefix.size(), prefix) != 0) return;
     const int id = std::atoi(f.c_str() + prefix.size());
     const Pose2D pose{msg->pose.pose.position.x, msg->pose.pose.position.y, tf2::getYaw(msg->pose.pose.orientation)};
-    local_poses_[msg->header.stamp.toNSec()] = {id, pose};
+    Eigen::Matrix3d cov;
+    const int k[3] = {0, 1, 5};  // x, y and yaw in the message's 6 x 6
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) cov(r, c) = msg->pose.covariance[size_t(6 * k[r] + k[c])];
+    }
+    local_poses_[msg->header.stamp.toNSec()] = {id, pose, cov};
     while (local_poses_.size() > 20) local_poses_.erase(local_poses_.begin());
     last_local_place_ = id;
     last_local_pose_ = pose;
@@ -603,7 +612,12 @@ class ExplorationNode {
   bool have_sensor_ = false;
   double odom_theta_at_features_ = 0.0;
   double topo_heading_ = 0.0;  // pomdp_topo's latest heading (odometry frame)
-  std::map<uint64_t, std::pair<int, Pose2D>> local_poses_;
+  struct LocalPose {
+    int place = -1;
+    Pose2D pose;
+    Eigen::Matrix3d cov;  // over (x, y, theta)
+  };
+  std::map<uint64_t, LocalPose> local_poses_;
   int last_local_place_ = -1;
   Pose2D last_local_pose_;
   ros::Time last_local_stamp_;

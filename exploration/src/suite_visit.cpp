@@ -160,6 +160,9 @@ Request SuiteVisit::relocateHost(int host_place, const Perception& q) const {
   r.place_id = host_place;
   r.door_id = kNodelessDoorIdBase + origins_kept_ - 1;
   r.pose = q.room_pose;
+  // The EKF's uncertainty of it, where the scan has the EKF's pose (the odometry standing in for one
+  // has none: the door's sigmas then).
+  if (q.room_pose_cov.trace() > 0.0) r.pose_cov = q.room_pose_cov;
   return r;
 }
 

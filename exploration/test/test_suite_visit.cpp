@@ -324,6 +324,12 @@ TEST(SuiteVisit, BackFromARoomBehindTheHostIsRelocatedAtThatRoomsOrigin) {
   EXPECT_NEAR(relocated.y, truth.y, 1e-9);
   EXPECT_NEAR(laser_features::normalizeAngle(relocated.theta - truth.theta), 0.0, 1e-9);
 
+  EXPECT_FALSE(back.pose_cov) << "no EKF covariance with the pose: the door's sigmas";
+  q.room_pose_cov = Eigen::Vector3d(0.04, 0.01, 0.002).asDiagonal();
+  const exploration::Request with_cov = suite.relocateHost(2, q);
+  ASSERT_TRUE(with_cov.pose_cov);
+  EXPECT_TRUE(with_cov.pose_cov->isApprox(q.room_pose_cov)) << "the EKF's own uncertainty of the pose";
+
   const exploration::Request second = suite.keepOrigin(2);
   EXPECT_NE(second.door_id, keep.door_id) << "each room behind keeps its own origin";
   EXPECT_EQ(suite.relocateHost(2, q).door_id, second.door_id);

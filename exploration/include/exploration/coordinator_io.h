@@ -36,6 +36,8 @@ struct Perception {
   std::vector<laser_features::Opening> openings;   // robot frame
   bool room_pose_valid = false;            // the EKF's robot pose in the active place at the stamp
   laser_features::Pose2D room_pose;
+  Eigen::Matrix3d room_pose_cov = Eigen::Matrix3d::Zero();  // its covariance over (x, y, theta) as the EKF
+                                                            // gave it; zero where it did not (odometry since)
 };
 
 /// What pomdp_topo says (its latest messages).
@@ -72,6 +74,8 @@ struct Request {
   int door_id = -1;          // AddDoor, Relocate
   laser_features::Pose2D pose;  // AddDoor: door in the robot frame; RecordOpening: door in the place;
                                 // Relocate: the robot in the door's frame
+  std::optional<Eigen::Matrix3d> pose_cov;  // Relocate: pose's covariance, where known (else the door's
+                                            // sigmas, relocation_sigma_xy and _theta)
   bool success = true;       // Finish: complete exploration
   std::string text;          // Finish: summary
 };

@@ -118,7 +118,7 @@ class SuiteVisit {
   Request keepOrigin(int host_place);
   /// Back in the host from the room behind (`q`: the robot in the room behind's place): the host's
   /// place relocated at the origin keepOrigin() kept, where the robot's pose in the room behind is its
-  /// pose from that door (a Relocate request). The way out of the host may be a whole room long,
+  /// pose from that door (a Relocate request, with the EKF's covariance of that pose). The way out of the host may be a whole room long,
   /// through a door with a decimetre to spare: the odometry since the EKF's last pose of the host
   /// drifts more than that over the room behind's coverage and the way back (1-2 % of the distance,
   /// and the heading's error swings the host's far side); the EKF of the room behind does not.
