@@ -152,8 +152,19 @@ class LocalMapNode {
     r.joint_nis = report_.relocation.joint_nis;
     r.joint_nis_bound = report_.relocation.joint_nis_bound;
     relocation_pub_.publish(r);
-    if (r.success) ROS_INFO("ekf_local_map: relocated in place %d (%u lines matched)", r.place_id, r.matched);
-    else ROS_WARN("ekf_local_map: relocation in place %d failed: %s", r.place_id, r.verdict.c_str());
+    // A pending relocation is tried on every scan until it succeeds: each verdict is published, the
+    // log says when it changes and how many scans it took (not one line per scan).
+    if (r.success) {
+      ROS_INFO("ekf_local_map: relocated in place %d (%u lines matched%s)", r.place_id, r.matched,
+               relocation_failures_ > 0 ? (", after " + std::to_string(relocation_failures_) + " scans refused").c_str() : "");
+      relocation_failures_ = 0;
+      last_refusal_.clear();
+      return;
+    }
+    ++relocation_failures_;
+    if (r.verdict != last_refusal_) ROS_WARN("ekf_local_map: relocation in place %d refused: %s; tried again on the next scans",
+                                             r.place_id, r.verdict.c_str());
+    last_refusal_ = r.verdict;
   }
 
   std::string placeFrame(uint32_t id) const { return place_prefix_ + std::to_string(id); }
@@ -297,6 +308,10 @@ class LocalMapNode {
                   maps_.relocateAtDoor(static_cast<uint32_t>(req.place_id), static_cast<uint32_t>(req.door_id),
                                        toPose(req.robot_from_door), cov);
     res.message = res.success ? "relocating; the verdict follows on 'relocation'" : "unknown place or door";
+    if (res.success) {
+      relocation_failures_ = 0;
+      last_refusal_.clear();
+    }
     // The pose holds at req.stamp: predictions go on from the odometry then (a replay's scans run ahead
     // of its service calls; a robot turning into a door turns on meanwhile).
     Pose2D odom;
@@ -349,6 +364,8 @@ class LocalMapNode {
   std::string map_frame_, odom_frame_, base_frame_, place_prefix_, map_file_;
   PlacesSaveOptions save_options_;
   bool publish_tf_ = true;
+  int relocation_failures_ = 0;  // scans the pending relocation was refused on
+  std::string last_refusal_;     // the verdict of the last refusal (logged when it changes)
   double transform_tolerance_ = 0.1, transform_timeout_ = 0.1;
   Pose2D map_odom_{};  // the stack's map -> odom (see sendMapToOdom)
   std::optional<Pose2D> last_odom_;
