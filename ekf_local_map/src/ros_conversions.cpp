@@ -1,5 +1,7 @@
 #include "ros_conversions.h"
 
+#include "laser_features/planar_covariance.h"
+
 #include <Eigen/Eigenvalues>
 
 #include <cmath>
@@ -46,11 +48,7 @@ void toPoseWithCovariance(const StochasticMap& map, geometry_msgs::PoseWithCovar
   out->pose.orientation.x = out->pose.orientation.y = 0.0;
   out->pose.orientation.z = std::sin(p.theta / 2);
   out->pose.orientation.w = std::cos(p.theta / 2);
-  const Eigen::Matrix3d c = map.robotCovariance();
-  const int idx[3] = {0, 1, 5};
-  out->covariance.fill(0.0);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) out->covariance[idx[i] * 6 + idx[j]] = c(i, j);
+  laser_features::setPlanarCovariance(map.robotCovariance(), &out->covariance);
 }
 
 void toLocalMap(const StochasticMap& map, int place_id, const std_msgs::Header& header,

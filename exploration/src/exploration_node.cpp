@@ -37,6 +37,7 @@
 #include "exploration/params_visit.h"
 #include "laser_features/building_rules_ros.h"
 #include "laser_features/param_reader_ros.h"
+#include "laser_features/planar_covariance.h"
 #include "laser_features/tf_lookup.h"
 #include "lockstep/participant.h"
 #include "ros_conversions.h"
@@ -378,10 +379,8 @@ class ExplorationNode {
         hybrid_slam_msgs::RelocateAtDoor srv;
         // The door as the laser saw it from the hallway: a few centimetres and degrees; back in a host
         // room from the room behind, the EKF's pose in that room, with its covariance.
-        srv.request = relocateRequest(r.place_id, r.door_id, r.pose, relocation_sigma_xy_, relocation_sigma_theta_);
-        if (r.pose_cov) {
-          for (int k = 0; k < 9; ++k) srv.request.covariance[size_t(k)] = (*r.pose_cov)(k / 3, k % 3);
-        }
+        srv.request = r.pose_cov ? relocateRequest(r.place_id, r.door_id, r.pose, *r.pose_cov)
+                                 : relocateRequest(r.place_id, r.door_id, r.pose, relocation_sigma_xy_, relocation_sigma_theta_);
         const bool ok = call(local_map_node_ + "/relocate_at_door", &srv) && srv.response.success;
         if (!ok) {
           ROS_WARN("exploration: relocation not started: %s", srv.response.message.c_str());
@@ -512,12 +511,7 @@ class ExplorationNode {
     if (f.compare(0, prefix.size(), prefix) != 0) return;
     const int id = std::atoi(f.c_str() + prefix.size());
     const Pose2D pose{msg->pose.pose.position.x, msg->pose.pose.position.y, tf2::getYaw(msg->pose.pose.orientation)};
-    Eigen::Matrix3d cov;
-    const int k[3] = {0, 1, 5};  // x, y and yaw in the message's 6 x 6
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) cov(r, c) = msg->pose.covariance[size_t(6 * k[r] + k[c])];
-    }
-    local_poses_[msg->header.stamp.toNSec()] = {id, pose, cov};
+    local_poses_[msg->header.stamp.toNSec()] = {id, pose, laser_features::planarCovariance(msg->pose.covariance)};
     while (local_poses_.size() > 20) local_poses_.erase(local_poses_.begin());
     last_local_place_ = id;
     last_local_pose_ = pose;

@@ -82,13 +82,19 @@ void fromMsg(const hybrid_slam_msgs::TopologicalMap& msg, TopoGraph* graph) {
 
 hybrid_slam_msgs::RelocateAtDoor::Request relocateRequest(int place_id, int door_id, const laser_features::Pose2D& robot_from_door,
                                                           double sigma_xy, double sigma_theta) {
+  return relocateRequest(place_id, door_id, robot_from_door,
+                         Eigen::Vector3d(sigma_xy * sigma_xy, sigma_xy * sigma_xy, sigma_theta * sigma_theta).asDiagonal());
+}
+
+hybrid_slam_msgs::RelocateAtDoor::Request relocateRequest(int place_id, int door_id, const laser_features::Pose2D& robot_from_door,
+                                                          const Eigen::Matrix3d& covariance) {
   hybrid_slam_msgs::RelocateAtDoor::Request r;
   r.place_id = place_id;
   r.door_id = door_id;
   r.robot_from_door.x = robot_from_door.x;
   r.robot_from_door.y = robot_from_door.y;
   r.robot_from_door.theta = robot_from_door.theta;
-  r.covariance = {sigma_xy * sigma_xy, 0, 0, 0, sigma_xy * sigma_xy, 0, 0, 0, sigma_theta * sigma_theta};
+  for (int k = 0; k < 9; ++k) r.covariance[size_t(k)] = covariance(k / 3, k % 3);  // row-major
   return r;
 }
 

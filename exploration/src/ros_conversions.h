@@ -32,6 +32,9 @@ void fromMsg(const hybrid_slam_msgs::TopologicalMap& msg, TopoGraph* graph);
 /// standard deviations of its position (m) and heading (rad).
 hybrid_slam_msgs::RelocateAtDoor::Request relocateRequest(int place_id, int door_id, const laser_features::Pose2D& robot_from_door,
                                                           double sigma_xy, double sigma_theta);
+/// The same with the pose's covariance over (x, y, theta).
+hybrid_slam_msgs::RelocateAtDoor::Request relocateRequest(int place_id, int door_id, const laser_features::Pose2D& robot_from_door,
+                                                          const Eigen::Matrix3d& covariance);
 /// The belief's most likely state (invalid when lost or empty).
 GraphPosition fromMsg(const hybrid_slam_msgs::TopologicalBelief& msg);
 

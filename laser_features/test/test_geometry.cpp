@@ -2,9 +2,11 @@
 // central finite differences, transform round trips, the r-sign flip, Mahalanobis wrap-around.
 #include "laser_features/testing/numeric_jacobian.h"
 #include "laser_features/geometry.h"
+#include "laser_features/planar_covariance.h"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <random>
 
 namespace laser_features {
@@ -330,3 +332,18 @@ TEST(LineHelpers, DistancesAnglesAndRanges) {
 
 }  // namespace
 }  // namespace laser_features
+
+// A planar covariance goes into a ROS 6 x 6 pose covariance at x, y and yaw (0, 1, 5), zero
+// elsewhere, and comes back out the same.
+TEST(PlanarCovariance, XYAndYawOfTheRosSixBySixAndBack) {
+  Eigen::Matrix3d m;
+  m << 0.04, 0.01, 0.002, 0.01, 0.09, -0.003, 0.002, -0.003, 0.0025;
+  std::array<double, 36> ros{};
+  ros.fill(7.0);
+  laser_features::setPlanarCovariance(m, &ros);
+  EXPECT_DOUBLE_EQ(ros[0], 0.04);
+  EXPECT_DOUBLE_EQ(ros[1 * 6 + 5], -0.003);
+  EXPECT_DOUBLE_EQ(ros[5 * 6 + 5], 0.0025);
+  EXPECT_DOUBLE_EQ(ros[2 * 6 + 2], 0.0) << "z, roll and pitch are zero";
+  EXPECT_TRUE(laser_features::planarCovariance(ros).isApprox(m));
+}
