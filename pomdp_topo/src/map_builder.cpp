@@ -11,7 +11,7 @@ using laser_features::kPi;
 using laser_features::normalizeAngle;
 
 MapBuilder::MapBuilder(TopologicalMap* map, PomdpLocalizer* localizer, const MapBuilderParams& params)
-    : map_(map), localizer_(localizer), params_(params), updater_(map, localizer, params) {
+    : map_(map), localizer_(localizer), params_(params), updater_(map, localizer) {
   map_->setBuildingRules(params_.rules);
   map_->setHeadingBins(headingBins());
 }
@@ -561,7 +561,7 @@ void MapBuilder::processLocalized(const Scan& scan) {
       event("relocalized after the odometry jump");
     }
   }
-  if (sure && params_.mapping && beyond_ == 0.0) updater_.update(scan, gate_, headingBins(), fe_params_.pass_lag, &events_);
+  if (sure && params_.mapping && beyond_ == 0.0) updater_.update(scan, params_, gate_, headingBins(), fe_params_.pass_lag, &events_);
 }
 
 MapBuilder::Departure MapBuilder::departure(const TopoNode& n, double heading, const Pose2D& robot, double* s) const {

@@ -17,8 +17,9 @@ NodeOpening sideOpening(double heading, const PassedLandmark& p) {
   return o;
 }
 
-void MapUpdater::update(const ScanRecord& scan, const DeadReckoningGate& gate, const laser_features::HeadingBins& bins,
-                        double pass_lag, std::vector<std::string>* events) {
+void MapUpdater::update(const ScanRecord& scan, const MapBuilderParams& params, const DeadReckoningGate& gate,
+                        const laser_features::HeadingBins& bins, double pass_lag, std::vector<std::string>* events) {
+  params_ = &params;
   gate_ = &gate;
   bins_ = bins;
   pass_lag_ = pass_lag;
@@ -30,7 +31,7 @@ bool MapUpdater::knownOpeningNear(const TopoEdge& e, double d, const PassedLandm
                                   double bearing, double width) const {
   // Nodes within reach of d along the graph: the edge's ends, and their neighbours as far as the
   // reach goes on (short edges between doors facing each other across a hallway).
-  const double reach = params_.min_node_separation + params_.match_distance;
+  const double reach = params_->min_node_separation + params_->match_distance;
   return knownOpeningNear({{e.source, reach - std::max(0.0, d)}, {e.target, reach - std::max(0.0, e.length - d)}}, p,
                           scan, bearing, width);
 }
@@ -41,9 +42,9 @@ bool MapUpdater::knownOpeningNear(std::vector<std::pair<uint32_t, double>> todo,
   // (large_floor: room_7_08's door passed in a U-turn at the node before it, 1.66 m from the node
   // that has it; room_7_14's door, 0.8 m from the junction that has it, passed with the belief
   // still on the door node 2.5 m before).
-  const double reach = params_.min_node_separation + params_.match_distance;
+  const double reach = params_->min_node_separation + params_->match_distance;
   Eigen::Vector2d at;
-  if (gate_->deadReckonedPosition(params_, bins_, p, scan.pose, scan.travel, &at)) {
+  if (gate_->deadReckonedPosition(*params_, bins_, p, scan.pose, scan.travel, &at)) {
     for (const auto& [id, k] : map_->nodes()) {
       const double gap = (Eigen::Vector2d(k.pose.x, k.pose.y) - at).norm();
       if (gap >= reach) continue;
@@ -82,14 +83,14 @@ void MapUpdater::addOpeningsAtNode(const PomdpLocalizer::State& st, const ScanRe
   // metre back, where updating edges never sees it).
   TopoNode* n = map_->node(st.id);
   if (n == nullptr) return;
-  const double reach = params_.min_node_separation + params_.match_distance;
+  const double reach = params_->min_node_separation + params_->match_distance;
   bool changed = false;
   for (const PassedLandmark& p : scan.passed) {
     if (p.landmark.type != LandmarkType::Opening || !p.landmark.door) continue;
     if (bins_.heading(p.heading_bin) != bins_.heading(bins_.bin(st.heading))) continue;
     const NodeOpening o = sideOpening(st.heading, p);
     if (knownOpeningNear({{n->id, reach}}, p, scan, o.bearing, o.width)) continue;
-    if (gate_->farFromNode(params_, bins_, *n, p, scan.pose, scan.travel)) continue;
+    if (gate_->farFromNode(*params_, bins_, *n, p, scan.pose, scan.travel)) continue;
     n->openings.push_back(o);
     changed = true;
     event("opening added to node " + std::to_string(n->id));
@@ -118,14 +119,14 @@ void MapUpdater::updateKnownEdge(const ScanRecord& scan) {
   bool changed = false;
   for (const PassedLandmark& p : scan.passed) {
     if (bins_.heading(p.heading_bin) != bins_.heading(bins_.bin(st.heading))) continue;
-    if (p.landmark.type == LandmarkType::Corner && p.landmark.confidence < params_.corner_min_confidence) continue;
+    if (p.landmark.type == LandmarkType::Corner && p.landmark.confidence < params_->corner_min_confidence) continue;
     // Where on the edge it was passed.
     const double along = p.landmark.along - (scan.travel - p.travel);
     const double d = st.offset + dir * along;
     const double lateral = dir * p.landmark.lateral;
-    if (d < -params_.match_distance || d > e->length + params_.match_distance) continue;
+    if (d < -params_->match_distance || d > e->length + params_->match_distance) continue;
     EdgeLandmark* best = nullptr;
-    double best_gap = params_.match_distance;
+    double best_gap = params_->match_distance;
     for (EdgeLandmark& l : e->landmarks) {
       if (l.type != p.landmark.type || sideOf(l.lateral) != sideOf(lateral)) continue;
       const double gap = std::abs(l.distance - d);
@@ -141,9 +142,9 @@ void MapUpdater::updateKnownEdge(const ScanRecord& scan) {
       matched_recently_.push_back(uint32_t(std::lround(best->distance * 1000.0)));
       continue;
     }
-    const bool near_end = d < params_.min_node_separation || d > e->length - params_.min_node_separation;
+    const bool near_end = d < params_->min_node_separation || d > e->length - params_->min_node_separation;
     if (p.landmark.type == LandmarkType::Corner) {
-      if (p.landmark.confidence < params_.landmark_add_confidence) continue;
+      if (p.landmark.confidence < params_->landmark_add_confidence) continue;
       EdgeLandmark l;
       l.type = LandmarkType::Corner;
       l.distance = std::min(std::max(d, 0.0), e->length);
@@ -171,7 +172,7 @@ void MapUpdater::updateKnownEdge(const ScanRecord& scan) {
       // reckoning agrees.
       Eigen::Vector2d believed;
       if (map_->pointOnEdge(*e, d, &believed) &&
-          gate_->farFromDeadReckoning(params_, bins_, believed, p, scan.pose, scan.travel)) {
+          gate_->farFromDeadReckoning(*params_, bins_, believed, p, scan.pose, scan.travel)) {
         continue;
       }
       const double heading = st.heading;
@@ -186,7 +187,7 @@ void MapUpdater::updateKnownEdge(const ScanRecord& scan) {
       // door nodes, which the exploration turned round for five times before giving them up.
       if (n->type != NodeType::Junction && !p.landmark.door) continue;
       const NodeOpening o = sideOpening(st.heading, p);
-      if (!map_->hasOpeningToward(nid, o.bearing) && !gate_->farFromNode(params_, bins_, *n, p, scan.pose, scan.travel)) {
+      if (!map_->hasOpeningToward(nid, o.bearing) && !gate_->farFromNode(*params_, bins_, *n, p, scan.pose, scan.travel)) {
         n->openings.push_back(o);
         changed = true;
         event("opening added to node " + std::to_string(nid));
@@ -194,7 +195,7 @@ void MapUpdater::updateKnownEdge(const ScanRecord& scan) {
     }
   }
   // Eq. 5: expected landmarks passed without being seen: observed confidence 0.
-  const double lag = pass_lag_ + params_.match_distance;
+  const double lag = pass_lag_ + params_->match_distance;
   const double from = last_offset_ - dir * lag;
   const double to = st.offset - dir * lag;
   const double lo = std::min(from, to), hi = std::max(from, to);
@@ -205,7 +206,7 @@ void MapUpdater::updateKnownEdge(const ScanRecord& scan) {
       if (it->distance > lo && it->distance <= hi && !seen) {
         it->p_lmap = it->p_lmap * it->observations / (it->observations + 1);
         it->observations += 1;
-        if (it->p_lmap < params_.p_lmap_min && int(it->observations) >= params_.p_lmap_min_observations) {
+        if (it->p_lmap < params_->p_lmap_min && int(it->observations) >= params_->p_lmap_min_observations) {
           event("landmark at " + std::to_string(it->distance) + " m on edge " + std::to_string(e->id) + " deleted (p_lmap " +
                 std::to_string(it->p_lmap) + ")");
           it = e->landmarks.erase(it);

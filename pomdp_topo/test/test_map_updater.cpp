@@ -45,7 +45,7 @@ TEST(MapUpdater, ALandmarkSeenWhereExpectedGainsAndOneMissedLosesUntilDeleted) {
   PomdpLocalizer localizer;
   localizer.setMap(map);
   const MapBuilderParams params;
-  MapUpdater updater(&map, &localizer, params);
+  MapUpdater updater(&map, &localizer);
   DeadReckoningGate gate;  // not trusted: no dead-reckoning checks
   std::vector<std::string> events;
 
@@ -60,7 +60,7 @@ TEST(MapUpdater, ALandmarkSeenWhereExpectedGainsAndOneMissedLosesUntilDeleted) {
   seen.landmark.confidence = 1.0;
   seen.travel = 20.0;
   scan.passed = {seen};
-  updater.update(scan, gate, HeadingBins{0.0, 4}, 0.3, &events);
+  updater.update(scan, params, gate, HeadingBins{0.0, 4}, 0.3, &events);
   const auto& landmarks = [&]() -> const std::vector<EdgeLandmark>& { return map.edge(edge)->landmarks; };
   ASSERT_EQ(landmarks().size(), 2u);
   EXPECT_NEAR(landmarks()[0].p_lmap, (0.5 * 2 + 1.0) / 3, 1e-12);
@@ -71,7 +71,7 @@ TEST(MapUpdater, ALandmarkSeenWhereExpectedGainsAndOneMissedLosesUntilDeleted) {
   ASSERT_TRUE(localizer.resetToEdge(edge, 8.0, true));
   scan.passed.clear();
   scan.travel = 22.0;
-  updater.update(scan, gate, HeadingBins{0.0, 4}, 0.3, &events);
+  updater.update(scan, params, gate, HeadingBins{0.0, 4}, 0.3, &events);
   ASSERT_EQ(landmarks().size(), 1u);
   EXPECT_DOUBLE_EQ(landmarks()[0].distance, 5.0);
   EXPECT_EQ(landmarks()[0].observations, 3u);

@@ -29,15 +29,14 @@ NodeOpening sideOpening(double heading, const PassedLandmark& p);
 class MapUpdater {
  public:
   /// `map` and `localizer` are the map builder's (the localizer gets the map again after a change).
-  MapUpdater(TopologicalMap* map, PomdpLocalizer* localizer, const MapBuilderParams& params)
-      : map_(map), localizer_(localizer), params_(params) {}
+  MapUpdater(TopologicalMap* map, PomdpLocalizer* localizer) : map_(map), localizer_(localizer) {}
 
   /// One scan with a confident belief (its most likely state): the map updated from its passed
-  /// landmarks; `gate` says where the dead reckoning puts them, `bins` are the heading bins,
-  /// `pass_lag` (m, FrontEndParams) how far behind the robot a landmark is passed. What changed is
-  /// told in `events`.
-  void update(const ScanRecord& scan, const DeadReckoningGate& gate, const laser_features::HeadingBins& bins,
-              double pass_lag, std::vector<std::string>* events);
+  /// landmarks by the map builder's `params`; `gate` says where the dead reckoning puts them, `bins`
+  /// are the heading bins, `pass_lag` (m, FrontEndParams) how far behind the robot a landmark is
+  /// passed. What changed is told in `events`.
+  void update(const ScanRecord& scan, const MapBuilderParams& params, const DeadReckoningGate& gate,
+              const laser_features::HeadingBins& bins, double pass_lag, std::vector<std::string>* events);
   /// The belief left the edge it was on (a reset, a new stretch, a jump): the next one starts afresh.
   void forget() { last_edge_ = -1; }
 
@@ -58,8 +57,8 @@ class MapUpdater {
 
   TopologicalMap* map_;
   PomdpLocalizer* localizer_;
-  MapBuilderParams params_;
   // The current update()'s inputs.
+  const MapBuilderParams* params_ = nullptr;
   const DeadReckoningGate* gate_ = nullptr;
   laser_features::HeadingBins bins_;
   double pass_lag_ = 0.0;
