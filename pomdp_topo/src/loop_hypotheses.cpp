@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <utility>
 
 namespace pomdp_topo {
 
@@ -131,7 +130,6 @@ LoopHypotheses::Candidate LoopHypotheses::candidate(const TopologicalMap& map, c
     }
     base += e->length;
     at = x.other;
-    c.expected_nodes.push_back(base);
     expectOpenings(at, base);
   }
   c.path_end = base;

@@ -66,7 +66,6 @@ class LoopHypotheses {
     uint32_t node = 0;
     double score = 0.0;  // log likelihood so far, with the position prior
     std::vector<EdgeLandmark> expected;  // along the path beyond the node, distance from it
-    std::vector<double> expected_nodes;  // distances of the nodes on that path
     std::vector<bool> used;
     double path_end = 0.0;               // m, where the known path beyond the node ends
     double prior = 0.0;                  // the position prior's part of score (log)
