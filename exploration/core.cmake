@@ -22,6 +22,7 @@ add_library(exploration_core
   ${EXPLORATION_CORE_DIR}/src/waypoint_follower.cpp
   ${EXPLORATION_CORE_DIR}/src/room_visit.cpp
   ${EXPLORATION_CORE_DIR}/src/suite_visit.cpp
+  ${EXPLORATION_CORE_DIR}/src/room_sequence.cpp
   ${EXPLORATION_CORE_DIR}/src/mission_runner.cpp
   ${EXPLORATION_CORE_DIR}/src/coordinator_params.cpp
   ${EXPLORATION_CORE_DIR}/src/coordinator.cpp

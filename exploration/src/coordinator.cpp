@@ -24,8 +24,7 @@ Coordinator::Coordinator(const CoordinatorParams& params)
     : params_(params),
       hallway_(params.follow, params.hallway, params.rules, params.room.planner, params.doors, params.route,
                params.branch_record_distance),
-      visit_(params.room_visit, params.room, params.rules, params.doors),
-      suite_(params.room_visit, params.room, params.rules, params.doors),
+      room_(params.room_visit, params.room, params.rules, params.doors),
       mission_(params.mission) {
   std::string why;
   if (!params.valid(&why)) throw std::invalid_argument("exploration coordinator: " + why);
@@ -43,6 +42,14 @@ CoordinatorStats Coordinator::stats() const {
   s.openings_set_aside = route.openings_set_aside;
   s.belief_jumps = route.belief_jumps;
   s.branch_turns_refused = route.branch_turns_refused;
+  const RoomSequence::Stats& rooms = room_.stats();
+  s.places += rooms.inner_rooms;
+  s.rooms_left_early = rooms.rooms_left_early;
+  s.inner_rooms = rooms.inner_rooms;
+  s.inner_doors_left = rooms.inner_doors_left;
+  s.inner_doors_given_up = room_.suite().doorsGivenUp();
+  s.room_free_area = rooms.room_free_area;
+  s.peak_room_bytes = rooms.peak_room_bytes;
   return s;
 }
 
@@ -98,16 +105,8 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
     case State::Relocate:
       relocate(p, topo, &d);
       break;
-    case State::InnerPlace:
-      createInnerPlace(p, &d);
-      break;
-    case State::ApproachDoor:
     case State::Room:
     case State::GoToGoal:
-    case State::ExitPath:
-    case State::ExitDoor:
-    case State::ToInnerDoor:
-    case State::PeekInner:
       motion_ = MotionFeedback{motion_reached, motion_blocked};
       visitRoom(p, &d);
       if (state_ == State::Follow) {
@@ -170,14 +169,14 @@ void Coordinator::stopForDoor(const Perception& p, const TopoView& topo, Decisio
   Request create;
   create.kind = Request::CreatePlace;
   d->requests.push_back(create);
-  place_ok_ = false;
+  places_.place_ok = false;
   door_node_ = -1;
   setState(State::EnterRoom, "creating a place for the room");
 }
 
 void Coordinator::enterRoom(const Perception& p, const TopoView& topo, Decision* d) {
   d->stop = true;
-  if (!place_ok_) {
+  if (!places_.place_ok) {
     // No place: the room cannot be mapped. Mark the door so it is not tried forever.
     Request rec;
     rec.kind = Request::RecordOpening;
@@ -189,16 +188,16 @@ void Coordinator::enterRoom(const Perception& p, const TopoView& topo, Decision*
     setState(State::Follow, "could not create a place: door skipped");
     return;
   }
-  visit_.beginNewRoom(p.odom, hallway_.door(), hallway_.odomHeading(entry_hallway_, topo));
+  room_.beginNewRoom(p.odom, hallway_.door(), hallway_.odomHeading(entry_hallway_, topo), places_.place_id, now_);
   Request add;
   add.kind = Request::AddDoor;
   add.door_id = std::max(0, door_node_);
-  add.place_id = place_id_;
-  add.pose = visit_.doorInPlace();
+  add.place_id = places_.place_id;
+  add.pose = room_.host().doorInPlace();
   d->requests.push_back(add);
   ++stats_.places;
   ++stats_.doors_entered;
-  setState(State::ApproachDoor, "entering the room of place " + std::to_string(place_id_));
+  setState(State::Room, room_.text());
 }
 
 void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked, Decision* d) {
@@ -227,11 +226,12 @@ void Coordinator::follow(const Perception& p, const TopoView& topo, bool blocked
 void Coordinator::noOpeningLeft(Decision* d) {
   // Complete only if nothing was given up: an opening given up unreached counts as explored,
   // and rooms behind it may be missing; a room left at its time limit is not all mapped.
-  const int given_up = hallway_.routeStats().openings_given_up, inner_given_up = suite_.doorsGivenUp();
-  if (given_up > 0 || stats_.rooms_left_early > 0 || inner_given_up > 0) {
+  const int given_up = hallway_.routeStats().openings_given_up, inner_given_up = room_.suite().doorsGivenUp();
+  const int left_early = room_.stats().rooms_left_early;
+  if (given_up > 0 || left_early > 0 || inner_given_up > 0) {
     finish(false, "no unexplored opening is left, but " + std::to_string(given_up) +
                       " opening(s) were given up unreached, " + std::to_string(inner_given_up) +
-                      " door(s) into rooms behind rooms given up and " + std::to_string(stats_.rooms_left_early) +
+                      " door(s) into rooms behind rooms given up and " + std::to_string(left_early) +
                       " room(s) left at their time limit", d);
   } else {
     finish(true, "no unexplored opening is left", d);
@@ -256,8 +256,8 @@ void Coordinator::missedMissionDoor(const RouteStep& route, Decision* d) {
 }
 
 void Coordinator::placeCreated(bool ok, int place_id) {
-  place_ok_ = ok;
-  place_id_ = ok ? place_id : -1;
+  places_.place_ok = ok;
+  places_.place_id = ok ? place_id : -1;
 }
 
 void Coordinator::openingRecorded(bool ok, int node) {
@@ -266,160 +266,25 @@ void Coordinator::openingRecorded(bool ok, int node) {
 
 void Coordinator::visitRoom(const Perception& p, Decision* d) {
   mode_ = CoordinatorMode::Metric;
-  const Perception q = visit().inPlace(p);
-  visit().observe(q, state_ == State::ApproachDoor, d);
-  if (suite_.insideInner()) suite_.observeInner(q);
-  switch (state_) {
-    case State::ApproachDoor:
-      return approachDoor(q, d);
-    case State::GoToGoal:
-      if (const std::optional<MissionEnd> end = mission_.driveToGoal(q, visit_, now_, now_ - state_since_, motion_, d))
-        endMission(end->success, end->why, d);
+  if (state_ == State::GoToGoal) {
+    const Perception q = room_.observe(p, false, d);
+    if (const std::optional<MissionEnd> end =
+            mission_.driveToGoal(q, room_.host(), now_, now_ - state_since_, motion_, d))
+      endMission(end->success, end->why, d);
+    return;
+  }
+  switch (room_.step(p, now_, motion_, mission_.active(), travel_, &places_, d)) {
+    case RoomSequence::Outcome::Inside:
       return;
-    case State::Room:
-      return coverRoom(q, d);
-    case State::ToInnerDoor:
-      return toInnerDoor(q, d);
-    case State::PeekInner:
-      return peekInner(q, d);
-    default:
-      return leaveRoom(q, d);
+    case RoomSequence::Outcome::AtDoor:
+      return beginGoToGoal("driving to the mission's goal in place " + std::to_string(places_.place_id), false);
+    case RoomSequence::Outcome::Stuck:
+      return mission_.active() ? endMission(false, room_.why(), d) : finish(false, room_.why(), d);
+    case RoomSequence::Outcome::Out:
+      return backOnHallway(true, d);
+    case RoomSequence::Outcome::OutInexact:
+      return backOnHallway(false, d);
   }
-}
-
-void Coordinator::approachDoor(const Perception& q, Decision* d) {
-  if (!visit().approachDoor(q, now_ - state_since_, d)) return;
-  if (mission_.active()) {
-    beginGoToGoal("driving to the mission's goal in place " + std::to_string(place_id_), false);
-    return;
-  }
-  const double shift = visit().doorRefinement();
-  char text[96];
-  std::snprintf(text, sizeof(text), "exploring the room (its door refined by %.2f m)", shift);
-  setState(State::Room, shift > 0.0 ? text : "exploring the room");
-}
-
-void Coordinator::coverRoom(const Perception& q, Decision* d) {
-  const RoomVisit::Coverage coverage = visit().coverRoom(q, now_, now_ - state_since_, d);
-  if (coverage == RoomVisit::Coverage::Covering) return;
-  if (coverage == RoomVisit::Coverage::TimedOut) ++stats_.rooms_left_early;
-  stats_.room_free_area += visit().explorer().freeArea();
-  stats_.peak_room_bytes = std::max(stats_.peak_room_bytes, visit().explorer().bytes());
-  if (suite_.insideInner()) {
-    suite_.roomCovered(visit(), travel_);
-    visit().beginExit();
-    setState(State::ExitPath, "leaving the room by its door back into place " + std::to_string(host_place_id_));
-    return;
-  }
-  // The host room is covered: the rooms behind its inner doors first, then its way out.
-  if (params_.room_visit.inner_rooms) {
-    visit_.openFurnitureGaps();
-    suite_.begin(visit_, travel_);
-    suite_.roomCovered(visit_, travel_);
-    if (toNextInnerRoom(q)) return;
-  }
-  exitHost();
-}
-
-void Coordinator::exitHost() {
-  visit_.closeFurnitureGaps();
-  visit_.beginExit();
-  setState(State::ExitPath, "leaving the room by its door");
-}
-
-bool Coordinator::toNextInnerRoom(const Perception& q) {
-  if (!suite_.nextDoor(visit_, Eigen::Vector2d(q.room_pose.x, q.room_pose.y))) return false;
-  setState(State::ToInnerDoor, "to a door into a room behind place " + std::to_string(place_id_));
-  return true;
-}
-
-void Coordinator::toInnerDoor(const Perception& q, Decision* d) {
-  const SuiteVisit::Drive drive = suite_.driveToDoor(visit_, q, now_ - state_since_, d);
-  if (drive == SuiteVisit::Drive::Driving) return;
-  if (drive == SuiteVisit::Drive::Failed) {
-    if (!toNextInnerRoom(q)) exitHost();
-    return;
-  }
-  setState(State::PeekInner, "looking through the door of place " + std::to_string(place_id_));
-}
-
-void Coordinator::peekInner(const Perception& q, Decision* d) {
-  const SuiteVisit::Drive drive = suite_.peek(visit_, q, now_ - state_since_, d);
-  if (drive == SuiteVisit::Drive::Driving) return;
-  if (drive == SuiteVisit::Drive::Failed || suite_.behind() != SuiteVisit::Behind::Room) {
-    std::string seen = "the look through the door timed out";
-    if (drive == SuiteVisit::Drive::There) {
-      ++stats_.inner_doors_left;
-      seen = suite_.behind() == SuiteVisit::Behind::Hallway
-                 ? "a hallway behind the door (" + suite_.space() + "), no room"
-                 : "a room with a door onto the hallway behind the door (" + suite_.space() + "): left to the hallway";
-    }
-    if (!toNextInnerRoom(q)) exitHost();
-    state_text_ = seen + "; " + state_text_;  // the verdict in the log, with what follows
-    return;
-  }
-  // Back in front of the door: a place for the room behind, the robot standing still at its origin,
-  // which the host keeps (SuiteVisit::keepOrigin) to be relocated at on the way back.
-  d->stop = true;
-  host_place_id_ = place_id_;
-  place_ok_ = false;
-  d->requests.push_back(suite_.keepOrigin(host_place_id_));
-  d->requests.push_back(Request{Request::CreatePlace});
-  setState(State::InnerPlace, "creating a place for the room behind place " + std::to_string(host_place_id_));
-}
-
-void Coordinator::createInnerPlace(const Perception& p, Decision* d) {
-  d->stop = true;
-  mode_ = CoordinatorMode::Metric;
-  if (!place_ok_) {
-    place_id_ = host_place_id_;
-    if (!toNextInnerRoom(visit_.inPlace(p))) exitHost();
-    return;
-  }
-  suite_.beginInnerRoom(visit_, p.odom);
-  ++stats_.places;
-  ++stats_.inner_rooms;
-  setState(State::ApproachDoor, "entering the room of place " + std::to_string(place_id_) + " from place " +
-                                    std::to_string(host_place_id_));
-}
-
-void Coordinator::backInHost(const Perception& q, Decision* d) {
-  // The room behind is done: its place closed, the host's again, relocated where the robot is
-  // (SuiteVisit::relocateHost; the EKF tracks one place).
-  d->requests.push_back(Request{Request::ClosePlace});
-  d->requests.push_back(suite_.relocateHost(host_place_id_, q));
-  suite_.endInnerRoom();
-  place_id_ = host_place_id_;
-  Perception h;
-  h.odom = last_odom_;
-  h = visit_.inPlace(h);  // until the EKF's first pose of the host: the odometry since its last one
-  if (!toNextInnerRoom(h)) exitHost();
-}
-
-void Coordinator::leaveRoom(const Perception& q, Decision* d) {
-  if (state_ == State::ExitPath) {
-    if (!visit().followExitPath(q, now_ - state_since_, d)) return;
-    setState(State::ExitDoor, suite_.insideInner() ? "through the door back into place " + std::to_string(host_place_id_)
-                                                   : "through the door back to the hallway");
-    visit().beginDoorExit(now_);
-  }
-  const RoomVisit::Exit exit = visit().exitThroughDoor(q, now_, now_ - state_since_, motion_, d);
-  if (exit == RoomVisit::Exit::Passing) return;
-  if (exit == RoomVisit::Exit::TryAgain) {
-    setState(State::ExitPath, "still inside: leaving the room by its door again (attempt " +
-                                  std::to_string(visit().exitAttempts() + 1) + ")");
-    return;
-  }
-  // Still inside after every attempt: never on as on a hallway (the room would be taken for
-  // hallways). The exploration stops; a mission ends, the robot in the room, whose next mission
-  // leaves it afresh.
-  if (exit == RoomVisit::Exit::Stuck) {
-    const std::string why = "could not leave place " + std::to_string(place_id_) + " through its door (" +
-                            std::to_string(RoomVisit::kExitAttempts) + " attempts)";
-    return mission_.active() ? endMission(false, why, d) : finish(false, why, d);
-  }
-  if (suite_.insideInner()) return backInHost(q, d);
-  backOnHallway(exit == RoomVisit::Exit::Back, d);
 }
 
 void Coordinator::backOnHallway(bool exact, Decision* d) {
@@ -427,14 +292,15 @@ void Coordinator::backOnHallway(bool exact, Decision* d) {
   // The room's other doors, and those of the rooms behind it (a connecting room's own hallway door).
   std::vector<DoorTrack> others;
   if (!mission_.active()) {
-    others = visit_.otherDoorsOdom();
-    others.insert(others.end(), suite_.innerRoomDoorsOdom().begin(), suite_.innerRoomDoorsOdom().end());
+    others = room_.host().otherDoorsOdom();
+    const std::vector<DoorTrack>& inner = room_.suite().innerRoomDoorsOdom();
+    others.insert(others.end(), inner.begin(), inner.end());
   }
-  hallway_.backFromRoom(entry_hallway_, visit_.doorOdom(), others, travel_);
+  hallway_.backFromRoom(entry_hallway_, room_.host().doorOdom(), others, travel_);
   mode_ = CoordinatorMode::Topological;
   if (mission_.active()) {
     // A mission leaving a room: back on the hallway, on to the goal's door (nothing to record).
-    place_id_ = -1;
+    places_.place_id = -1;
     in_room_ = false;
     setState(State::Follow, "mission to place " + std::to_string(mission_.place()) + ": following the hallway");
     return;
@@ -445,8 +311,8 @@ void Coordinator::backOnHallway(bool exact, Decision* d) {
   rec.bearing = door_bearing_map_;
   rec.width = hallway_.door().width;
   rec.explored = true;
-  rec.place_id = place_id_;
-  rec.pose = visit_.doorInPlace();
+  rec.place_id = places_.place_id;
+  rec.pose = room_.host().doorInPlace();
   d->requests.push_back(rec);
   setState(State::Follow, exact ? "following the hallway" : "following the hallway (the way back was not reached exactly)");
 }
@@ -461,11 +327,11 @@ bool Coordinator::startMission(int place_id, const Pose2D& goal, std::string* wh
   if (!mission_.start(place_id, goal, graph_, travel_, now_, why)) return false;
   hallway_.clearRouteAttempts();
   const std::string to = "mission to place " + std::to_string(place_id);
-  if (in_room_ && place_id_ == place_id) {
+  if (in_room_ && places_.place_id == place_id) {
     beginGoToGoal(to + ": driving to the goal in the room", true);
     mode_ = CoordinatorMode::Metric;
   } else if (in_room_) {
-    leaveRoomForMission(to + ": leaving place " + std::to_string(place_id_) + " by its door");
+    leaveRoomForMission(to + ": leaving place " + std::to_string(places_.place_id) + " by its door");
     mode_ = CoordinatorMode::Metric;
   } else {
     hallway_.beginMission(travel_);
@@ -488,12 +354,12 @@ void Coordinator::leaveRoomForMission(const std::string& text) {
   if (r.found && door_node_ >= 0 && uint32_t(door_node_) != goal_door.node) {
     const int rb = hallway_.headingBins().bin(r.heading);
     if (rb == (entry_hallway_.bin + n / 2) % n) {
-      visit_.turnExitHeadingRound();
+      room_.host().turnExitHeadingRound();
       entry_hallway_.bin = rb;
     }
   }
-  visit_.beginExit();
-  setState(State::ExitPath, text);
+  room_.beginExit(text, now_);
+  setState(State::Room, text);
 }
 
 void Coordinator::beginGoToGoal(const std::string& text, bool inside) {
@@ -512,11 +378,11 @@ void Coordinator::cancelMission(const std::string& why) {
 void Coordinator::endMission(bool success, const std::string& why, Decision* d) {
   mission_.end(success, why, travel_);
   // In a room when the place is active and the robot is past the hallway stop (metric states).
-  in_room_ = place_id_ >= 0 && (state_ == State::GoToGoal || state_ == State::ApproachDoor ||
-                                state_ == State::ExitPath || state_ == State::ExitDoor);
-  if (!in_room_ && place_id_ >= 0) {
+  in_room_ = places_.place_id >= 0 &&
+             (state_ == State::GoToGoal || (state_ == State::Room && room_.atEntryDoor()));
+  if (!in_room_ && places_.place_id >= 0) {
     d->requests.push_back(Request{Request::ClosePlace});
-    place_id_ = -1;
+    places_.place_id = -1;
   }
   mode_ = in_room_ ? CoordinatorMode::Metric : CoordinatorMode::Topological;
   setState(State::Idle, std::string(success ? "mission done: " : "mission failed: ") + why);
@@ -525,7 +391,7 @@ void Coordinator::endMission(bool success, const std::string& why, Decision* d) 
 }
 
 void Coordinator::relocationResult(int place_id, bool success, const std::string& verdict) {
-  if (state_ != State::Relocate || place_id != place_id_) return;
+  if (state_ != State::Relocate || place_id != places_.place_id) return;
   mission_.relocationResult(success, verdict);
 }
 
@@ -536,7 +402,7 @@ void Coordinator::beginRelocation(const Perception& p, Decision* d) {
   mode_ = CoordinatorMode::Metric;
   hallway_pose_odom_ = p.odom;
   entry_hallway_ = hallway_.direction();
-  place_id_ = mission_.place();
+  places_.place_id = mission_.place();
   door_node_ = int(mission_.door().node);
   mission_.beginRelocation(hallway_.door(), p.odom, d);
   setState(State::Relocate, "relocating in place " + std::to_string(mission_.place()) + " at its door");
@@ -551,9 +417,9 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
       if (!step.text.empty()) state_text_ = step.text;
       return;
     case RelocationStep::Relocated:
-      visit_.beginKnownRoom(p, hallway_pose_odom_, hallway_.odomHeading(entry_hallway_, topo),
-                            mission_.door().opening, hallway_.door().width);
-      setState(State::ApproachDoor, "relocated in place " + std::to_string(place_id_) + ": entering");
+      room_.beginKnownRoom(p, hallway_pose_odom_, hallway_.odomHeading(entry_hallway_, topo),
+                           mission_.door().opening, hallway_.door().width, places_.place_id, now_);
+      setState(State::Room, room_.text());
       return;
     case RelocationStep::AskedAgain:
       setState(State::Relocate, step.text);
@@ -565,7 +431,7 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
   // Not the goal's room: the mission fails, or back to the hallway with a uniform belief (global
   // localization) rather than going on lost.
   d->requests.push_back(Request{Request::ClosePlace});
-  place_id_ = -1;
+  places_.place_id = -1;
   if (step.kind == RelocationStep::GaveUp) {
     endMission(false, step.text, d);
     return;
@@ -580,11 +446,10 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
 
 void Coordinator::finish(bool success, const std::string& why, Decision* d) {
   mode_ = CoordinatorMode::Done;
-  stats_.inner_doors_given_up = suite_.doorsGivenUp();
   setState(State::Done, success ? "exploration complete" : "exploration stopped: " + why);
   std::ostringstream s;
   s << (success ? "exploration complete: " : "exploration incomplete: ") << why << "; " << graph_.placeCount()
-    << " places (" << stats_.places << " entered by this run), " << graph_.nodes().size() << " nodes, " << graph_.edges().size() << " edges, "
+    << " places (" << stats().places << " entered by this run), " << graph_.nodes().size() << " nodes, " << graph_.edges().size() << " edges, "
     << graph_.exploredCount() << " openings explored, " << graph_.unexploredCount() << " unexplored, "
     << stats_.travel << " m travelled";
   // Given-up openings count as explored: rooms behind them may be missing (large_floor: 26 given

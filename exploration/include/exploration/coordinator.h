@@ -26,8 +26,8 @@
 // The Coordinator runs the state machine: the start, the switch at a door between the hallway and
 // the room, missions, the end. Navigating the hallways (HallwayNavigator, hallway_navigator.h:
 // following a hallway, the doors passed and whether one is entered, the route, the turns), a room's
-// visit (RoomVisit, room_visit.h) and a mission's relocation and drive to its goal (MissionRunner,
-// mission_runner.h) are classes of their own that it delegates to.
+// visit with the rooms behind it (RoomSequence, room_sequence.h) and a mission's relocation and drive
+// to its goal (MissionRunner, mission_runner.h) are classes of their own that it delegates to.
 //
 // ROS-free: Eigen, laser_features and the standard library only.
 #pragma once
@@ -39,8 +39,7 @@
 #include "exploration/hallway_navigator.h"
 #include "exploration/mission_runner.h"
 #include "exploration/room_explorer.h"
-#include "exploration/room_visit.h"
-#include "exploration/suite_visit.h"
+#include "exploration/room_sequence.h"
 #include "exploration/topo_route.h"
 #include "laser_features/building_axes.h"
 #include "laser_features/geometry.h"
@@ -109,18 +108,18 @@ class Coordinator {
   bool idle() const { return state_ == State::Idle || state_ == State::Done; }
 
   CoordinatorMode mode() const { return mode_; }
-  const std::string& state() const { return state_text_; }
+  const std::string& state() const { return state_ == State::Room ? room_.text() : state_text_; }
   CoordinatorStats stats() const;
-  int currentPlace() const { return place_id_; }
+  int currentPlace() const { return places_.place_id; }
   /// The place the robot is in: currentPlace(), but the host room's place until the robot has
   /// passed the door of a room behind it (on its way in and out).
-  int placeOfRobot() const { return suite_.insideInner() && !suite_.throughDoor() ? host_place_id_ : place_id_; }
-  const RoomExplorer& room() const { return visit().explorer(); }
+  int placeOfRobot() const { return room_.placeOfRobot(places_.place_id); }
+  const RoomExplorer& room() const { return room_.visit().explorer(); }
   bool done() const { return state_ == State::Done; }
 
  private:
-  enum class State { Init, Follow, Turn, StopForDoor, EnterRoom, ApproachDoor, Room, ExitPath, ExitDoor, Done,
-                     Idle, Relocate, GoToGoal, ToInnerDoor, PeekInner, InnerPlace };
+  // Room: a room's visit runs (room_, its steps); GoToGoal: a mission's drive in its goal's room.
+  enum class State { Init, Follow, Turn, StopForDoor, EnterRoom, Room, Done, Idle, Relocate, GoToGoal };
 
   void setState(State s, const std::string& text);
   // The states' steps of update(): the start (which way to set off), following the hallway, a turn
@@ -142,27 +141,10 @@ class Coordinator {
   /// The running mission's door, if a mission runs.
   const PlaceDoor* missionDoor() const { return mission_.active() ? &mission_.door() : nullptr; }
   void finish(bool success, const std::string& why, Decision* d);
-  // A room's visit (visit_ in the room's place; the METRIC states): the visit's steps by state, and
-  // what they end in.
+  /// A tick of the room's visit (room_; the METRIC states), and what it ends in.
   void visitRoom(const Perception& p, Decision* d);
-  void approachDoor(const Perception& q, Decision* d);
-  void coverRoom(const Perception& q, Decision* d);
-  void leaveRoom(const Perception& q, Decision* d);
   /// Out of the room, back on the hallway (`exact`: where the robot left it, with its heading).
   void backOnHallway(bool exact, Decision* d);
-  /// The room being visited: the room behind an inner door while suite_ visits one, else the room
-  /// entered from the hallway.
-  RoomVisit& visit() { return suite_.insideInner() ? suite_.inner() : visit_; }
-  const RoomVisit& visit() const { return suite_.insideInner() ? suite_.inner() : visit_; }
-  // The rooms behind the host room's inner doors (suite_): to the next door's front (false: none
-  // is left), a look through it, a place for the room behind, and back in the host from it.
-  bool toNextInnerRoom(const Perception& q);
-  void toInnerDoor(const Perception& q, Decision* d);
-  void peekInner(const Perception& q, Decision* d);
-  void createInnerPlace(const Perception& p, Decision* d);
-  void backInHost(const Perception& q, Decision* d);
-  /// The host room's way out begins.
-  void exitHost();
   // A mission's steps (mission_): out of the room the robot stands in, the relocation at the goal's
   // door, the drive to the goal, the end.
   void leaveRoomForMission(const std::string& text);
@@ -175,13 +157,12 @@ class Coordinator {
   CoordinatorParams params_;
   TopoGraph graph_;
   HallwayNavigator hallway_;
-  RoomVisit visit_;
-  SuiteVisit suite_;
+  RoomSequence room_;
   MissionRunner mission_;
   State state_ = State::Init;
   CoordinatorMode mode_ = CoordinatorMode::Topological;
   std::string state_text_ = "waiting for the first scan and the topological map";
-  CoordinatorStats stats_;  // all but the hallway's and the route's counts (hallway_; all in stats())
+  CoordinatorStats stats_;  // all but the hallway's, the route's and the rooms' counts (hallway_, room_; all in stats())
   double state_since_ = 0.0;     // s, stamp when the state began
   double now_ = 0.0;
   double start_time_ = -1.0;
@@ -193,12 +174,10 @@ class Coordinator {
   // The door being entered (hallway_.door()), the opening it is entered as, and the place of its room.
   double door_bearing_map_ = 0.0;  // rad, map frame, through the door into the room
   int door_node_ = -1;
-  int place_id_ = -1;
-  int host_place_id_ = -1;          // while suite_ visits the rooms behind: the host room's place
+  RoomSequence::Places places_;     // the active place (the host's, or a room's behind it) and its creation
   laser_features::Pose2D hallway_pose_odom_;  // where the robot left the hallway ...
   HallwayDirection entry_hallway_;            // ... and that hallway's direction
-  bool place_ok_ = false;
-  bool in_room_ = false;            // Idle: the robot stands in place place_id_ (after a mission)
+  bool in_room_ = false;            // Idle: the robot stands in the active place (after a mission)
   std::vector<Request> pending_requests_;  // to go out with the next update (from cancelMission)
 };
 
