@@ -18,8 +18,23 @@ constexpr double kAtNodeDistance = 1.0;
 }  // namespace
 
 RouteStep RoutePolicy::plan(const TopoGraph& graph, const GraphPosition& pos, const PlaceDoor* mission_door) const {
-  if (mission_door) return graph.routeTo(pos, mission_door->node, mission_door->opening, params_.u_turn_cost);
-  return graph.route(pos, params_.u_turn_cost, [this](uint32_t n, const GraphOpening& o) { return leftOut(n, o); });
+  RouteStep r = mission_door ? graph.routeTo(pos, mission_door->node, mission_door->opening, params_.u_turn_cost)
+                             : graph.route(pos, params_.u_turn_cost,
+                                           [this](uint32_t n, const GraphOpening& o) { return leftOut(n, o); });
+  // A door is entered once passed beside the robot. A route that reaches the door's node heading
+  // away from it -- along a branch that leaves the node beside the door, the door's way (a door
+  // next to a junction's branch, both at one node) -- would never pass it: its last leg runs along
+  // the door's wall instead, a turn at the node into the node's edge there (atBranch). A door
+  // straight ahead is in the hallway's end wall: the turn at the end passes it.
+  const bool door = mission_door || (r.goal_width > 0.0 && rules_.doorByWidth(r.goal_width));
+  const bool away = std::cos(r.arrival_heading - r.goal_bearing) < -std::cos(0.25 * kPi);
+  if (r.found && door && r.next_node == r.goal_node && away) {
+    if (const std::optional<double> along = graph.headingAlongOpening(r.goal_node, r.goal_bearing)) {
+      r.next_heading = *along;
+      r.door_behind = true;
+    }
+  }
+  return r;
 }
 
 size_t RoutePolicy::openingsLeft(const TopoGraph& graph) const {
@@ -138,7 +153,7 @@ RouteAction RoutePolicy::atBranch(const RouteContext& at, const RouteStep& route
   const bool goal_is_door =
       route.goal_width > 0.0 &&
       (rules_.doorByWidth(route.goal_width) || (door_abeam && rules_.sameWidth(door_abeam->width, route.goal_width)));
-  const bool door_next = route.next_node == route.goal_node && (at.mission || goal_is_door);
+  const bool door_next = route.next_node == route.goal_node && (at.mission || goal_is_door) && !route.door_behind;
   if (!route.found || door_next) return RouteAction{};
   const int near = at.graph.nearestNode(at.topo.position);
   // At the node as the belief says, or within 2 m of the goal node: the belief may be off by a
@@ -169,6 +184,10 @@ RouteAction RoutePolicy::atBranch(const RouteContext& at, const RouteStep& route
     return giveUp(route.goal_node, route.goal_bearing, route.goal_width,
                   "missed an opening of node " + std::to_string(route.goal_node));
   }
+  if (route.door_behind)
+    return RouteAction{RouteAction::TurnIntoBranch, {},
+                       "turning at node " + std::to_string(route.goal_node) +
+                           " into the hallway along its door's wall (the door is behind the robot)"};
   return RouteAction{RouteAction::TurnIntoBranch, {},
                      "turning into the branch of node " + std::to_string(near) + " towards node " +
                          std::to_string(route.goal_node)};

@@ -44,6 +44,17 @@ bool TopoGraph::hasExit(uint32_t node, double heading, double tolerance) const {
   return false;
 }
 
+std::optional<double> TopoGraph::headingAlongOpening(uint32_t node, double bearing) const {
+  const double across = std::cos(0.25 * kPi);
+  for (const auto& entry : edges_) {  // by id: the oldest first
+    const GraphEdge& e = entry.second;
+    if (e.source != node && e.target != node) continue;
+    const double leave = e.source == node ? e.heading : normalizeAngle(e.heading + kPi);
+    if (std::abs(std::cos(leave - bearing)) < across) return leave;
+  }
+  return std::nullopt;
+}
+
 std::vector<GraphOpening> TopoGraph::unexplored(uint32_t id) const {
   std::vector<GraphOpening> out;
   const GraphNode* n = node(id);
@@ -221,6 +232,7 @@ RouteStep TopoGraph::search(const GraphPosition& pos, double u_turn_cost,
       step.next_node = first;
       step.heading = pos.at_node && pos.id == first ? leave : prev[first].second;
       step.next_heading = first == n ? step.goal_bearing : leave;
+      step.arrival_heading = prev[n].second;
       return step;
     }
     for (const auto& entry : edges_) {

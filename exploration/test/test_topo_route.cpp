@@ -306,3 +306,57 @@ TEST(RoutePolicy, AMissionThatKeepsTurningIntoTheSameBranchMissesItsDoor) {
   policy.clearAttempts();  // the belief reset
   EXPECT_EQ(turnAtTheJunction(), RouteAction::TurnIntoBranch);
 }
+
+// A door is entered once passed beside the robot. A route that reaches the door's node heading away
+// from it (along a branch that leaves beside the door, both at one node) turns at the node into the
+// hallway the door was passed on; from that hallway it drives on past the door.
+TEST(RoutePolicy, ADoorReachedHeadingAwayFromItIsPassedAlongItsWall) {
+  using exploration::RouteAction;
+  exploration::RoutePolicyParams params;
+  exploration::RoutePolicy policy(params, laser_features::BuildingRules());
+  // A hallway north: 0 (start) -- 4.4 m -- 1 (door east, place 3's) -- 1.2 m -- 2 (junction); a
+  // branch east from node 1, beside the door, to node 9.
+  TopoGraph g;
+  g.addNode(GraphNode{0, 4, 0.0, 0.0, {}});
+  g.addNode(GraphNode{1, 0, 0.0, 4.4, {GraphOpening{0.0, 0.85, true, 3, {0.0, 0.0, 0.0}}}});
+  g.addNode(GraphNode{2, 1, 0.0, 5.6, {}});
+  g.addNode(GraphNode{9, 0, 4.5, 4.4, {}});
+  g.addEdge(GraphEdge{0, 0, 1, 0.5 * kPi, 4.4});
+  g.addEdge(GraphEdge{1, 1, 2, 0.5 * kPi, 1.2});
+  g.addEdge(GraphEdge{8, 1, 9, 0.0, 4.5});
+  ASSERT_TRUE(g.headingAlongOpening(1, 0.0).has_value());
+  EXPECT_NEAR(*g.headingAlongOpening(1, 0.0), -0.5 * kPi, 1e-12) << "the oldest edge across the door: south";
+  EXPECT_FALSE(g.headingAlongOpening(9, 0.0).has_value()) << "node 9's only edge runs straight at a door east";
+  const std::optional<exploration::PlaceDoor> door = g.placeDoor(3);
+  ASSERT_TRUE(door.has_value());
+
+  // From the branch, heading west to node 1: the door is behind; the last leg runs south.
+  const exploration::RouteStep from_branch = policy.plan(g, onEdge(8, 2.0, kPi), &*door);
+  ASSERT_TRUE(from_branch.found);
+  EXPECT_EQ(from_branch.next_node, 1u);
+  EXPECT_NEAR(from_branch.arrival_heading, kPi, 1e-12);
+  EXPECT_TRUE(from_branch.door_behind);
+  EXPECT_NEAR(from_branch.next_heading, -0.5 * kPi, 1e-12);
+  GraphPosition at_node;
+  at_node.valid = true;
+  at_node.at_node = true;
+  at_node.id = 1;
+  at_node.heading = kPi;
+  const exploration::RouteStep at_door = policy.plan(g, at_node, &*door);
+  EXPECT_TRUE(at_door.door_behind);
+  const exploration::RouteContext at{g, localizedAt(at_node), 50.0, true};
+  const RouteAction turn = policy.atBranch(at, at_door, true, std::nullopt);
+  EXPECT_EQ(turn.kind, RouteAction::TurnIntoBranch);
+
+  // Turned south at node 1, or coming from the start heading north: the door is beside the way on,
+  // passed and entered, never turned into.
+  at_node.heading = -0.5 * kPi;
+  const exploration::RouteStep turned = policy.plan(g, at_node, &*door);
+  EXPECT_FALSE(turned.door_behind);
+  EXPECT_EQ(policy.atBranch(exploration::RouteContext{g, localizedAt(at_node), 60.0, true}, turned, true,
+                            std::nullopt).kind,
+            RouteAction::None);
+  const exploration::RouteStep from_start = policy.plan(g, onEdge(0, 1.0, 0.5 * kPi), &*door);
+  EXPECT_FALSE(from_start.door_behind);
+  EXPECT_NEAR(from_start.next_heading, 0.0, 1e-12) << "the door's own bearing";
+}

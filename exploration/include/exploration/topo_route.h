@@ -68,7 +68,11 @@ struct RouteStep {
   uint32_t next_node = 0;       // the node the step leads to (the goal node when at it)
   double heading = 0.0;         // rad, map frame, the heading to travel now
   double next_heading = 0.0;    // rad, map frame, the heading to leave next_node by (the goal's
-                                // opening when next_node is the goal)
+                                // opening when next_node is the goal; see door_behind)
+  double arrival_heading = 0.0;  // rad, map frame, the heading the route reaches the goal node with
+                                 // (standing at it: the robot's)
+  bool door_behind = false;     // the goal is a door the route reaches heading away from it:
+                                // next_heading is along its wall (RoutePolicy::plan)
 };
 
 class TopoGraph {
@@ -83,6 +87,11 @@ class TopoGraph {
 
   /// Whether an edge leaves `node` with a travel heading within `tolerance` (rad) of `heading`.
   bool hasExit(uint32_t node, double heading, double tolerance = 0.5) const;
+  /// The heading of the oldest edge leaving `node` along the wall of its opening at `bearing`
+  /// (within 45 deg of a right angle to it): the hallway a door there was passed on, since
+  /// pomdp_topo makes a door's node at the end of the stretch the robot passed it on. None if no
+  /// edge runs so.
+  std::optional<double> headingAlongOpening(uint32_t node, double bearing) const;
   /// The unexplored openings of a node (see the file comment).
   std::vector<GraphOpening> unexplored(uint32_t node) const;
   /// Unexplored openings over the whole graph (but those `skip` names).
