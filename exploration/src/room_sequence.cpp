@@ -9,7 +9,7 @@ using laser_features::Pose2D;
 
 RoomSequence::RoomSequence(const RoomVisitParams& params, const RoomExplorerParams& room,
                            const laser_features::BuildingRules& rules, const HallwayDoorParams& doors)
-    : params_(params), host_(params, room, rules, doors), suite_(params, room, rules, doors) {}
+    : inner_rooms_(params.inner_rooms), host_(params, room, rules, doors), suite_(params, room, rules, doors) {}
 
 void RoomSequence::setStep(Step s, double now, const std::string& text) {
   step_ = s;
@@ -89,7 +89,7 @@ RoomSequence::Outcome RoomSequence::coverRoom(const Perception& q, double travel
     return Outcome::Inside;
   }
   // The host room is covered: the rooms behind its inner doors first, then its way out.
-  if (params_.inner_rooms) {
+  if (inner_rooms_) {
     host_.openFurnitureGaps();
     suite_.begin(host_, travel);
     suite_.roomCovered(host_, travel);

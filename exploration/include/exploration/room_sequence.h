@@ -109,7 +109,7 @@ class RoomSequence {
   /// The host room's way out begins.
   void exitHost();
 
-  RoomVisitParams params_;
+  bool inner_rooms_;  // RoomVisitParams::inner_rooms: the rooms behind the host are visited
   RoomVisit host_;
   SuiteVisit suite_;
   Step step_ = Step::ApproachDoor;
