@@ -59,11 +59,14 @@ std::optional<EntryOpening> DoorEntry::mayEnter(const TopoView& topo, const Topo
                                                 double bearing, bool belief_trusted,
                                                 const PlaceDoor* mission_door) const {
   if (mission_door) {
-    // Only the mission's door, at its node as a trusted belief says, on its side.
+    // Only the mission's door, at its node as a trusted belief says, on its side, and as wide as
+    // the map has it: a door of another width is another room's, however alike the rooms are
+    // (widthsApart: the spread of one door's widths measured from different places).
     if (!belief_trusted) return std::nullopt;
     const int n = graph.nearestNode(topo.position);
     if (n < 0 || uint32_t(n) != mission_door->node) return std::nullopt;
     if (!bins_.sameWay(mission_door->opening.bearing, bearing)) return std::nullopt;
+    if (rules_.widthsApart(mission_door->opening.width, door.width)) return std::nullopt;
     return EntryOpening{n, mission_door->opening.bearing};
   }
   if (topo.mode == "frontier") return EntryOpening{-1, bearing};  // a door on a new stretch is new: its node is pomdp_topo's current one

@@ -327,3 +327,33 @@ TEST(DoorEntry, ADoorIsTheGraphsOpeningWithinAQuarterOfAHeadingBin) {
     EXPECT_FALSE(entry.mayEnter(topo, graph, d, 0.5 * kPi + 1.1 * quarter, true, nullptr).has_value()) << bins << " bins";
   }
 }
+
+// A mission enters only its own door: at its node, on its side, and as wide as the map has it. A
+// room alike beside it whose door is of another width is not the goal's, and is not stopped for.
+TEST(DoorEntry, AMissionsDoorIsNoDoorOfAnotherWidth) {
+  exploration::TopoGraph graph;
+  exploration::GraphNode n;
+  n.id = 12;
+  exploration::GraphOpening goal{-0.5 * kPi, 1.76, true};
+  goal.place_id = 12;
+  n.openings.push_back(goal);
+  graph.addNode(n);
+  exploration::TopoView topo;
+  topo.valid = true;
+  topo.mode = "localized";
+  topo.confident = true;
+  topo.position.valid = true;
+  topo.position.at_node = true;
+  topo.position.id = 12;
+  DoorEntry entry{HallwayDoorParams(), BuildingRules()};
+  entry.setHeadingBins({0.0, 8});
+  const std::optional<exploration::PlaceDoor> mission = graph.placeDoor(12);
+  ASSERT_TRUE(mission.has_value());
+  const auto own = entry.mayEnter(topo, graph, door(0.0, -1.0, -0.5 * kPi, 1.79), -0.5 * kPi, true, &*mission);
+  ASSERT_TRUE(own.has_value());
+  EXPECT_EQ(own->node, 12);
+  EXPECT_FALSE(entry.mayEnter(topo, graph, door(0.0, -1.0, -0.5 * kPi, 0.81), -0.5 * kPi, true, &*mission).has_value());
+  // Its own door, but on the other side, or with the belief not trusted: not entered either.
+  EXPECT_FALSE(entry.mayEnter(topo, graph, door(0.0, 1.0, 0.5 * kPi, 1.79), 0.5 * kPi, true, &*mission).has_value());
+  EXPECT_FALSE(entry.mayEnter(topo, graph, door(0.0, -1.0, -0.5 * kPi, 1.79), -0.5 * kPi, false, &*mission).has_value());
+}

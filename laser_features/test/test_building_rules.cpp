@@ -103,6 +103,10 @@ TEST(BuildingRules, NarrowerThanAnyHallwayIsADoorAndADoubleDoorsWidthNeedsARoomB
   EXPECT_TRUE(rules.differentOpenings(0.9, 2.18));
   EXPECT_FALSE(rules.differentOpenings(0.66, 1.28));
   EXPECT_FALSE(rules.differentOpenings(0.0, 2.18));
+  // Two doors' widths are apart beyond one door's spread; an unmeasured width is apart from none.
+  EXPECT_TRUE(rules.widthsApart(0.81, 1.76));
+  EXPECT_FALSE(rules.widthsApart(1.79, 1.76));
+  EXPECT_FALSE(rules.widthsApart(0.0, 1.76));
 }
 
 // A hallway whose mouth is as narrow as the widest door leaves the wall at asin(1.5 / 1.9) = 52 deg

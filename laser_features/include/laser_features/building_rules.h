@@ -67,12 +67,15 @@ struct BuildingRules {
   /// far jamb is hidden and the far edge is the next wall point seen. A measured value, not
   /// derived (a 0.7 m door was measured 1.3 m after a U-turn): see differentOpenings().
   static constexpr double kWidthSpread = 0.6;
+  /// Two measured widths (> 0) farther apart than kWidthSpread: not one opening's measured from
+  /// two places. An unmeasured width (<= 0) tells nothing apart.
+  bool widthsApart(double width_a, double width_b) const {
+    return width_a > 0.0 && width_b > 0.0 && std::abs(width_a - width_b) > kWidthSpread;
+  }
   /// Two openings measured these widths are two (a door beside a hallway's branch on the same side),
-  /// not one measured twice: their widths differ by more than kWidthSpread and only one is a
-  /// door's. An unmeasured width (<= 0) tells nothing apart.
+  /// not one measured twice: their widths are apart (widthsApart) and only one is a door's.
   bool differentOpenings(double width_a, double width_b) const {
-    if (width_a <= 0.0 || width_b <= 0.0 || std::abs(width_a - width_b) <= kWidthSpread) return false;
-    return doorByWidth(width_a) != doorByWidth(width_b);
+    return widthsApart(width_a, width_b) && doorByWidth(width_a) != doorByWidth(width_b);
   }
   /// Two measurements of these widths may be one opening measured twice: each is within
   /// width_tolerance of the true width.
