@@ -150,10 +150,9 @@ RoomVisit::Coverage RoomVisit::coverRoom(const Perception& q, double now, double
     if (!rules_.isDoor(o.width, o.room_behind)) continue;
     const Eigen::Vector2d l = transformPoint(q.room_pose, o.left), r = transformPoint(q.room_pose, o.right);
     if ((0.5 * (l + r) - door).norm() < 0.8) continue;
-    const bool in_wall = o.source == laser_features::OpeningSource::kCollinearGap;
-    explorer_.blockOpening(l, r, in_wall);
+    explorer_.blockOpening(l, r, o.in_wall);
     // The opening's normal points away from the sensor, which is inside the room.
-    seeOtherDoor(0.5 * (l + r), normalizeAngle(q.room_pose.theta + o.theta + kPi), o.width, in_wall);
+    seeOtherDoor(0.5 * (l + r), normalizeAngle(q.room_pose.theta + o.theta + kPi), o.width, o.in_wall);
   }
   if (now - last_plan_ >= params_.replan_period || !goal_) {
     last_plan_ = now;

@@ -52,6 +52,7 @@ void featuresInRobot(const hybrid_slam_msgs::LaserFeatures& msg, const Pose2D& s
     op.width = o.width;
     op.confidence = o.confidence;
     op.room_behind = o.room_behind;
+    op.in_wall = o.in_wall;
     op.kind = o.kind == hybrid_slam_msgs::OpeningFeature::DOOR       ? laser_features::OpeningKind::kDoor
               : o.kind == hybrid_slam_msgs::OpeningFeature::JUNCTION ? laser_features::OpeningKind::kJunction
                                                                      : laser_features::OpeningKind::kUnknown;

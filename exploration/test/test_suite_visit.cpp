@@ -146,6 +146,27 @@ TEST(SuiteVisit, OnlyADoorInAnotherWallIntoSpaceOutsideTheRoomIsAnInnerDoor) {
   EXPECT_NEAR(std::abs(laser_features::normalizeAngle(inner[0].into - kPi)), 0.0, 0.1);  // into the host
 }
 
+// The host of suite() with its door into the room behind in its back wall instead, next to the
+// corner: its jamb there (0.3 m) is shorter than a line, so it is never seen between two pieces of
+// one wall; the back wall on its other side sets it in the wall.
+TEST(SuiteVisit, ADoorNextToTheBackWallsCornerIsAnInnerDoor) {
+  exploration::test::SegmentWorld w;
+  wallWithGaps(&w, 0.0, -8.0, 12.0, {{-0.45, 0.45}, {1.2, 2.1}});  // the hallway's upper wall
+  w.wall(-8.0, -2.0, 12.0, -2.0);
+  w.wall(-8.0, -2.0, -8.0, 0.0);
+  w.wall(12.0, -2.0, 12.0, 0.0);
+  w.wall(-2.5, 0.0, -2.5, 9.0);
+  w.wall(2.5, 0.0, 2.5, 9.0);
+  wallWithGaps(&w, 5.0, -2.5, 2.5, {{1.3, 2.2}});  // the back wall, its door 0.3 m from the corner
+  w.wall(-2.5, 9.0, 2.5, 9.0);                     // the room behind: y in [5, 9]
+  const RoomVisit host = coveredHost(w);
+  const std::vector<RoomVisit::DoorInPlace> inner = host.innerDoors();
+  ASSERT_EQ(inner.size(), 1u);
+  EXPECT_NEAR(inner[0].centre.x(), 1.75, 0.1);
+  EXPECT_NEAR(inner[0].centre.y(), 5.0, 0.1);
+  EXPECT_NEAR(laser_features::normalizeAngle(inner[0].into + 0.5 * kPi), 0.0, 0.1);  // into the host
+}
+
 // The same room with its side door leading into another hallway (a corner room): the space behind
 // it, seen from just inside, is 2 m deep and open far both ways along the door's wall; a room behind
 // the door is deeper than the widest hallway or closed within it along the wall.
@@ -197,7 +218,8 @@ const std::vector<Pose2D> kLegsWalk{{0.0, 1.0, 0.5 * kPi}, {0.0, 2.5, 0.5 * kPi}
 
 // Legs standing in a row across a long room, 0.85 m apart and from its walls: every gap is door-wide and
 // each is closed by a virtual wall, so the room's far end is cut off from its free area; still no
-// gap is a door into another room: a door is a gap between two pieces of one wall, seen so twice.
+// gap is a door into another room: a door is a gap in a wall (a wall piece runs on from an edge),
+// seen so twice.
 // Generated building 2 (seed 2): a table's and chairs' legs across a 9 m room were taken for doors,
 // the room's far end for a room behind them, and the robot was stuck among the legs.
 TEST(SuiteVisit, GapsBetweenLegsAcrossALongRoomAreNoInnerDoors) {

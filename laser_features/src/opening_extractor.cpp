@@ -335,6 +335,34 @@ void OpeningExtractor::extract(const ScanPoints& points, const std::vector<LineS
   findCollinearGaps(points, lines, openings);
   findHallwaySteps(points, lines, place, openings);
   findRangeDiscontinuities(points, lines, openings);
+  for (Opening& opening : *openings) opening.in_wall = inWall(opening, lines);
+}
+
+// An opening set in a wall has that wall beside it on one side at least: a line segment whose end
+// is at one of its edges (within kMaxEdgeRefinement, the most an edge lies from its wall piece's
+// last hit), which runs along the opening (collinear_angle) and away from it. A door next to a
+// corner shows its wall on one side only: the jamb on the other is shorter than a line can be
+// (door_jamb_min, 0.2 m, against lines.min_length, 0.4 m), so (b) never sees it; a wall at least a
+// door and two lines long (every room's) leaves a line on one side. The gaps between table and
+// chair legs, or between a leg and a wall across it, have none along them.
+bool OpeningExtractor::inWall(const Opening& opening, const std::vector<LineSegment>& lines) const {
+  if (opening.source == OpeningSource::kCollinearGap) return true;
+  const Eigen::Vector2d across = opening.right - opening.left;
+  if (!(across.norm() > 0.0)) return false;
+  for (const LineSegment& segment : lines) {
+    const Eigen::Vector2d along = segment.end - segment.start;
+    if (!(along.norm() > 0.0)) continue;
+    const double cos_angle = std::abs(along.normalized().dot(across.normalized()));
+    if (cos_angle < std::cos(params_.collinear_angle)) continue;
+    for (const Eigen::Vector2d& edge : {opening.left, opening.right}) {
+      const bool start_near = (segment.start - edge).norm() <= (segment.end - edge).norm();
+      const Eigen::Vector2d& near = start_near ? segment.start : segment.end;
+      const Eigen::Vector2d& far = start_near ? segment.end : segment.start;
+      if ((near - edge).norm() <= kMaxEdgeRefinement && (far - opening.center).norm() > (near - opening.center).norm())
+        return true;
+    }
+  }
+  return false;
 }
 
 }  // namespace laser_features

@@ -107,6 +107,7 @@ void toMsg(const Features& features, const std_msgs::Header& header, hybrid_slam
     m.kind = openingKindMsg(o.kind);
     m.source = openingSourceMsg(o.source);
     m.room_behind = o.room_behind;
+    m.in_wall = o.in_wall;
     m.confidence = o.confidence;
   }
   msg->place_type = placeTypeMsg(features.place_type);

@@ -218,6 +218,29 @@ TEST(OpeningExtractor, HallwayStepIsFound) {
   EXPECT_NEAR(normalizeAngle(near[0].theta - (kPi / 2 + std::atan(0.3))), 0.0, 0.05);  // normal of the gap
 }
 
+// A door is set in a wall: a wall piece runs on from one of its edges along it. Next to a corner
+// the jamb on that side (0.3 m) is shorter than a line, so no gap between two pieces of one wall is
+// seen; the wall on its other side still sets it in the wall. The gaps between a table's legs,
+// door-wide, are in no wall.
+TEST(OpeningExtractor, ADoorNextToACornerIsInAWallAndAGapBetweenLegsIsNot) {
+  std::mt19937 rng(8);
+  const World corner_door = roomWithDoor(0.75, 0.9);  // the door's lower jamb: 0.3 m to the corner
+  for (const Pose2D& sensor : {Pose2D{2.0, 3.0, 0.2}, Pose2D{1.0, 1.0, -0.4}, Pose2D{3.5, 4.0, 1.0}}) {
+    const Features features = extractFeatures(corner_door, sensor, ScanSpec::full(720), &rng);
+    const std::vector<Opening> near = openingsNear(features, pointInSensorFrame({6.0, 0.75}, sensor), 0.6);
+    ASSERT_EQ(near.size(), 1u) << sensor.x << " " << sensor.y;
+    EXPECT_NE(near[0].source, OpeningSource::kCollinearGap) << sensor.x << " " << sensor.y;
+    EXPECT_TRUE(near[0].in_wall) << sensor.x << " " << sensor.y;
+  }
+  World legs = rectangularRoom(8.0, 6.0);
+  for (const double x : {3.0, 3.8})  // a table's legs, 0.8 m apart
+    for (const double y : {3.0, 3.8}) legs.addBox(x, y, 0.05, 0.05);
+  const Pose2D sensor{1.0, 3.4, 0.0};
+  const Features features = extractFeatures(legs, sensor, ScanSpec::full(720), &rng);
+  ASSERT_FALSE(openingsNear(features, pointInSensorFrame({3.4, 3.4}, sensor), 0.6).empty());  // seen door-wide
+  for (const Opening& opening : features.openings) EXPECT_FALSE(opening.in_wall) << opening.center.transpose();
+}
+
 TEST(OpeningExtractor, NoOpeningInAClosedRoom) {
   std::mt19937 rng(5);
   for (int trial = 0; trial < 20; ++trial) {

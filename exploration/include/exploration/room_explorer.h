@@ -115,8 +115,8 @@ class RoomExplorer {
   /// through it. Remembered in openings() unless it is the entry door or an opening already known
   /// (centres within opening_merge_distance): then nothing is done. Returns whether it was added
   /// (false also before start() and for non-finite or coincident points).
-  /// `in_wall`: this sighting shows it as a gap between two pieces of one wall (a door, not a gap
-  /// between furniture; kept closed by openFurnitureGaps()).
+  /// `in_wall`: this sighting shows it as a gap in a wall (laser_features' Opening::in_wall: a door,
+  /// not a gap between furniture; kept closed by openFurnitureGaps()).
   bool blockOpening(const Eigen::Vector2d& left, const Eigen::Vector2d& right, bool in_wall = true);
   /// The room's coverage is over: the virtual walls of openings never seen as a gap in a wall (between
   /// table and chair legs, beside a shelf) are taken away, their cells Free (as the scans saw the

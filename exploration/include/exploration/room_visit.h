@@ -126,8 +126,8 @@ class RoomVisit {
   /// within the direction error of the entry door over the room, a few centimetres per metre); one in
   /// a side wall lies past the corner by at least half the narrowest door plus a jamb
   /// (BuildingRules::doorFromCorner), one in the back wall by the room's depth.
-  /// Seen from inside at least twice as a gap between two pieces of one wall (laser_features'
-  /// collinear-gap cue: the gaps between table and chair legs have no wall on either side), and
+  /// Seen from inside at least twice as a gap in a wall (laser_features' Opening::in_wall: a wall
+  /// piece runs on from one of its edges; the gaps between table and chair legs have none), and
   /// leading out of the room (RoomExplorer::leadsOutOfRoom, kDoorPassage behind it: a gap between
   /// furniture and a wall is none).
   std::vector<DoorInPlace> innerDoors() const;
@@ -165,7 +165,7 @@ class RoomVisit {
   /// A grid path from the robot's last position to the door (the exit attempts are kept).
   void planExit();
   /// One sighting from inside of a door other than the entry (place frame): into its mean.
-  /// `in_wall`: seen as a gap between two pieces of one wall.
+  /// `in_wall`: seen as a gap in a wall (Opening::in_wall).
   void seeOtherDoor(const Eigen::Vector2d& centre, double into, double width, bool in_wall);
 
   RoomVisitParams params_;
@@ -196,7 +196,7 @@ class RoomVisit {
     Eigen::Vector2d into_sum = Eigen::Vector2d::Zero();  // unit vectors into the room
     double width_sum = 0.0;
     int count = 0;
-    int in_wall = 0;                // sightings as a gap between two pieces of one wall
+    int in_wall = 0;                // sightings as a gap in a wall (Opening::in_wall)
     Eigen::Vector2d centre() const { return centre_sum / count; }
   };
   std::vector<SeenDoor> other_doors_;

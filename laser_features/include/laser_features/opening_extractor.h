@@ -35,6 +35,9 @@ struct Opening {
                                              // (one edge is no wall end: an occlusion gap)
   bool room_behind = false;  // the free space seen behind it reaches past its edges (see BuildingRules)
   OpeningSource source = OpeningSource::kRangeDiscontinuity;
+  // Set in a wall: a wall piece (a line) runs on from one of its edges along its line (every (b);
+  // OpeningExtractor::inWall). The gaps between furniture legs have no wall beside them.
+  bool in_wall = false;
   // [0, 1]: how deep the free space behind the opening is (saturating at 2 min_depth) times how well
   // its edges are supported (by wall segments for (a) and (b), 0.8 for (c)); halved for (a) when the
   // far edge is not a wall end.
@@ -95,6 +98,7 @@ class OpeningExtractor {
   bool makeOpening(const ScanPoints& points, const Eigen::Vector2d& edge_a, const Eigen::Vector2d& edge_b,
                    OpeningSource source, double support, Opening* opening) const;
   void addIfNew(const Opening& opening, std::vector<Opening>* openings) const;
+  bool inWall(const Opening& opening, const std::vector<LineSegment>& lines) const;
 
   void findCollinearGaps(const ScanPoints& points, const std::vector<LineSegment>& lines,
                          std::vector<Opening>* openings) const;
