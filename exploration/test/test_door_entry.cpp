@@ -28,6 +28,18 @@ DoorTrack door(double x, double y, double into, double width = 0.9) {
   return t;
 }
 
+// A confident belief, localized at node `id`.
+exploration::TopoView localizedAt(uint32_t id) {
+  exploration::TopoView topo;
+  topo.valid = true;
+  topo.mode = "localized";
+  topo.confident = true;
+  topo.position.valid = true;
+  topo.position.at_node = true;
+  topo.position.id = id;
+  return topo;
+}
+
 }  // namespace
 
 // A room with two doors on the hallway's wall (y = 1, the room above): out by the first, the second
@@ -308,13 +320,7 @@ TEST(DoorEntry, ADoorIsTheGraphsOpeningWithinAQuarterOfAHeadingBin) {
   n.id = 4;
   n.openings.push_back({0.5 * kPi, 0.9, false});
   graph.addNode(n);
-  exploration::TopoView topo;
-  topo.valid = true;
-  topo.mode = "localized";
-  topo.confident = true;
-  topo.position.valid = true;
-  topo.position.at_node = true;
-  topo.position.id = 4;
+  const exploration::TopoView topo = localizedAt(4);
   for (const int bins : {4, 8}) {
     DoorEntry entry{HallwayDoorParams(), BuildingRules()};
     entry.setHeadingBins({0.0, bins});
@@ -338,13 +344,7 @@ TEST(DoorEntry, AMissionsDoorIsNoDoorOfAnotherWidth) {
   goal.place_id = 12;
   n.openings.push_back(goal);
   graph.addNode(n);
-  exploration::TopoView topo;
-  topo.valid = true;
-  topo.mode = "localized";
-  topo.confident = true;
-  topo.position.valid = true;
-  topo.position.at_node = true;
-  topo.position.id = 12;
+  const exploration::TopoView topo = localizedAt(12);
   DoorEntry entry{HallwayDoorParams(), BuildingRules()};
   entry.setHeadingBins({0.0, 8});
   const std::optional<exploration::PlaceDoor> mission = graph.placeDoor(12);
