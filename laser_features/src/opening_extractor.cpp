@@ -349,11 +349,12 @@ bool OpeningExtractor::inWall(const Opening& opening, const std::vector<LineSegm
   if (opening.source == OpeningSource::kCollinearGap) return true;
   const Eigen::Vector2d across = opening.right - opening.left;
   if (!(across.norm() > 0.0)) return false;
+  const Eigen::Vector2d across_unit = across.normalized();
+  const double min_cos = std::cos(params_.collinear_angle);
   for (const LineSegment& segment : lines) {
     const Eigen::Vector2d along = segment.end - segment.start;
     if (!(along.norm() > 0.0)) continue;
-    const double cos_angle = std::abs(along.normalized().dot(across.normalized()));
-    if (cos_angle < std::cos(params_.collinear_angle)) continue;
+    if (std::abs(along.normalized().dot(across_unit)) < min_cos) continue;
     for (const Eigen::Vector2d& edge : {opening.left, opening.right}) {
       const bool start_near = (segment.start - edge).norm() <= (segment.end - edge).norm();
       const Eigen::Vector2d& near = start_near ? segment.start : segment.end;
