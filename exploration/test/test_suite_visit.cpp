@@ -81,14 +81,21 @@ Perception perceive(const exploration::test::SegmentWorld& world, const Pose2D& 
 // [2.5, 6.5]), a shelf 0.9 m off its left wall (the gap behind it is the room's own) and a table
 // whose legs stand 0.7 m apart (the narrowest door's width).
 // With `connecting`, the room behind has a hallway door of its own at x = 4.5.
+// The 2 m hallway below the host, from x = -8 to 12: its upper wall has the host's entry door at x = 0,
+// its second hallway door 1.65 m beside it and `more` doors.
+void hallwayBelowHost(exploration::test::SegmentWorld* w, const std::vector<std::pair<double, double>>& more = {}) {
+  std::vector<std::pair<double, double>> gaps{{-0.45, 0.45}, {1.2, 2.1}};
+  gaps.insert(gaps.end(), more.begin(), more.end());
+  wallWithGaps(w, 0.0, -8.0, 12.0, gaps);  // the hallway's upper wall
+  w->wall(-8.0, -2.0, 12.0, -2.0);
+  w->wall(-8.0, -2.0, -8.0, 0.0);
+  w->wall(12.0, -2.0, 12.0, 0.0);
+}
+
 exploration::test::SegmentWorld suite(bool connecting = false) {
   exploration::test::SegmentWorld w;
-  std::vector<std::pair<double, double>> gaps{{-0.45, 0.45}, {1.2, 2.1}};
-  if (connecting) gaps.push_back({4.05, 4.95});
-  wallWithGaps(&w, 0.0, -8.0, 12.0, gaps);  // the hallway's upper wall
-  w.wall(-8.0, -2.0, 12.0, -2.0);
-  w.wall(-8.0, -2.0, -8.0, 0.0);
-  w.wall(12.0, -2.0, 12.0, 0.0);
+  hallwayBelowHost(&w, connecting ? std::vector<std::pair<double, double>>{{4.05, 4.95}}
+                                  : std::vector<std::pair<double, double>>{});
   w.wall(-2.5, 0.0, -2.5, 5.0);
   w.wall(-2.5, 5.0, 6.5, 5.0);
   wallWithGaps(&w, 2.5, 0.0, 5.0, {{2.0, 2.9}}, true);  // the door into the room behind
@@ -151,10 +158,7 @@ TEST(SuiteVisit, OnlyADoorInAnotherWallIntoSpaceOutsideTheRoomIsAnInnerDoor) {
 // one wall; the back wall on its other side sets it in the wall.
 TEST(SuiteVisit, ADoorNextToTheBackWallsCornerIsAnInnerDoor) {
   exploration::test::SegmentWorld w;
-  wallWithGaps(&w, 0.0, -8.0, 12.0, {{-0.45, 0.45}, {1.2, 2.1}});  // the hallway's upper wall
-  w.wall(-8.0, -2.0, 12.0, -2.0);
-  w.wall(-8.0, -2.0, -8.0, 0.0);
-  w.wall(12.0, -2.0, 12.0, 0.0);
+  hallwayBelowHost(&w);
   w.wall(-2.5, 0.0, -2.5, 9.0);
   w.wall(2.5, 0.0, 2.5, 9.0);
   wallWithGaps(&w, 5.0, -2.5, 2.5, {{1.3, 2.2}});  // the back wall, its door 0.3 m from the corner
