@@ -154,7 +154,8 @@ void Coordinator::stopForDoor(const Perception& p, const TopoView& topo, Decisio
     setState(State::Follow, why_passed);
     return;
   }
-  // The door's node exists now (passed); the topological map stands still from here on.
+  // The topological map stands still from here on. A new door has no node yet on a new stretch
+  // (the robot stopped before passing it): pomdp_topo makes it where the robot stands.
   mode_ = CoordinatorMode::Metric;
   hallway_pose_odom_ = p.odom;
   entry_hallway_ = hallway_.direction();
@@ -164,6 +165,7 @@ void Coordinator::stopForDoor(const Perception& p, const TopoView& topo, Decisio
   rec.node = entering->node;
   rec.bearing = door_bearing_map_;
   rec.width = hallway_.door().width;
+  rec.beside_robot = true;
   d->requests.push_back(rec);
   Request create;
   create.kind = Request::CreatePlace;

@@ -351,6 +351,7 @@ class ExplorationNode {
         srv.request.width = r.width;
         srv.request.offset = r.offset;
         srv.request.explored = r.explored;
+        srv.request.beside_robot = r.beside_robot;
         srv.request.place_id = r.place_id;
         srv.request.door_in_place.x = r.pose.x;
         srv.request.door_in_place.y = r.pose.y;

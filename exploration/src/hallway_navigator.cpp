@@ -200,6 +200,7 @@ bool HallwayNavigator::stopAtDoor(const DoorTrack& door, const char* what, const
       rec.bearing = follower_.topoBearing(door.into_odom, topo);
       rec.width = door.width;
       rec.explored = true;
+      rec.beside_robot = true;
       d->requests.push_back(rec);
     }
     step->text = "door passed: another door of the room just left";

@@ -184,6 +184,8 @@ void MapBuilder::processFrontier(const Scan& scan, const FrontEnd& fe) {
   const double s = s_base_ + scan.travel - travel_base_;
   travel_since_localized_ += std::abs(s - s_);  // the loop gate grows with the unlocalized travel
   s_ = s;
+  frontier_pose_ = scan.pose;
+  frontier_travel_ = scan.travel;
   // Landmarks passed on this stretch (all happened before the scan's turn, if any).
   for (const PassedLandmark& p : scan.passed) {
     if (mode_ != Mode::Frontier) break;  // a node created a loop hypothesis: the rest is verified
@@ -222,6 +224,20 @@ void MapBuilder::processFrontier(const Scan& scan, const FrontEnd& fe) {
     frontierTurn(a.turn_bins, scan, fe);
     if (mode_ != Mode::Frontier) break;
   }
+}
+
+int MapBuilder::nodeBesideRobot(const NodeOpening& door, const FrontEnd& fe) {
+  if (mode_ != Mode::Frontier || !params_.mapping || !std::isfinite(door.bearing)) return currentNode();
+  // The robot stops at a door to enter it before the front end passes it (pass_lag beyond it); a
+  // door taken for a node's farther back would be unexplored at the node its passing makes later,
+  // and the room behind it mapped again.
+  Scan here;
+  here.pose = frontier_pose_;
+  here.travel = frontier_travel_;
+  here.heading_bin = frontier_bin_;
+  // It opens into a room: a door by the width rules with a room behind, a junction only if wider.
+  const NodeType type = params_.rules.opensAsDoor(door.width, true) ? NodeType::Door : NodeType::Junction;
+  return int(createNode(type, s_, here, fe, {door}));
 }
 
 void MapBuilder::frontierTurn(int k, const Scan& scan, const FrontEnd& fe) {

@@ -401,11 +401,6 @@ class TopoNodeRos {
   bool onUpdateOpening(hybrid_slam_msgs::UpdateOpening::Request& req,
                        hybrid_slam_msgs::UpdateOpening::Response& res) {
     res.success = false;
-    const int id = req.node >= 0 ? req.node : builder_.currentNode();
-    if (id < 0) {
-      res.message = "the robot's node is unknown (no map or an unconfident belief)";
-      return true;
-    }
     NodeOpening o;
     o.bearing = req.bearing;
     // A new opening is seen from the hallway the robot left (bearings come on the heading bins).
@@ -417,6 +412,12 @@ class TopoNodeRos {
     if (!std::isfinite(req.offset) || !std::isfinite(req.width) || !std::isfinite(d.x) || !std::isfinite(d.y) ||
         !std::isfinite(d.theta)) {
       res.message = "non-finite offset, width or door pose";
+      return true;
+    }
+    int id = req.node;
+    if (id < 0) id = req.beside_robot ? builder_.nodeBesideRobot(o, front_end_) : builder_.currentNode();
+    if (id < 0) {
+      res.message = "the robot's node is unknown (no map or an unconfident belief)";
       return true;
     }
     if (!map_.recordOpening(uint32_t(id), o)) {

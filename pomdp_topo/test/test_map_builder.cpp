@@ -531,6 +531,46 @@ void upTheStemAndIntoTheTsDoor(SyntheticFloor* floor, Drive* drive) {
   ASSERT_TRUE(drive->map.recordOpening(uint32_t(junction), door));
 }
 
+// A door beside the robot where it stopped on a new stretch, recorded before the front end passed
+// it (the exploration enters a room there), is a node of its own where the robot stands, as passing
+// it makes one: recorded at the node the stretch left, the door would be unexplored at the node its
+// passing makes later, and the room mapped again. Within the last node's reach it joins that node.
+TEST(MapBuilder, ADoorRecordedWhereTheRobotStoppedOnANewStretchIsANodeOfItsOwn) {
+  SyntheticFloor floor;
+  floor.doors.push_back({{6.0, 1.1}, 0.5 * kPi, 0.9});
+  Drive drive;
+  drive.run(&floor, {{0.0, 0.0}, {6.0, 0.0}}, 0.0);  // stopped in front of the door, not past it
+  ASSERT_EQ(drive.builder.mode(), MapBuilder::Mode::Frontier);
+  ASSERT_EQ(drive.count(NodeType::Door), 0u) << "the door was passed before the robot stopped";
+  const uint32_t start = uint32_t(drive.builder.currentNode());
+  NodeOpening door;
+  door.bearing = 0.5 * kPi;
+  door.width = 0.9;
+  door.explored = true;
+  const int id = drive.builder.nodeBesideRobot(door, drive.front_end);
+  ASSERT_GE(id, 0);
+  ASSERT_TRUE(drive.map.recordOpening(uint32_t(id), door));  // as pomdp_topo_node does
+  EXPECT_NE(uint32_t(id), start);
+  EXPECT_EQ(drive.map.node(uint32_t(id))->type, NodeType::Door);
+  EXPECT_NEAR(drive.nodePos(uint32_t(id)).x(), 6.0, 0.3);
+  drive.run(&floor, {{6.0, 0.0}, {12.0, 0.0}}, 0.0);  // back from the room, on along the hallway
+  ASSERT_EQ(drive.count(NodeType::Door), 1u) << "passing the door made it a second node";
+  for (const auto& [nid, n] : drive.map.nodes()) {
+    for (const NodeOpening& o : n.openings) {
+      if (std::abs(normalizeAngle(o.bearing - 0.5 * kPi)) > 0.3) continue;
+      EXPECT_EQ(nid, uint32_t(id)) << "the door is an opening of node " << nid;
+      EXPECT_TRUE(o.explored) << "the door is unexplored at node " << nid;
+    }
+  }
+  // A door beside the start, within its reach: the start's.
+  SyntheticFloor near;
+  near.doors.push_back({{0.5, 1.1}, 0.5 * kPi, 0.9});
+  Drive at_start;
+  at_start.run(&near, {{0.0, 0.0}, {0.5, 0.0}}, 0.0);
+  EXPECT_EQ(at_start.builder.nodeBesideRobot(door, at_start.front_end), at_start.builder.currentNode());
+  EXPECT_EQ(at_start.map.nodes().size(), 1u);
+}
+
 // large_floor: a stem comes up to hall_3 at a T; the robot turns west there (a junction node) and
 // enters room_7_14's door across the T, 0.95 m east of the stem's axis; the coordinator records the
 // door at the junction. Later, on a new stretch east from the junction, the door is passed again

@@ -70,6 +70,8 @@ struct Request {
   double width = 0.0;        // RecordOpening: m
   double offset = 0.0;       // RecordOpening: m
   bool explored = false;     // RecordOpening
+  bool beside_robot = false; // RecordOpening with node -1: a door beside the robot where it stopped
+                             // (on a new stretch pomdp_topo makes its node there)
   int place_id = -1;         // RecordOpening (link), AddDoor, Relocate
   int door_id = -1;          // AddDoor, Relocate
   laser_features::Pose2D pose;  // AddDoor: door in the robot frame; RecordOpening: door in the place;

@@ -80,6 +80,11 @@ class MapBuilder {
   static const char* toString(Mode mode);
   /// The node the robot is at or came from (Frontier), or the most likely state's node; -1 if none.
   int currentNode() const;
+  /// The node of a door into a room beside the robot where it stopped (one the exploration enters,
+  /// or a room's other door), recorded before the front end passes it: on a new stretch, a node
+  /// made where the robot stands, as passing the door would make it (joined to the node the stretch
+  /// left when within that node's reach); otherwise `currentNode()`.
+  int nodeBesideRobot(const NodeOpening& door, const FrontEnd& fe);
   /// Distance travelled on the current frontier beyond `currentNode()`, m.
   double frontierDistance() const { return s_; }
   int frontierHeadingBin() const { return frontier_bin_; }
@@ -135,6 +140,8 @@ class MapBuilder {
   double s_ = 0.0;        // m, travel along the frontier beyond from_node_
   double s_base_ = 0.0;   // s_ = s_base_ + FrontEnd::travel() - travel_base_
   double travel_base_ = 0.0;
+  laser_features::Pose2D frontier_pose_;  // FrontEnd::pose() at the last frontier scan (where s_ was)
+  double frontier_travel_ = 0.0;          // FrontEnd::travel() then
   std::vector<EdgeLandmark> pending_;  // corners on the frontier, distance from from_node_
   double travel_since_localized_ = 0.0;
   DeadReckoningGate gate_;  // the belief and the map checked against the dead reckoning
