@@ -28,6 +28,7 @@ add_library(exploration_core
   ${EXPLORATION_CORE_DIR}/src/coordinator.cpp
   ${EXPLORATION_CORE_DIR}/src/passive_places.cpp
   ${EXPLORATION_CORE_DIR}/src/door_crossings.cpp
+  ${EXPLORATION_CORE_DIR}/src/run_summary.cpp
 )
 target_include_directories(exploration_core PUBLIC
   $<BUILD_INTERFACE:${EXPLORATION_CORE_DIR}/include>

@@ -7,22 +7,15 @@
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <hybrid_slam_msgs/BuildingAxes.h>
-#include <hybrid_slam_msgs/AddDoor.h>
-#include <hybrid_slam_msgs/CreatePlace.h>
 #include <hybrid_slam_msgs/ExplorationStatus.h>
 #include <hybrid_slam_msgs/GoToPlaceAction.h>
-#include <hybrid_slam_msgs/RelocateAtDoor.h>
 #include <hybrid_slam_msgs/RelocationResult.h>
-#include <hybrid_slam_msgs/ResetBelief.h>
-#include <hybrid_slam_msgs/SaveMap.h>
-#include <hybrid_slam_msgs/UpdateOpening.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <std_msgs/Bool.h>
 #include <std_msgs/Float64.h>
 #include <std_msgs/String.h>
 #include <std_srvs/SetBool.h>
-#include <std_srvs/Trigger.h>
 #include <tf2/utils.h>
 #include <tf2_ros/transform_listener.h>
 
@@ -35,12 +28,14 @@
 
 #include "exploration/coordinator.h"
 #include "exploration/params_visit.h"
+#include "exploration/run_summary.h"
 #include "laser_features/building_rules_ros.h"
 #include "laser_features/param_reader_ros.h"
 #include "laser_features/planar_covariance.h"
 #include "laser_features/tf_lookup.h"
 #include "lockstep/participant.h"
 #include "ros_conversions.h"
+#include "service_requests.h"
 
 namespace exploration {
 
@@ -67,15 +62,18 @@ class ExplorationNode {
     motion_ = std::make_unique<MotionController>(params_.motion);
     pnh_.param<std::string>("odom_frame", odom_frame_, "odom");
     pnh_.param<std::string>("base_frame", base_frame_, "base_link");
-    pnh_.param<std::string>("topo_node", topo_node_, "pomdp_topo");
-    pnh_.param<std::string>("local_map_node", local_map_node_, "ekf_local_map");
+    std::string topo_node, local_map_node;
+    pnh_.param<std::string>("topo_node", topo_node, "pomdp_topo");
+    pnh_.param<std::string>("local_map_node", local_map_node, "ekf_local_map");
     pnh_.param("control_rate", control_rate_, 20.0);
     pnh_.param("progress_period", progress_period_, 30.0);
     pnh_.param("shutdown_when_done", shutdown_when_done_, true);
     pnh_.param("serve_missions", serve_missions_, false);
     pnh_.param("freeze_map_for_missions", freeze_map_for_missions_, true);
-    pnh_.param("relocation_sigma_xy", relocation_sigma_xy_, 0.05);
-    pnh_.param("relocation_sigma_theta", relocation_sigma_theta_, 0.05);
+    double relocation_sigma_xy = 0.05, relocation_sigma_theta = 0.05;
+    pnh_.param("relocation_sigma_xy", relocation_sigma_xy, relocation_sigma_xy);
+    pnh_.param("relocation_sigma_theta", relocation_sigma_theta, relocation_sigma_theta);
+    requests_ = std::make_unique<ServiceRequests>(nh_, topo_node, local_map_node, relocation_sigma_xy, relocation_sigma_theta);
     if (!params_.coordinator.explore) serve_missions_ = true;
     pnh_.param<std::string>("summary_file", summary_file_, "");
 
@@ -252,10 +250,9 @@ class ExplorationNode {
     // Missions run on the finished map: nodes made of a look-alike stretch of hallway (while the
     // belief is briefly wrong) would only add states to confuse the belief with.
     if (freeze_map_for_missions_ && !map_frozen_) {
-      std_srvs::SetBool srv;
-      srv.request.data = false;
-      map_frozen_ = call(topo_node_ + "/set_mapping", &srv);
-      if (map_frozen_) ROS_INFO("exploration: topological map frozen for missions (%s)", srv.response.message.c_str());
+      std::string message;
+      map_frozen_ = requests_->setMapping(false, &message);
+      if (map_frozen_) ROS_INFO("exploration: topological map frozen for missions (%s)", message.c_str());
     }
   }
 
@@ -303,99 +300,9 @@ class ExplorationNode {
     coordinator_->relocationResult(msg->place_id, msg->success, msg->verdict);
   }
 
-  // attempts > 1: a call that failed in transport is made again (the servers answer true, with
-  // success in the response). Once in some 30 institute runs a create_place call failed so although
-  // the place was made, and the room was skipped; a second try costs at most an empty place.
-  template <typename Srv>
-  bool call(const std::string& name, Srv* srv, int attempts = 1) {
-    for (int attempt = 1;; ++attempt) {
-      ros::ServiceClient client = nh_.serviceClient<Srv>(name);
-      if (!client.waitForExistence(ros::Duration(5.0))) {
-        ROS_ERROR("exploration: service %s is not available", name.c_str());
-        return false;
-      }
-      if (client.call(*srv)) return true;
-      if (attempt >= attempts) {
-        ROS_ERROR("exploration: the call to %s failed", name.c_str());
-        return false;
-      }
-      ROS_WARN("exploration: the call to %s failed; calling it again", name.c_str());
-    }
-  }
-
   void execute(const Request& r) {
-    switch (r.kind) {
-      case Request::CreatePlace: {
-        hybrid_slam_msgs::CreatePlace srv;
-        srv.request.use_display_pose = false;
-        const bool ok = call(local_map_node_ + "/create_place", &srv, 2) && srv.response.success;
-        if (!ok) ROS_ERROR("exploration: no place created: %s", srv.response.message.c_str());
-        else ROS_INFO("exploration: %s", srv.response.message.c_str());
-        coordinator_->placeCreated(ok, srv.response.place_id);
-        break;
-      }
-      case Request::AddDoor: {
-        hybrid_slam_msgs::AddDoor srv;
-        srv.request.door_id = r.door_id;
-        srv.request.door_in_robot.x = r.pose.x;
-        srv.request.door_in_robot.y = r.pose.y;
-        srv.request.door_in_robot.theta = r.pose.theta;
-        if (call(local_map_node_ + "/add_door", &srv) && !srv.response.success)
-          ROS_WARN("exploration: door not stored in the place: %s", srv.response.message.c_str());
-        break;
-      }
-      case Request::RecordOpening: {
-        hybrid_slam_msgs::UpdateOpening srv;
-        srv.request.node = r.node;
-        srv.request.bearing = r.bearing;
-        srv.request.width = r.width;
-        srv.request.offset = r.offset;
-        srv.request.explored = r.explored;
-        srv.request.beside_robot = r.beside_robot;
-        srv.request.place_id = r.place_id;
-        srv.request.door_in_place.x = r.pose.x;
-        srv.request.door_in_place.y = r.pose.y;
-        srv.request.door_in_place.theta = r.pose.theta;
-        const bool ok = call(topo_node_ + "/update_opening", &srv) && srv.response.success;
-        if (!ok) ROS_WARN("exploration: opening not recorded: %s", srv.response.message.c_str());
-        coordinator_->openingRecorded(ok, srv.response.node);
-        break;
-      }
-      case Request::ClosePlace: {
-        std_srvs::Trigger srv;
-        call(local_map_node_ + "/close_place", &srv);
-        break;
-      }
-      case Request::SaveMaps: {
-        hybrid_slam_msgs::SaveMap topo;
-        if (call(topo_node_ + "/save_map", &topo)) ROS_INFO("exploration: topological map: %s", topo.response.message.c_str());
-        hybrid_slam_msgs::SaveMap places;
-        if (call(local_map_node_ + "/save_map", &places)) ROS_INFO("exploration: places: %s", places.response.message.c_str());
-        break;
-      }
-      case Request::Finish:
-        finish(r);
-        break;
-      case Request::Relocate: {
-        hybrid_slam_msgs::RelocateAtDoor srv;
-        // The door as the laser saw it from the hallway: a few centimetres and degrees; back in a host
-        // room from the room behind, the EKF's pose in that room, with its covariance.
-        srv.request = r.pose_cov ? relocateRequest(r.place_id, r.door_id, r.pose, *r.pose_cov)
-                                 : relocateRequest(r.place_id, r.door_id, r.pose, relocation_sigma_xy_, relocation_sigma_theta_);
-        const bool ok = call(local_map_node_ + "/relocate_at_door", &srv) && srv.response.success;
-        if (!ok) {
-          ROS_WARN("exploration: relocation not started: %s", srv.response.message.c_str());
-          coordinator_->relocationResult(r.place_id, false, "not started: " + srv.response.message);
-        }
-        break;
-      }
-      case Request::ResetBelief: {
-        hybrid_slam_msgs::ResetBelief srv;
-        srv.request.uniform = true;
-        if (call(topo_node_ + "/reset_belief", &srv)) ROS_INFO("exploration: %s", srv.response.message.c_str());
-        break;
-      }
-    }
+    if (r.kind == Request::Finish) finish(r);
+    else requests_->execute(r, coordinator_.get());
   }
 
   void finish(const Request& r) {
@@ -407,16 +314,7 @@ class ExplorationNode {
     else ROS_ERROR("exploration: %s; %.0f s sim, %.0f s wall", r.text.c_str(), sim, wall);
     if (!summary_file_.empty()) {
       std::ofstream f(summary_file_);
-      const CoordinatorStats& s = coordinator_->stats();
-      f << "{\"complete\": " << (r.success ? "true" : "false") << ", \"places\": " << coordinator_->graph().placeCount()
-        << ", \"places_entered_by_this_run\": " << s.places << ", \"rooms_entered_from_a_room\": " << s.inner_rooms
-        << ", \"inner_doors_left\": " << s.inner_doors_left << ", \"inner_doors_given_up\": " << s.inner_doors_given_up
-        << ", \"nodes\": " << coordinator_->graph().nodes().size() << ", \"edges\": " << coordinator_->graph().edges().size()
-        << ", \"openings_explored\": " << coordinator_->graph().exploredCount()
-        << ", \"openings_unexplored\": " << coordinator_->graph().unexploredCount() << ", \"travel_m\": " << s.travel
-        << ", \"sim_time_s\": " << sim << ", \"wall_time_s\": " << wall << ", \"real_time_factor\": " << sim / std::max(wall, 1e-3)
-        << ", \"rooms_left_early\": " << s.rooms_left_early << ", \"openings_given_up\": " << s.openings_given_up << ", \"openings_set_aside\": " << s.openings_set_aside << ", \"belief_jumps\": " << s.belief_jumps << ", \"branch_turns_refused\": " << s.branch_turns_refused << ", \"room_free_area_m2\": " << s.room_free_area
-        << ", \"peak_room_grid_bytes\": " << s.peak_room_bytes << ", \"text\": \"" << r.text << "\"}\n";
+      f << runSummaryJson(*coordinator_, r.success, r.text, sim, wall);
     }
     exit_code_ = r.success ? 0 : 1;
     if (serve_missions_) {
@@ -578,7 +476,8 @@ class ExplorationNode {
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   ros::AsyncSpinner control_spinner_;
-  std::string odom_frame_, base_frame_, topo_node_, local_map_node_, summary_file_;
+  std::unique_ptr<ServiceRequests> requests_;
+  std::string odom_frame_, base_frame_, summary_file_;
   double control_rate_ = 20.0, progress_period_ = 30.0;
   bool shutdown_when_done_ = true;
   bool serve_missions_ = false;
@@ -586,7 +485,6 @@ class ExplorationNode {
   ros::ServiceServer pause_srv_;
   bool freeze_map_for_missions_ = true;  // pomdp_topo's mapping off from the first mission on
   bool map_frozen_ = false;
-  double relocation_sigma_xy_ = 0.05, relocation_sigma_theta_ = 0.05;
   std::unique_ptr<MissionServer> mission_server_;
   ros::Subscriber relocation_sub_;
   double entropy_ = 0.0;
