@@ -237,7 +237,28 @@ int MapBuilder::nodeBesideRobot(const NodeOpening& door, const FrontEnd& fe) {
   here.heading_bin = frontier_bin_;
   // It opens into a room: a door by the width rules with a room behind, a junction only if wider.
   const NodeType type = params_.rules.opensAsDoor(door.width, true) ? NodeType::Door : NodeType::Junction;
-  return int(createNode(type, s_, here, fe, {door}));
+  return int(createNode(type, s_ + trackedAlong(door, fe), here, fe, {door}));
+}
+
+double MapBuilder::trackedAlong(const NodeOpening& door, const FrontEnd& fe) const {
+  // The door's node lies where passing it would put it: at the tracked opening on the door's side,
+  // facing its way, within match_distance along (the most a passed landmark lies from its match).
+  const double h = binHeading(frontier_bin_);
+  const Eigen::Vector2d here(frontier_pose_.x, frontier_pose_.y), along_dir = laser_features::unitVector(h);
+  const double side = normalizeAngle(door.bearing - h);
+  double best = std::numeric_limits<double>::infinity(), along = 0.0;
+  for (const auto& t : fe.tracks()) {
+    if (t.type != LandmarkType::Opening || t.sightings < fe_params_.min_sightings) continue;
+    const Eigen::Vector2d d = t.position - here;
+    const double a = d.dot(along_dir), lateral = along_dir.x() * d.y() - along_dir.y() * d.x();
+    const double dth = std::abs(normalizeAngle(t.orientation - door.bearing));
+    if (std::abs(a) > params_.match_distance || lateral * side <= 0.0 || (dth > 0.5 && std::abs(dth - kPi) > 0.5)) continue;
+    if (std::abs(a) < best) {
+      best = std::abs(a);
+      along = a;
+    }
+  }
+  return along;
 }
 
 void MapBuilder::frontierTurn(int k, const Scan& scan, const FrontEnd& fe) {

@@ -118,6 +118,8 @@ class MapBuilder {
   uint32_t createNode(NodeType type, double pos, const Scan& scan, const FrontEnd& fe,
                       const std::vector<NodeOpening>& openings);
   void startFrontier(uint32_t node, int bin, double s, double travel);
+  /// m, where the front end tracks `door` along the frontier from the robot (0 if it tracks none).
+  double trackedAlong(const NodeOpening& door, const FrontEnd& fe) const;
   void becomeLocalizedAt(uint32_t node, int bin);
   bool startLoopCheck(uint32_t new_node, uint32_t previous_node, const Scan& scan);
   void decideLoop(bool old_wins, const FrontEnd& fe);
