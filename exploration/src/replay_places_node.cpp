@@ -248,10 +248,7 @@ class ReplayPlacesNode {
   // The door in the new place (its origin is the robot now).
   void storeDoor(const PlaceAction& a, int place_id) {
     hybrid_slam_msgs::AddDoor door;
-    door.request.door_id = a.door_id;
-    door.request.door_in_robot.x = a.door_in_robot.x;
-    door.request.door_in_robot.y = a.door_in_robot.y;
-    door.request.door_in_robot.theta = a.door_in_robot.theta;
+    door.request = addDoorRequest(a.door_id, a.door_in_robot);
     if (call(local_map_node_ + "/add_door", &door) && !door.response.success)
       ROS_WARN("replay_places: door not stored in place %d: %s", place_id, door.response.message.c_str());
     else

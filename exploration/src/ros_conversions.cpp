@@ -81,6 +81,15 @@ void fromMsg(const hybrid_slam_msgs::TopologicalMap& msg, TopoGraph* graph) {
   for (const auto& e : msg.edges) graph->addEdge(GraphEdge{e.id, e.source, e.target, e.heading, e.length});
 }
 
+hybrid_slam_msgs::AddDoor::Request addDoorRequest(int door_id, const laser_features::Pose2D& door_in_robot) {
+  hybrid_slam_msgs::AddDoor::Request r;
+  r.door_id = door_id;
+  r.door_in_robot.x = door_in_robot.x;
+  r.door_in_robot.y = door_in_robot.y;
+  r.door_in_robot.theta = door_in_robot.theta;
+  return r;
+}
+
 hybrid_slam_msgs::RelocateAtDoor::Request relocateRequest(int place_id, int door_id, const laser_features::Pose2D& robot_from_door,
                                                           double sigma_xy, double sigma_theta) {
   return relocateRequest(place_id, door_id, robot_from_door,

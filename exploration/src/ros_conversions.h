@@ -1,6 +1,7 @@
 // Messages <-> the exploration core's types: the one place where ROS types meet the core.
 #pragma once
 
+#include <hybrid_slam_msgs/AddDoor.h>
 #include <hybrid_slam_msgs/RelocateAtDoor.h>
 #include <hybrid_slam_msgs/ExplorationStatus.h>
 #include <hybrid_slam_msgs/LaserFeatures.h>
@@ -28,6 +29,8 @@ void featuresInRobot(const hybrid_slam_msgs::LaserFeatures& msg, const laser_fea
 
 void fromMsg(const hybrid_slam_msgs::TopologicalMap& msg, TopoGraph* graph);
 
+/// ekf_local_map's add_door request: door `door_id` (a node id) at its pose in the robot's frame.
+hybrid_slam_msgs::AddDoor::Request addDoorRequest(int door_id, const laser_features::Pose2D& door_in_robot);
 /// ekf_local_map's relocate_at_door request: the robot's pose in the door's frame, with independent
 /// standard deviations of its position (m) and heading (rad).
 hybrid_slam_msgs::RelocateAtDoor::Request relocateRequest(int place_id, int door_id, const laser_features::Pose2D& robot_from_door,

@@ -43,10 +43,7 @@ void ServiceRequests::execute(const Request& r, Coordinator* coordinator) {
     }
     case Request::AddDoor: {
       hybrid_slam_msgs::AddDoor srv;
-      srv.request.door_id = r.door_id;
-      srv.request.door_in_robot.x = r.pose.x;
-      srv.request.door_in_robot.y = r.pose.y;
-      srv.request.door_in_robot.theta = r.pose.theta;
+      srv.request = addDoorRequest(r.door_id, r.pose);
       if (call(local_map_node_ + "/add_door", &srv) && !srv.response.success)
         ROS_WARN("exploration: door not stored in the place: %s", srv.response.message.c_str());
       break;
