@@ -9,6 +9,15 @@ namespace pomdp_topo {
 using laser_features::kPi;
 using laser_features::normalizeAngle;
 
+namespace {
+// A tracked opening shows the way `bearing` (rad) when its normal lies along it, pointing either
+// way (into the room or out of it), within 0.5 rad.
+bool showsWay(const FrontEnd::Track& t, double bearing) {
+  const double dth = std::abs(normalizeAngle(t.orientation - bearing));
+  return dth <= 0.5 || std::abs(dth - kPi) <= 0.5;
+}
+}  // namespace
+
 MapBuilder::MapBuilder(TopologicalMap* map, PomdpLocalizer* localizer, const MapBuilderParams& params)
     : map_(map), localizer_(localizer), params_(params), updater_(map, localizer) {
   map_->setBuildingRules(params_.rules);
@@ -251,8 +260,7 @@ double MapBuilder::trackedAlong(const NodeOpening& door, const FrontEnd& fe) con
     if (t.type != LandmarkType::Opening || t.sightings < fe_params_.min_sightings) continue;
     const Eigen::Vector2d d = t.position - here;
     const double a = d.dot(along_dir), lateral = along_dir.x() * d.y() - along_dir.y() * d.x();
-    const double dth = std::abs(normalizeAngle(t.orientation - door.bearing));
-    if (std::abs(a) > params_.match_distance || lateral * side <= 0.0 || (dth > 0.5 && std::abs(dth - kPi) > 0.5)) continue;
+    if (std::abs(a) > params_.match_distance || lateral * side <= 0.0 || !showsWay(t, door.bearing)) continue;
     if (std::abs(a) < best) {
       best = std::abs(a);
       along = a;
@@ -297,8 +305,7 @@ void MapBuilder::frontierTurn(int k, const Scan& scan, const FrontEnd& fe) {
       const Eigen::Vector2d d = t.position - here;
       const double along = d.dot(laser_features::unitVector(branch.bearing));
       if (d.norm() > best || along < 0.3) continue;
-      const double dth = std::abs(normalizeAngle(t.orientation - branch.bearing));
-      if (dth > 0.5 && std::abs(dth - kPi) > 0.5) continue;
+      if (!showsWay(t, branch.bearing)) continue;
       best = d.norm();
       branch.offset = along;
       branch.width = t.width;
