@@ -142,7 +142,8 @@ bool RoomExplorer::blockOpening(const Eigen::Vector2d& left, const Eigen::Vector
   return true;
 }
 
-void RoomExplorer::openFurnitureGaps() {
+std::size_t RoomExplorer::openFurnitureGaps() {
+  const std::size_t before = furniture_gaps_.size();
   std::size_t kept = 0;
   for (std::size_t i = 0; i < openings_.size(); ++i) {
     if (!opening_in_wall_[i]) {
@@ -158,6 +159,7 @@ void RoomExplorer::openFurnitureGaps() {
   openings_.resize(kept);
   opening_in_wall_.resize(kept);
   drawVirtualWalls();
+  return furniture_gaps_.size() - before;
 }
 
 void RoomExplorer::closeFurnitureGaps() {

@@ -228,7 +228,12 @@ void RoomVisit::beginExit() {
 
 void RoomVisit::planExit() {
   exit_path_.clear();
-  if (auto path = explorer_.pathToExit(last_position_)) exit_path_.set(path->waypoints);
+  std::optional<Path> path = explorer_.pathToExit(last_position_);
+  // The way out has the virtual walls across furniture gaps (openings never seen as a gap in a
+  // wall) that the coverage had. Where they cut the robot off from the door it came in by, they are
+  // no walls between it and that door (it came from there): taken away for the way out.
+  if (!path && explorer_.openFurnitureGaps() > 0) path = explorer_.pathToExit(last_position_);
+  if (path) exit_path_.set(path->waypoints);
 }
 
 bool RoomVisit::followExitPath(const Perception& q, double elapsed, Decision* d) {

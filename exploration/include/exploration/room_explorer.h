@@ -121,8 +121,8 @@ class RoomExplorer {
   /// The room's coverage is over: the virtual walls of openings never seen as a gap in a wall (between
   /// table and chair legs, beside a shelf) are taken away, their cells Free (as the scans saw the
   /// gap): they cut the room's free area in pieces (a path across the room, its extent) until
-  /// closeFurnitureGaps() draws them again.
-  void openFurnitureGaps();
+  /// closeFurnitureGaps() draws them again. Returns how many were taken away.
+  std::size_t openFurnitureGaps();
   void closeFurnitureGaps();
 
   /// The next goal (x, y, pose frame) for the robot at `robot` at time `now` (s, any monotonic
