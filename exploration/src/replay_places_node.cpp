@@ -37,6 +37,7 @@
 #include "exploration/door_crossings.h"
 #include "exploration/passive_places.h"
 #include "ros_conversions.h"
+#include "service_call.h"
 
 namespace exploration {
 namespace {
@@ -191,12 +192,7 @@ class ReplayPlacesNode {
   // --- places -----------------------------------------------------------------------------------
   template <typename Srv>
   bool call(const std::string& name, Srv* srv) {
-    ros::ServiceClient client = nh_.serviceClient<Srv>(name);
-    if (!client.waitForExistence(ros::Duration(service_timeout_)) || !client.call(*srv)) {
-      ROS_ERROR("replay_places: the call to %s failed", name.c_str());
-      return false;
-    }
-    return true;
+    return callService(nh_, "replay_places", name, srv, service_timeout_);
   }
 
   void enter(const PlaceAction& a) {

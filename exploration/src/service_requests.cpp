@@ -10,24 +10,13 @@
 #include <std_srvs/Trigger.h>
 
 #include "ros_conversions.h"
+#include "service_call.h"
 
 namespace exploration {
 
 template <typename Srv>
 bool ServiceRequests::call(const std::string& name, Srv* srv, int attempts) {
-  for (int attempt = 1;; ++attempt) {
-    ros::ServiceClient client = nh_.serviceClient<Srv>(name);
-    if (!client.waitForExistence(ros::Duration(5.0))) {
-      ROS_ERROR("exploration: service %s is not available", name.c_str());
-      return false;
-    }
-    if (client.call(*srv)) return true;
-    if (attempt >= attempts) {
-      ROS_ERROR("exploration: the call to %s failed", name.c_str());
-      return false;
-    }
-    ROS_WARN("exploration: the call to %s failed; calling it again", name.c_str());
-  }
+  return callService(nh_, "exploration", name, srv, kServiceTimeout, attempts);
 }
 
 void ServiceRequests::execute(const Request& r, Coordinator* coordinator) {

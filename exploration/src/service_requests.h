@@ -31,6 +31,7 @@ class ServiceRequests {
   /// place was made; a second try costs at most an empty place.
   template <typename Srv>
   bool call(const std::string& name, Srv* srv, int attempts = 1);
+  static constexpr double kServiceTimeout = 5.0;  // s, the longest wait for a server to be up
 
   ros::NodeHandle nh_;
   std::string topo_node_, local_map_node_;
