@@ -231,8 +231,10 @@ void RoomVisit::planExit() {
   std::optional<Path> path = explorer_.pathToExit(last_position_);
   // The way out has the virtual walls across furniture gaps (openings never seen as a gap in a
   // wall) that the coverage had. Where they cut the robot off from the door it came in by, they are
-  // no walls between it and that door (it came from there): taken away for the way out.
-  if (!path && explorer_.openFurnitureGaps() > 0) path = explorer_.pathToExit(last_position_);
+  // no walls between it and that door (it came from there). Without a path the steps through the
+  // door start from where the robot is, which mostly gets it out (the exit point a metre or two
+  // away); once that has failed, the next attempt plans with the gaps' walls taken away.
+  if (!path && exit_attempts_ > 0 && explorer_.openFurnitureGaps() > 0) path = explorer_.pathToExit(last_position_);
   if (path) exit_path_.set(path->waypoints);
 }
 
