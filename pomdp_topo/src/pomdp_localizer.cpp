@@ -88,6 +88,28 @@ void PomdpLocalizer::setMap(const TopologicalMap& map) {
   old_belief.swap(belief_);
 
   map_revision_ = map.revision();
+  indexNodes(map);
+  std::vector<std::vector<int32_t>> exits;
+  const std::vector<uint32_t> edge_ids = buildDirectedEdges(map, &exits);
+  linkWays(map, exits);
+  buildStates(edge_ids);
+  applyOpenWays();
+  buildExpected();
+
+  // Buffers of the steps.
+  belief_.assign(states_.size(), 0.0);
+  scratch_.assign(states_.size(), 0.0);
+  log_likelihood_.assign(states_.size(), 0.0);
+  for (auto& t : travel_cache_) t.next.assign(3 * states_.size(), 0);  // predict() never allocates
+
+  carryBelief(old_states, old_belief);
+  lost_ = false;
+  low_likelihood_steps_ = 0;
+}
+
+// The map's nodes, indexed in id order, with their openings; everything built from the last map
+// cleared.
+void PomdpLocalizer::indexNodes(const TopologicalMap& map) {
   dir_edges_.clear();
   node_ids_.clear();
   node_index_.clear();
@@ -107,9 +129,15 @@ void PomdpLocalizer::setMap(const TopologicalMap& map) {
     node_openings_.push_back(entry.second.openings);
     node_closed_.push_back(entry.second.type == NodeType::HallwayEnd);
   }
-  const int32_t num_nodes = int32_t(node_ids_.size());
+}
+
+// Both travel directions of every edge, their cells' state indices (per edge its forward cells
+// then its backward cells); `exits`: per node the directed edges leaving it. Returns the edge ids
+// by index.
+std::vector<uint32_t> PomdpLocalizer::buildDirectedEdges(const TopologicalMap& map,
+                                                        std::vector<std::vector<int32_t>>* exits) {
   // Exits per node in the order of TopologicalMap::exits (edge id order, source side first).
-  std::vector<std::vector<int32_t>> exits(num_nodes);
+  exits->assign(node_ids_.size(), {});
   int32_t base = 0;
   std::vector<uint32_t> edge_ids;
   for (const auto& entry : map.edges()) {
@@ -137,13 +165,18 @@ void PomdpLocalizer::setMap(const TopologicalMap& map) {
       d.bin_reversed = headingBin(d.heading + kPi);
       dir_edges_.push_back(d);
     }
-    exits[node_index_.at(e.source)].push_back(2 * index);
-    exits[node_index_.at(e.target)].push_back(2 * index + 1);
+    (*exits)[node_index_.at(e.source)].push_back(2 * index);
+    (*exits)[node_index_.at(e.target)].push_back(2 * index + 1);
     edge_landmarks_.push_back(e.landmarks);
     base += 2 * n;
   }
   node_base_ = base;
+  return edge_ids;
+}
 
+// Where travel goes on at each node: straight on from every directed edge, and from a node state
+// with each heading bin ahead and behind.
+void PomdpLocalizer::linkWays(const TopologicalMap& map, const std::vector<std::vector<int32_t>>& exits) {
   // The rule of TopologicalMap::exitWithHeading on the local adjacency (closest within tolerance,
   // later ones win ties).
   auto exitWithHeading = [&](int32_t node, double heading) {
@@ -173,6 +206,7 @@ void PomdpLocalizer::setMap(const TopologicalMap& map) {
     return int32_t(-1);
   };
   for (DirEdge& d : dir_edges_) d.next = wayOn(d.end, d.heading);
+  const int32_t num_nodes = int32_t(node_ids_.size());
   node_exit_.resize(size_t(num_nodes) * bins_);
   node_exit_back_.resize(size_t(num_nodes) * bins_);
   for (int32_t n = 0; n < num_nodes; ++n) {
@@ -181,8 +215,11 @@ void PomdpLocalizer::setMap(const TopologicalMap& map) {
       node_exit_back_[n * bins_ + b] = wayOn(n, binHeading(b) + kPi);
     }
   }
+}
 
+void PomdpLocalizer::buildStates(const std::vector<uint32_t>& edge_ids) {
   // States: per edge its forward cells then its backward cells, then the nodes' bins.
+  const int32_t num_nodes = int32_t(node_ids_.size());
   states_.resize(size_t(node_base_) + size_t(num_nodes) * bins_);
   near_node_.assign(size_t(node_base_), -1);
   state_dir_edge_.assign(size_t(node_base_), -1);
@@ -217,16 +254,11 @@ void PomdpLocalizer::setMap(const TopologicalMap& map) {
       s.cell = uint32_t(b);
     }
   }
-  applyOpenWays();
-  buildExpected();
+}
 
-  // Buffers of the steps.
-  belief_.assign(states_.size(), 0.0);
-  scratch_.assign(states_.size(), 0.0);
-  log_likelihood_.assign(states_.size(), 0.0);
-  for (auto& t : travel_cache_) t.next.assign(3 * states_.size(), 0);  // predict() never allocates
-
-  // Re-projection of the old belief.
+// The old belief re-projected onto the new states by key (edge, offset, direction / node,
+// heading); uniform when none of it lands.
+void PomdpLocalizer::carryBelief(const std::vector<State>& old_states, const std::vector<double>& old_belief) {
   double carried = 0.0;
   for (size_t i = 0; i < old_states.size(); ++i) {
     const double p = old_belief[i];
@@ -243,8 +275,6 @@ void PomdpLocalizer::setMap(const TopologicalMap& map) {
   } else {
     setUniform();
   }
-  lost_ = false;
-  low_likelihood_steps_ = 0;
 }
 
 int PomdpLocalizer::edgeStateIndex(uint32_t edge, double offset, bool forward) const {
@@ -333,6 +363,29 @@ void PomdpLocalizer::walkBackward(int32_t motion, double a_end, double heading) 
 }
 
 void PomdpLocalizer::buildExpected() {
+  expectStateLandmarks();
+  expectEdgeLandmarks();
+  // Structure of arrays of the per-state lists (node states, irregular edges, expectedLandmarks()).
+  const size_t n = expected_.size();
+  ex_along_.assign(n, 0.0f);
+  ex_lateral_.assign(n, 0.0f);
+  ex_cos_.assign(n, 0.0f);
+  ex_sin_.assign(n, 0.0f);
+  ex_gain_.assign(n, 0.0f);
+  for (size_t i = 0; i < n; ++i) {
+    ex_along_[i] = expected_[i].along;
+    ex_lateral_[i] = expected_[i].lateral;
+    ex_cos_[i] = float(std::cos(double(expected_[i].orientation)));
+    ex_sin_[i] = float(std::sin(double(expected_[i].orientation)));
+    ex_gain_[i] = expected_[i].gain;
+  }
+  expected_.clear();
+  expected_.shrink_to_fit();
+}
+
+// Per state: the landmarks in its window (CSR in expected_), corners then openings, each by along;
+// their sum of log(1 - p_lmap), and where the known map ends ahead and behind.
+void PomdpLocalizer::expectStateLandmarks() {
   expected_.clear();
   expected_begin_.assign(states_.size() + 1, 0);
   expected_base_.assign(states_.size(), 0.0f);
@@ -388,7 +441,9 @@ void PomdpLocalizer::buildExpected() {
     max_expected_ = std::max(max_expected_, expected_.size() - expected_begin_[s]);
   }
   expected_begin_[states_.size()] = uint32_t(expected_.size());
+}
 
+void PomdpLocalizer::expectEdgeLandmarks() {
   // Per directed edge: the union of its cells' expected landmarks in travel coordinates t (along =
   // t - cell position), each with the range of cells [kmin, kmax] (travel order) that expect it. A
   // landmark expected by non-consecutive cells (tiny loops) makes the edge "irregular": its cells
@@ -434,23 +489,6 @@ void PomdpLocalizer::buildExpected() {
   max_edge_members_ = max_members;
   cell_head_.assign(max_cells, -1);
   used_expected_.assign(std::max(max_expected_, max_union), 0);
-
-  // Structure of arrays of the per-state lists (node states, irregular edges, expectedLandmarks()).
-  const size_t n = expected_.size();
-  ex_along_.assign(n, 0.0f);
-  ex_lateral_.assign(n, 0.0f);
-  ex_cos_.assign(n, 0.0f);
-  ex_sin_.assign(n, 0.0f);
-  ex_gain_.assign(n, 0.0f);
-  for (size_t i = 0; i < n; ++i) {
-    ex_along_[i] = expected_[i].along;
-    ex_lateral_[i] = expected_[i].lateral;
-    ex_cos_[i] = float(std::cos(double(expected_[i].orientation)));
-    ex_sin_[i] = float(std::sin(double(expected_[i].orientation)));
-    ex_gain_[i] = expected_[i].gain;
-  }
-  expected_.clear();
-  expected_.shrink_to_fit();
 }
 
 std::vector<ExpectedLandmark> PomdpLocalizer::expectedLandmarks(size_t index) const {

@@ -204,7 +204,14 @@ class PomdpLocalizer {
   int32_t travelFrom(size_t state, double distance) const;
   int32_t turnFrom(size_t state, int k, bool* mid_edge) const;
   const TravelTable& travelTable(double distance);
+  void indexNodes(const TopologicalMap& map);
+  std::vector<uint32_t> buildDirectedEdges(const TopologicalMap& map, std::vector<std::vector<int32_t>>* exits);
+  void linkWays(const TopologicalMap& map, const std::vector<std::vector<int32_t>>& exits);
+  void buildStates(const std::vector<uint32_t>& edge_ids);
+  void carryBelief(const std::vector<State>& old_states, const std::vector<double>& old_belief);
   void buildExpected();
+  void expectStateLandmarks();
+  void expectEdgeLandmarks();
   void addEdgeLandmarks(int32_t dir_edge, double a0);
   void addNodeOpenings(int32_t node_index, double along, double heading);
   void walkForward(int32_t dir_edge, double a0, double heading);
