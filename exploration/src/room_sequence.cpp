@@ -143,7 +143,8 @@ void RoomSequence::peekInner(const Perception& q, Places* places, Decision* d) {
   places->place_ok = false;
   d->requests.push_back(suite_.keepOrigin(host_place_id_));
   d->requests.push_back(Request{Request::CreatePlace});
-  setStep(Step::InnerPlace, now_, "creating a place for the room behind place " + std::to_string(host_place_id_));
+  setStep(Step::InnerPlace, now_,
+          "creating a place for the room behind place " + std::to_string(host_place_id_) + " (" + suite_.space() + ")");
 }
 
 void RoomSequence::createInnerPlace(const Perception& p, Places* places, Decision* d) {
