@@ -184,11 +184,11 @@ bool HallwayNavigator::enterDoorAfterTurn(const Perception& p, const TopoView& t
   const DoorTrack door = *door_after_turn_;
   door_after_turn_.reset();
   return stopAtDoor(door, "stopping at a door beside the hallway's end turned at, to enter the room", p, topo, at,
-                    step, d);
+                    step, d, true);
 }
 
 bool HallwayNavigator::stopAtDoor(const DoorTrack& door, const char* what, const Perception& p, const TopoView& topo,
-                                  const HallwayContext& at, HallwayStep* step, Decision* d) {
+                                  const HallwayContext& at, HallwayStep* step, Decision* d, bool beside_end) {
   if (door_entry_.justLeft(door, at.travel)) {
     step->text = "door passed: the one just left";
   } else if (!at.mission_door && door_entry_.otherDoorOfRoomLeft(door, at.travel)) {
@@ -204,7 +204,7 @@ bool HallwayNavigator::stopAtDoor(const DoorTrack& door, const char* what, const
       d->requests.push_back(rec);
     }
     step->text = "door passed: another door of the room just left";
-  } else if (const std::optional<EntryOpening> entry = mayEnter(topo, at, door)) {
+  } else if (const std::optional<EntryOpening> entry = mayEnter(topo, at, door, beside_end)) {
     entering_ = *entry;
     door_ = door;
     // Where the door was taken to be (the log tells a door tracked wrongly from a real one).
@@ -461,9 +461,9 @@ void HallwayNavigator::backFromRoom(const HallwayDirection& direction, const Doo
 }
 
 std::optional<EntryOpening> HallwayNavigator::mayEnter(const TopoView& topo, const HallwayContext& at,
-                                                       const DoorTrack& door) const {
+                                                       const DoorTrack& door, bool beside_end) const {
   return door_entry_.mayEnter(topo, at.graph, door, follower_.topoBearing(door.into_odom, topo),
-                              beliefTrusted(topo, at.travel), at.mission_door);
+                              beliefTrusted(topo, at.travel), at.mission_door, beside_end);
 }
 
 }  // namespace exploration
