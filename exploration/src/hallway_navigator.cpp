@@ -73,12 +73,12 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
     // A door in a side wall between the robot and the end wall is never passed: the robot turns
     // here (the outer wall of an L corner, a dead end's side walls next to its end). It is entered
     // once turned, when the map builder has the turn's node to record it at, as a door passed
-    // would be.
+    // would be; on a mission, if it is the mission's door (DoorEntry::mayEnter).
     HallwayDoors doors_at_end = doors_;  // the turn forgets the doors tracked
     const int back = follower_.headingBins().wrap(follower_.bin() + follower_.headingBins().bins / 2);
     turnAtEnd(p, topo, v, at, &step);
     DoorTrack beside;
-    if (!blocked && !at.mission_door &&
+    if (!blocked &&
         doors_at_end.besideEnd(p.odom, dir_robot, walls_, v.free_ahead, {{!v.end_open_left, !v.end_open_right}},
                                turn_bin_ == back, &beside))
       door_after_turn_ = beside;
@@ -228,8 +228,9 @@ bool HallwayNavigator::enterEndWallDoor(const Perception& p, const TopoView& top
                                         Decision* d) {
   // A room at a hallway's end has its door in the end wall: no door passes beside the robot there.
   // At a dead end (a side open is a way on, and a door in the far wall of a crossing is passed on
-  // it) the door ahead is entered as a door passed would be, unless the robot came out of it.
-  if (v.end_open_left || v.end_open_right || at.mission_door) return false;
+  // it) the door ahead is entered as a door passed would be, unless the robot came out of it; on a
+  // mission, if it is the mission's door (DoorEntry::mayEnter).
+  if (v.end_open_left || v.end_open_right) return false;
   const std::optional<DoorTrack> door = doors_.inEndWall(p.odom, p.openings, dir_robot, v);
   if (!door || door_entry_.justLeft(*door, at.travel) || door_entry_.otherDoorOfRoomLeft(*door, at.travel)) return false;
   const std::optional<EntryOpening> entry = mayEnter(topo, at, *door);
