@@ -56,8 +56,8 @@ bool DoorEntry::otherDoorOfRoomLeft(const DoorTrack& door, double travel) const 
 }
 
 std::optional<EntryOpening> DoorEntry::mayEnter(const TopoView& topo, const TopoGraph& graph, const DoorTrack& door,
-                                                double bearing, bool belief_trusted, const PlaceDoor* mission_door,
-                                                bool beside_end) const {
+                                                double bearing, bool belief_trusted,
+                                                const PlaceDoor* mission_door) const {
   if (mission_door) {
     // Only the mission's door, at its node as a trusted belief says, on its side, and as wide as
     // the map has it: a door of another width is another room's, however alike the rooms are
@@ -76,17 +76,6 @@ std::optional<EntryOpening> DoorEntry::mayEnter(const TopoView& topo, const Topo
   for (const GraphOpening& o : graph.unexplored(uint32_t(n))) {
     // A known door not explored yet: the records go to that node and that opening.
     if (sameOpening(o, bearing, door.width)) return EntryOpening{n, o.bearing};
-  }
-  // A door beside a hallway's end (short of the end wall, never passed) was seen on the new stretch
-  // the end ended, and is the end's: pomdp_topo made the end's node where the robot turned. Turned
-  // round there, the robot is back on the known map at once, and the door is a new opening of the
-  // node the belief is at -- unless that node has it explored already.
-  if (beside_end) {
-    const GraphNode* node = graph.node(uint32_t(n));
-    if (node != nullptr && std::none_of(node->openings.begin(), node->openings.end(), [&](const GraphOpening& o) {
-          return o.explored && sameOpening(o, bearing, door.width);
-        }))
-      return EntryOpening{n, bearing};
   }
   return std::nullopt;
 }

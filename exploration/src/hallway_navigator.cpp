@@ -73,12 +73,12 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
     // A door in a side wall between the robot and the end wall is never passed: the robot turns
     // here (the outer wall of an L corner, a dead end's side walls next to its end). It is entered
     // once turned, when the map builder has the turn's node to record it at, as a door passed
-    // would be; on a mission, if it is the mission's door (DoorEntry::mayEnter).
+    // would be.
     HallwayDoors doors_at_end = doors_;  // the turn forgets the doors tracked
     const int back = follower_.headingBins().wrap(follower_.bin() + follower_.headingBins().bins / 2);
     turnAtEnd(p, topo, v, at, &step);
     DoorTrack beside;
-    if (!blocked &&
+    if (!blocked && !at.mission_door &&
         doors_at_end.besideEnd(p.odom, dir_robot, walls_, v.free_ahead, {{!v.end_open_left, !v.end_open_right}},
                                turn_bin_ == back, &beside))
       door_after_turn_ = beside;
@@ -184,11 +184,11 @@ bool HallwayNavigator::enterDoorAfterTurn(const Perception& p, const TopoView& t
   const DoorTrack door = *door_after_turn_;
   door_after_turn_.reset();
   return stopAtDoor(door, "stopping at a door beside the hallway's end turned at, to enter the room", p, topo, at,
-                    step, d, true);
+                    step, d);
 }
 
 bool HallwayNavigator::stopAtDoor(const DoorTrack& door, const char* what, const Perception& p, const TopoView& topo,
-                                  const HallwayContext& at, HallwayStep* step, Decision* d, bool beside_end) {
+                                  const HallwayContext& at, HallwayStep* step, Decision* d) {
   if (door_entry_.justLeft(door, at.travel)) {
     step->text = "door passed: the one just left";
   } else if (!at.mission_door && door_entry_.otherDoorOfRoomLeft(door, at.travel)) {
@@ -204,7 +204,7 @@ bool HallwayNavigator::stopAtDoor(const DoorTrack& door, const char* what, const
       d->requests.push_back(rec);
     }
     step->text = "door passed: another door of the room just left";
-  } else if (const std::optional<EntryOpening> entry = mayEnter(topo, at, door, beside_end)) {
+  } else if (const std::optional<EntryOpening> entry = mayEnter(topo, at, door)) {
     entering_ = *entry;
     door_ = door;
     // Where the door was taken to be (the log tells a door tracked wrongly from a real one).
@@ -228,9 +228,8 @@ bool HallwayNavigator::enterEndWallDoor(const Perception& p, const TopoView& top
                                         Decision* d) {
   // A room at a hallway's end has its door in the end wall: no door passes beside the robot there.
   // At a dead end (a side open is a way on, and a door in the far wall of a crossing is passed on
-  // it) the door ahead is entered as a door passed would be, unless the robot came out of it; on a
-  // mission, if it is the mission's door (DoorEntry::mayEnter).
-  if (v.end_open_left || v.end_open_right) return false;
+  // it) the door ahead is entered as a door passed would be, unless the robot came out of it.
+  if (v.end_open_left || v.end_open_right || at.mission_door) return false;
   const std::optional<DoorTrack> door = doors_.inEndWall(p.odom, p.openings, dir_robot, v);
   if (!door || door_entry_.justLeft(*door, at.travel) || door_entry_.otherDoorOfRoomLeft(*door, at.travel)) return false;
   const std::optional<EntryOpening> entry = mayEnter(topo, at, *door);
@@ -462,9 +461,9 @@ void HallwayNavigator::backFromRoom(const HallwayDirection& direction, const Doo
 }
 
 std::optional<EntryOpening> HallwayNavigator::mayEnter(const TopoView& topo, const HallwayContext& at,
-                                                       const DoorTrack& door, bool beside_end) const {
+                                                       const DoorTrack& door) const {
   return door_entry_.mayEnter(topo, at.graph, door, follower_.topoBearing(door.into_odom, topo),
-                              beliefTrusted(topo, at.travel), at.mission_door, beside_end);
+                              beliefTrusted(topo, at.travel), at.mission_door);
 }
 
 }  // namespace exploration

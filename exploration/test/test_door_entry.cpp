@@ -357,30 +357,3 @@ TEST(DoorEntry, AMissionsDoorIsNoDoorOfAnotherWidth) {
   EXPECT_FALSE(entry.mayEnter(topo, graph, door(0.0, 1.0, 0.5 * kPi, 1.79), 0.5 * kPi, true, &*mission).has_value());
   EXPECT_FALSE(entry.mayEnter(topo, graph, door(0.0, -1.0, -0.5 * kPi, 1.79), -0.5 * kPi, false, &*mission).has_value());
 }
-
-// A door beside a hallway's end, short of the end wall, is never passed: the robot turns round 0.5 m
-// before it and decides it then (HallwayDoors::besideEnd). Turned round, it is back on the known map
-// at once, at the end's node, which has no opening for the door (pomdp_topo makes door nodes for
-// doors passed): the door is a new opening of that node. Not so for a door passed on the known map,
-// nor where the node has that door explored already, nor with the belief not trusted.
-TEST(DoorEntry, ADoorBesideTheHallwaysEndTurnedRoundAtIsANewOpeningOfTheEndsNode) {
-  exploration::TopoGraph graph;
-  exploration::GraphNode end;
-  end.id = 6;
-  end.openings.push_back({kPi, 0.0, true});  // the way back along the hallway
-  graph.addNode(end);
-  const exploration::TopoView topo = localizedAt(6);
-  DoorEntry entry{HallwayDoorParams(), BuildingRules()};
-  entry.setHeadingBins({0.0, 8});
-  const DoorTrack beside = door(0.5, 0.8, 0.5 * kPi, 1.04);
-  const auto entered = entry.mayEnter(topo, graph, beside, 0.5 * kPi, true, nullptr, true);
-  ASSERT_TRUE(entered.has_value());
-  EXPECT_EQ(entered->node, 6);
-  EXPECT_DOUBLE_EQ(entered->bearing, 0.5 * kPi);
-  EXPECT_FALSE(entry.mayEnter(topo, graph, beside, 0.5 * kPi, true, nullptr, false).has_value());
-  EXPECT_FALSE(entry.mayEnter(topo, graph, beside, 0.5 * kPi, false, nullptr, true).has_value());
-  exploration::TopoGraph known;
-  end.openings.push_back({0.5 * kPi, 1.0, true});  // the door, explored already
-  known.addNode(end);
-  EXPECT_FALSE(entry.mayEnter(topo, known, beside, 0.5 * kPi, true, nullptr, true).has_value());
-}

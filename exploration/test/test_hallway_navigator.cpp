@@ -339,47 +339,6 @@ TEST(HallwayNavigator, ADoorBesideTheHallwaysEndIsEnteredOnceTurned) {
   EXPECT_NEAR(entry->bearing, 0.5 * kPi, 0.05);
 }
 
-// A mission's door beside a hallway's end (the exploration entered it once turned there, and
-// recorded it at the end's node) is entered once turned, as the exploration entered it; a mission
-// to another place's door turns there and goes on.
-TEST(HallwayNavigator, AMissionsDoorBesideTheHallwaysEndIsEnteredOnceTurned) {
-  const Hallway h(true, 19.2);
-  TopoGraph g;
-  g.addNode(GraphNode{0, 4, 0.0, 0.0, {GraphOpening{-0.5 * kPi, 0.9, true, 2, {0.0, 0.0, 0.0}}}});
-  g.addNode(GraphNode{7, 2, 18.7, 0.0, {GraphOpening{0.5 * kPi, 0.9, true, 3, {0.0, 0.0, 0.0}}}});
-  g.addEdge(GraphEdge{0, 0, 7, 0.0, 18.7});
-  TopoView at_end = belief("localized");
-  at_end.position.valid = true;
-  at_end.position.at_node = true;
-  at_end.position.id = 7;
-  for (const int place : {3, 2}) {
-    const PlaceDoor door = *g.placeDoor(place);
-    HallwayNavigator nav = navigator();
-    Pose2D robot{18.0, 0.0, 0.0};
-    HallwayStep now;
-    double travel = 0.0;
-    int ticks = 0;
-    for (; ticks < 100; ++ticks) {  // on to the end
-      Decision d;
-      now = nav.follow(h.perceive(robot, 0.1 * ticks), at_end, false, HallwayContext{g, travel, &door}, &d);
-      if (now.kind != HallwayStep::Following) break;
-      const Pose2D before = robot;
-      step(d, &robot);
-      travel += std::hypot(robot.x - before.x, robot.y - before.y);
-    }
-    ASSERT_EQ(now.kind, HallwayStep::Turning) << place << ": " << now.text;
-    ASSERT_TRUE(turnOnTheSpot(&nav, h, &robot, travel));
-    Decision d;
-    now = nav.follow(h.perceive(robot, 0.1 * ticks), at_end, false, HallwayContext{g, travel, &door}, &d);
-    if (place == 3) {
-      ASSERT_EQ(now.kind, HallwayStep::StopForDoor) << now.text;
-      EXPECT_EQ(now.text.rfind("stopping at a door beside the hallway's end turned at", 0), 0u) << now.text;
-    } else {
-      EXPECT_NE(now.kind, HallwayStep::StopForDoor) << now.text;
-    }
-  }
-}
-
 // Turning round, a door within pass_distance of abeam lies on the robot's way back: it is passed and
 // entered there as any door, not taken at the end (which would change nothing but the moment).
 TEST(HallwayNavigator, TurningRoundADoorAbeamIsPassedOnTheWayBack) {

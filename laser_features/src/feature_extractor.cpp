@@ -75,8 +75,7 @@ bool FeatureExtractor::extract(const ScanView& scan, Features* features, std::st
     features->place = PlaceEstimate();
   features->place_type = features->place.type;
   features->place_confidence = features->place.confidence;
-  opening_extractor_.extract(points_, features->lines, line_extractor_.breaks(), features->place,
-                             &features->openings);
+  opening_extractor_.extract(points_, features->lines, features->place, &features->openings);
   eraseNonFinite(&features->openings);
   return true;
 }

@@ -79,39 +79,19 @@ Eigen::Vector2d OpeningExtractor::beamEdge(const ScanPoints& points, const std::
   return points[beam].p;
 }
 
-// True when the surface at `beam` ends towards `towards`: the beam ends a line segment on that side,
-// or, walking that way, the surface breaks off (a return jump_min beyond the one before, a
-// breakpoint to a farther return, or none) while the walk is still on the wall's end: within
-// wall_max_thickness of `beam` (building rules). A wall has a thickness, so at its end (a door's
-// jamb, seen from beside the door) the beams first run down the end's face and then pass it; past a
-// jamb next to a corner (door_jamb_min, 0.2 m: shorter than a line, no segment end to show it) they
-// meet the room's wall that runs on from that corner, nearer than jump_min. A surface that runs on
-// farther is the middle of a wall seen past an occluding edge; one that breaks off to a nearer
-// return is something in front of it. Up to kMaxInvalidBeams returns in a row that are neither
-// valid nor no return are stepped over.
+// True when the surface at `beam` ends towards `towards`: the next informative beam that way returns
+// nothing or is at least jump_min farther, or the beam ends a line segment on that side.
 bool OpeningExtractor::isJumpEdge(const ScanPoints& points, size_t beam, int towards) const {
   const int32_t id = beam_line_[beam];
   const size_t neighbour = stepBeam(points, beam, towards);
   if (id >= 0 && neighbour < points.size() && beam_line_[neighbour] != id) return true;
-  const Eigen::Vector2d& start = points[beam].p;
-  size_t at = beam, previous = beam;
-  int invalid = 0;
-  for (size_t k = 1; k < points.size(); ++k) {
-    at = stepBeam(points, at, towards);
-    if (at >= points.size()) return false;
-    const BeamPoint& point = points[at];
-    if (point.status == BeamStatus::kNoReturn) return true;
-    if (point.status != BeamStatus::kValid) {
-      if (++invalid >= kMaxInvalidBeams) return false;
-      continue;
-    }
-    invalid = 0;
-    const double recede = point.range - points[previous].range;
-    // The breakpoint flag of two successive valid beams sits on the later one in beam order.
-    const bool broken = recede >= params_.jump_min || (breaks_ && (*breaks_)[towards > 0 ? at : previous] != 0);
-    if (broken) return recede > 0.0;
-    if ((point.p - start).norm() > params_.rules.wall_max_thickness) return false;
-    previous = at;
+  size_t next = beam;
+  for (int tries = 0; tries < 3; ++tries) {
+    next = stepBeam(points, next, towards);
+    if (next >= points.size()) return false;
+    const BeamPoint& next_point = points[next];
+    if (next_point.status == BeamStatus::kNoReturn) return true;
+    if (next_point.status == BeamStatus::kValid) return next_point.range - points[beam].range >= params_.jump_min;
   }
   return false;
 }
@@ -348,17 +328,14 @@ void OpeningExtractor::findRangeDiscontinuities(const ScanPoints& points,
 }
 
 void OpeningExtractor::extract(const ScanPoints& points, const std::vector<LineSegment>& lines,
-                               const std::vector<uint8_t>& breaks, const PlaceEstimate& place,
-                               std::vector<Opening>* openings) {
+                               const PlaceEstimate& place, std::vector<Opening>* openings) {
   openings->clear();
   if (points.numValid() < 2) return;
-  breaks_ = breaks.size() == points.size() ? &breaks : nullptr;
   labelBeams(points, lines);
   findCollinearGaps(points, lines, openings);
   findHallwaySteps(points, lines, place, openings);
   findRangeDiscontinuities(points, lines, openings);
   for (Opening& opening : *openings) opening.in_wall = inWall(opening, lines);
-  breaks_ = nullptr;
 }
 
 // An opening set in a wall has that wall beside it on one side at least: a line segment whose end

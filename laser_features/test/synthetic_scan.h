@@ -171,26 +171,6 @@ inline World roomWithDoor(double door_y, double door_width) {
   return world;
 }
 
-/// Walls `thickness` thick: a hallway along x, y in [0, 2], closed at x = 0 and ending at x = 30 in
-/// an end wall, with a door of `door_width` in its upper wall whose far jamb is `jamb` long (the
-/// door's edge `jamb` from the end wall's face), into a room above whose side wall runs on from the
-/// end wall (rooms in a row flush with the hallway's end).
-inline World thickHallwayEndWithSideDoor(double jamb, double door_width, double thickness) {
-  World world;
-  const auto box = [&](double x0, double y0, double x1, double y1) {
-    world.addPolygon({{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}});
-  };
-  const double far_edge = 30.0 - jamb, near_edge = far_edge - door_width;
-  box(-thickness, -thickness, 30.0 + thickness, 0.0);             // lower wall
-  box(-thickness, 0.0, 0.0, 2.0);                                 // closed start
-  box(-thickness, 2.0, near_edge, 2.0 + thickness);               // upper wall before the door
-  box(far_edge, 2.0, 30.0 + thickness, 2.0 + thickness);          // the far jamb, into the corner
-  box(30.0, 0.0, 30.0 + thickness, 6.0);                          // end wall, and the room's side wall
-  box(near_edge - 4.0, 6.0, 30.0 + thickness, 6.0 + thickness);   // the room's back wall
-  box(near_edge - 4.0 - thickness, 2.0, near_edge - 4.0, 6.0);    // its other side wall
-  return world;
-}
-
 /// An office-like scene for the benchmark: a 7 m x 5 m room with two doors into a hallway, a desk,
 /// a cabinet and a pillar.
 inline World officeScene() {

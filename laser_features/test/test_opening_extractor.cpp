@@ -241,29 +241,6 @@ TEST(OpeningExtractor, ADoorNextToACornerIsInAWallAndAGapBetweenLegsIsNot) {
   for (const Opening& opening : features.openings) EXPECT_FALSE(opening.in_wall) << opening.center.transpose();
 }
 
-// Walls are thick: at a wall's end (a door's jamb) the scan runs down the end's face before it
-// passes the end. A door beside a corner has a jamb shorter than a line (door_jamb_min, 0.2 m), and
-// past that jamb the scan meets the room's wall running on from the corner, nearer than jump_min:
-// the jamb is still a wall end, so the opening is a door, from where the robot follows the hallway
-// towards it to where it stops at the end wall (a hallway's end stop: about 1.3 m short of it).
-TEST(OpeningExtractor, ADoorBesideAHallwaysEndWallIsADoorInThickWalls) {
-  std::mt19937 rng(11);
-  const double width = 1.05;
-  for (const double jamb : {0.2, 0.34, 0.5}) {
-    const World world = thickHallwayEndWithSideDoor(jamb, width, 0.1);
-    const Eigen::Vector2d door(30.0 - jamb - 0.5 * width, 2.0);
-    for (const double x : {27.5, 28.0, 28.4, 28.7}) {
-      const Pose2D sensor{x, 1.0, 0.0};
-      const Features features = extractFeatures(world, sensor, ScanSpec::full(720), &rng);
-      const std::vector<Opening> near = openingsNear(features, pointInSensorFrame(door, sensor), 0.3);
-      ASSERT_EQ(near.size(), 1u) << "jamb " << jamb << " x " << x;
-      EXPECT_EQ(near[0].kind, OpeningKind::kDoor) << "jamb " << jamb << " x " << x;
-      EXPECT_NEAR(near[0].width, width, 0.1) << "jamb " << jamb << " x " << x;
-      EXPECT_GE(near[0].confidence, 0.5) << "jamb " << jamb << " x " << x;
-    }
-  }
-}
-
 TEST(OpeningExtractor, NoOpeningInAClosedRoom) {
   std::mt19937 rng(5);
   for (int trial = 0; trial < 20; ++trial) {
@@ -274,21 +251,14 @@ TEST(OpeningExtractor, NoOpeningInAClosedRoom) {
   }
 }
 
-// Past an occluder the scan runs on along the wall behind it: no wall end, no door. So also for a
-// cabinet 0.3 m (a thick wall) or 0.1 m deep: the far side is the wall, not the cabinet's face.
 TEST(OpeningExtractor, NoDoorBehindAnOccludingBox) {
-  for (const double depth : {0.4, 0.3, 0.1}) {
-    World world = rectangularRoom(8.0, 6.0);
-    world.addBox(4.0, 5.6 - 0.5 * depth, 1.0, depth);  // a cabinet 0.4 m in front of the top wall
-    std::mt19937 rng(6);
-    for (const Pose2D& sensor : {Pose2D{4.2, 2.0, 0.0}, Pose2D{2.0, 2.5, 0.3}, Pose2D{6.5, 3.0, -0.2}}) {
-      const Features features = extractFeatures(world, sensor, ScanSpec::full(720), &rng);
-      for (const Opening& opening : features.openings)
-        EXPECT_EQ(opening.kind, OpeningKind::kUnknown)
-            << "depth " << depth << " at " << sensor.x << " " << sensor.y << ": " << opening.center.transpose()
-            << " width " << opening.width;
-    }
-  }
+  World world = rectangularRoom(8.0, 6.0);
+  world.addBox(4.0, 5.4, 1.0, 0.4);  // a cabinet 0.4 m in front of the top wall: it shadows the wall
+  std::mt19937 rng(6);
+  const Pose2D sensor{4.2, 2.0, 0.0};
+  const Features features = extractFeatures(world, sensor, ScanSpec::full(720), &rng);
+  for (const Opening& opening : features.openings)
+    EXPECT_EQ(opening.kind, OpeningKind::kUnknown) << opening.center.transpose() << " width " << opening.width;
 }
 
 TEST(OpeningExtractor, HalfScanSeesTheDoorToo) {

@@ -5,9 +5,7 @@
 //    inside it): the room is one place, explored already;
 //  - on a new stretch (pomdp_topo's frontier) a door is new, unless the node pomdp_topo stands at
 //    has it already, explored;
-//  - on the known map, an unexplored opening of the node a trusted belief puts the robot at, or,
-//    for a door beside a hallway's end the robot has just turned round at, a new opening of that
-//    node;
+//  - on the known map, an unexplored opening of the node a trusted belief puts the robot at;
 //  - on a mission, only the mission's door.
 // HallwayNavigator tracks the doors (HallwayDoors) and stops for the one entered.
 //
@@ -55,12 +53,9 @@ class DoorEntry {
 
   /// The opening `door` is entered as, if it is entered. `bearing`: the door's bearing into the room
   /// as the topological map has it (map frame); `belief_trusted`: the belief is localized and
-  /// confident and not on hold after a jump; `mission_door`: the running mission's door, if any;
-  /// `beside_end`: a door beside the hallway's end the robot has just turned at
-  /// (HallwayDoors::besideEnd), which on the known map is a new opening of the node the belief is at.
+  /// confident and not on hold after a jump; `mission_door`: the running mission's door, if any.
   std::optional<EntryOpening> mayEnter(const TopoView& topo, const TopoGraph& graph, const DoorTrack& door,
-                                       double bearing, bool belief_trusted, const PlaceDoor* mission_door,
-                                       bool beside_end = false) const;
+                                       double bearing, bool belief_trusted, const PlaceDoor* mission_door) const;
   /// On the frontier, the node pomdp_topo is at has `door` (at `bearing`) already, explored
   /// (pomdp_topo joined the door to that node rather than making a new one).
   bool exploredAtFrontierNode(const TopoView& topo, const TopoGraph& graph, const DoorTrack& door, double bearing,

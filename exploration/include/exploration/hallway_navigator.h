@@ -136,9 +136,9 @@ class HallwayNavigator {
                           Decision* d);
   /// A door passed or beside the end: stops to enter it (true) unless it is the door just left,
   /// another door of the room just left (recorded explored) or not to be entered (DoorEntry).
-  /// `what` begins the state's text; `beside_end`: a door beside the hallway's end turned at.
+  /// `what` begins the state's text.
   bool stopAtDoor(const DoorTrack& door, const char* what, const Perception& p, const TopoView& topo,
-                  const HallwayContext& at, HallwayStep* step, Decision* d, bool beside_end = false);
+                  const HallwayContext& at, HallwayStep* step, Decision* d);
   /// At a dead end (no side open), a door in the end wall is entered as a door passed would be.
   bool enterEndWallDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v,
                         const HallwayContext& at, HallwayStep* step, Decision* d);
@@ -158,8 +158,7 @@ class HallwayNavigator {
   /// The goal of a turn on the spot: where the robot is now, with the turn's heading.
   void turnGoal(const Perception& p, Decision* d) const;
   /// The opening `door` is entered as, if it is (DoorEntry::mayEnter, from the belief now).
-  std::optional<EntryOpening> mayEnter(const TopoView& topo, const HallwayContext& at, const DoorTrack& door,
-                                       bool beside_end = false) const;
+  std::optional<EntryOpening> mayEnter(const TopoView& topo, const HallwayContext& at, const DoorTrack& door) const;
   /// The belief is localized and confident, and not on hold after a jump.
   bool beliefTrusted(const TopoView& topo, double travel) const { return route_.beliefTrusted(topo, travel); }
 

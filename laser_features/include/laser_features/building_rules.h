@@ -14,9 +14,7 @@
 //    walls run from the edges at most cot(phi) per metre beyond them (branchSpread);
 //  - wider openings are junctions;
 //  - a door in a wall across a hallway leaves 0.2-0.5 m of that wall on each side (its frame): an
-//    opening as wide as the hallway is the hallway's mouth (fitsInEndWall);
-//  - walls are 0.1-0.3 m thick (partitions 0.1-0.15 m, masonry up to 0.3 m): at a wall's end (a
-//    door's jamb) a scan runs down the end's face, no deeper than that, before it passes the end.
+//    opening as wide as the hallway is the hallway's mouth (fitsInEndWall).
 //
 // ROS-free: the standard library only.
 #pragma once
@@ -34,7 +32,6 @@ struct BuildingRules {
   double hallway_max_width = 4.0;  // m, widest hallway (an open hall or lobby is wider)
   double width_tolerance = 0.1;    // m, a measured opening's width may be this much off the true one
   double door_jamb_min = 0.2;      // m, least wall on each side of a door in a hallway's end wall (its frame)
-  double wall_max_thickness = 0.3; // m, thickest wall a door is set in: a jamb's face is no deeper
 
   /// m, the widest hallway as measured: no hallway's walls are farther apart (an open area's are).
   double widestHallway() const { return hallway_max_width + width_tolerance; }
@@ -111,8 +108,6 @@ struct BuildingRules {
       return fail("building/width_tolerance must be in [0, hallway_min_width - door_min_width)");
     if (!(door_jamb_min >= 0.0 && door_min_width + 2.0 * door_jamb_min < hallway_min_width + 2.0 * width_tolerance))
       return fail("building/door_jamb_min must be in [0, (hallway_min_width - door_min_width) / 2 + width_tolerance)");
-    if (!(wall_max_thickness > 0.0 && wall_max_thickness < door_min_width))
-      return fail("building/wall_max_thickness must be in (0, door_min_width)");
     return true;
   }
 };
@@ -126,7 +121,6 @@ void visitBuildingRules(BuildingRules* r, Visitor&& visit) {
   visit("hallway_max_width", &r->hallway_max_width);
   visit("width_tolerance", &r->width_tolerance);
   visit("door_jamb_min", &r->door_jamb_min);
-  visit("wall_max_thickness", &r->wall_max_thickness);
 }
 
 }  // namespace laser_features

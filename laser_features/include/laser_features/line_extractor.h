@@ -59,9 +59,6 @@ class LineExtractor {
 
   /// Appends the line segments of `points` to `lines` (cleared first), in counter-clockwise order.
   void extract(const ScanPoints& points, std::vector<LineSegment>* lines);
-  /// The last extract()'s breakpoints: per beam, 1 where a valid point is not on a surface continuous
-  /// with the previous valid one (adaptive breakpoint detector; through the seam of a circular scan).
-  const std::vector<uint8_t>& breaks() const { return break_before_; }
 
   /// Weighted total least-squares fit of the valid points with virtual indices in [begin, end]
   /// (see ScanPoints::wrap) with the covariance propagated from the range and bearing noise.

@@ -73,11 +73,9 @@ class OpeningExtractor {
   /// Pre-sizes the work buffers for scans of up to `beams` beams.
   void reserve(size_t beams);
 
-  /// Fills `openings` (cleared first). `lines` are the segments of the same scan and `breaks` its
-  /// breakpoints (LineExtractor::breaks: per beam, 1 where the surface is not continuous from the
-  /// previous valid beam; empty: range jumps of jump_min only); `place` gives the hallway axis for
-  /// cue (c).
-  void extract(const ScanPoints& points, const std::vector<LineSegment>& lines, const std::vector<uint8_t>& breaks,
+  /// Fills `openings` (cleared first). `lines` are the segments of the same scan; `place` gives the
+  /// hallway axis for cue (c).
+  void extract(const ScanPoints& points, const std::vector<LineSegment>& lines,
                const PlaceEstimate& place, std::vector<Opening>* openings);
 
  private:
@@ -88,7 +86,6 @@ class OpeningExtractor {
     bool room_behind = false;  // at least kRoomBeams points behind it lie beyond its edges
   };
   static constexpr int kRoomBeams = 2;  // one stray return is no room
-  static constexpr int kMaxInvalidBeams = 3;  // isJumpEdge: invalid returns stepped over in a row
 
   double minWidth() const;
   void labelBeams(const ScanPoints& points, const std::vector<LineSegment>& lines);
@@ -114,7 +111,6 @@ class OpeningExtractor {
 
   Params params_;
   std::vector<int32_t> beam_line_;  // per beam: index of the line segment it belongs to, or -1
-  const std::vector<uint8_t>* breaks_ = nullptr;  // the scan's breakpoints during extract()
 };
 
 }  // namespace laser_features
