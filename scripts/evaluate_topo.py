@@ -20,11 +20,13 @@ import rospy
 import yaml
 from world_geometry import yaw_of
 from geometry_msgs.msg import Pose2D
-from hybrid_slam_msgs.msg import TopologicalBelief, TopologicalMap
+from hybrid_slam_msgs.msg import TopologicalBelief, TopologicalMap, TopologicalState
 from hybrid_slam_msgs.srv import Teleport
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool, String
 
+MODE_NAMES = {TopologicalState.FRONTIER: 'frontier', TopologicalState.LOCALIZED: 'localized',
+              TopologicalState.LOOP_CHECK: 'loop_check'}
 LOOK_ALIKE_DOORS = {'office_1', 'office_3'}
 
 
@@ -82,7 +84,7 @@ class TopoEvaluator:
         rospy.Subscriber('ground_truth', Odometry, self.on_truth, queue_size=2000, buff_size=2 ** 24)
         rospy.Subscriber('topological_map', TopologicalMap, self.on_map, queue_size=2)
         rospy.Subscriber('topological_belief', TopologicalBelief, self.on_belief, queue_size=50)
-        rospy.Subscriber('topo_mode', String, self.on_mode, queue_size=10)
+        rospy.Subscriber('topological_state', TopologicalState, self.on_mode, queue_size=10)
         rospy.Subscriber('topo_events', String, self.on_event, queue_size=100)
         rospy.Subscriber('tour_done', Bool, self.on_done, queue_size=1)
         rospy.on_shutdown(self.write)
@@ -117,7 +119,7 @@ class TopoEvaluator:
         self.map = msg
 
     def on_mode(self, msg):
-        self.mode = msg.data
+        self.mode = MODE_NAMES.get(msg.mode, 'unknown')
 
     def on_event(self, msg):
         self.events.append(msg.data)

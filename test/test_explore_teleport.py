@@ -17,11 +17,10 @@ import unittest
 import rospy
 import rostest
 from exploration_result import read_result
-from hybrid_slam_msgs.msg import ExplorationStatus
+from hybrid_slam_msgs.msg import ExplorationStatus, TopologicalState
 from hybrid_slam_msgs.srv import Teleport
 from geometry_msgs.msg import Pose2D
 from nav_msgs.msg import Odometry
-from std_msgs.msg import Bool
 
 METRIC = 1
 
@@ -40,7 +39,7 @@ class ExploreTeleport(unittest.TestCase):
         self.teleport_response = None
         rospy.Subscriber('ground_truth', Odometry, self.on_truth, queue_size=10)
         rospy.Subscriber('exploration_status', ExplorationStatus, self.on_status, queue_size=10)
-        rospy.Subscriber('topo_confident', Bool, self.on_confident, queue_size=10)
+        rospy.Subscriber('topological_state', TopologicalState, self.on_confident, queue_size=10)
 
     def on_truth(self, msg):
         p, q = msg.pose.pose.position, msg.pose.pose.orientation
@@ -61,13 +60,13 @@ class ExploreTeleport(unittest.TestCase):
         rospy.loginfo('teleported from (%.2f, %.2f) to (5.0, 1.0) at %.1f s', t[0], t[1], self.teleported_at)
 
     def on_confident(self, msg):
-        self.confident = msg.data
+        self.confident = msg.confident
         now = rospy.Time.now().to_sec()
         if self.teleported_at is None:
             return
-        if not msg.data and self.unconfident_at is None:
+        if not msg.confident and self.unconfident_at is None:
             self.unconfident_at = now
-        if msg.data and self.unconfident_at is not None and self.reconfident_at is None:
+        if msg.confident and self.unconfident_at is not None and self.reconfident_at is None:
             self.reconfident_at = now
 
     def on_status(self, msg):

@@ -127,7 +127,7 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
 
 void Coordinator::start(const Perception& p, const TopoView& topo, Decision* d) {
   d->stop = true;
-  if (topo.valid && topo.heading_valid && !topo.mode.empty()) {
+  if (topo.valid && topo.heading_valid && topo.mode != TopoMode::Unknown) {
     hallway_.faceRobotsBin(p, topo);
     if (!params_.explore) {
       setState(State::Idle, "waiting for a mission");

@@ -8,7 +8,7 @@ namespace exploration {
 using laser_features::normalizeAngle;
 
 void DoorEntry::observe(const TopoView& topo, double travel) {
-  if (topo.mode != "frontier" || !topo.position.valid || !topo.position.at_node) {
+  if (topo.mode != TopoMode::Frontier || !topo.position.valid || !topo.position.at_node) {
     frontier_node_ = -1;  // a new stretch from the same node later starts counting again
   } else if (int(topo.position.id) != frontier_node_) {
     frontier_node_ = int(topo.position.id);
@@ -69,7 +69,7 @@ std::optional<EntryOpening> DoorEntry::mayEnter(const TopoView& topo, const Topo
     if (rules_.widthsApart(mission_door->opening.width, door.width)) return std::nullopt;
     return EntryOpening{n, mission_door->opening.bearing};
   }
-  if (topo.mode == "frontier") return EntryOpening{-1, bearing};  // a door on a new stretch is new: its node is pomdp_topo's current one
+  if (topo.mode == TopoMode::Frontier) return EntryOpening{-1, bearing};  // a door on a new stretch is new: its node is pomdp_topo's current one
   if (!belief_trusted) return std::nullopt;
   const int n = graph.nearestNode(topo.position);
   if (n < 0) return std::nullopt;
@@ -89,7 +89,7 @@ bool DoorEntry::sameOpening(const GraphOpening& o, double bearing, double width)
 
 bool DoorEntry::exploredAtFrontierNode(const TopoView& topo, const TopoGraph& graph, const DoorTrack& door,
                                        double bearing, double travel) const {
-  if (topo.mode != "frontier" || !topo.position.valid || !topo.position.at_node) return false;
+  if (topo.mode != TopoMode::Frontier || !topo.position.valid || !topo.position.at_node) return false;
   // Only near the node (a door joined to it lies within a door's spacing): a new door on the same
   // side farther on, whose node pomdp_topo has not made yet, is not this one.
   if (int(topo.position.id) != frontier_node_ || travel - frontier_node_travel_ > 2.0 * doors_.same_distance)

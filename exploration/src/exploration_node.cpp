@@ -13,8 +13,6 @@
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <std_msgs/Bool.h>
-#include <std_msgs/Float64.h>
-#include <std_msgs/String.h>
 #include <std_srvs/SetBool.h>
 #include <tf2/utils.h>
 #include <tf2_ros/transform_listener.h>
@@ -91,10 +89,8 @@ class ExplorationNode {
     features_sub_ = lockstep_.subscribe(nh_, "features", 10, &ExplorationNode::onFeatures, this, Delivery::Gated);
     map_sub_ = lockstep_.subscribe(nh_, "topological_map", 2, &ExplorationNode::onMap, this);
     belief_sub_ = lockstep_.subscribe(nh_, "topological_belief", 10, &ExplorationNode::onBelief, this);
-    confident_sub_ = lockstep_.subscribe(nh_, "topo_confident", 10, &ExplorationNode::onConfident, this);
-    heading_sub_ = lockstep_.subscribe(nh_, "topo_heading", 10, &ExplorationNode::onHeading, this);
+    state_sub_ = lockstep_.subscribe(nh_, "topological_state", 10, &ExplorationNode::onTopoState, this);
     axes_sub_ = lockstep_.subscribe(nh_, "building_axes", 1, &ExplorationNode::onAxes, this);
-    mode_sub_ = lockstep_.subscribe(nh_, "topo_mode", 10, &ExplorationNode::onMode, this);
     pose_sub_ = lockstep_.subscribe(nh_, "local_pose", 10, &ExplorationNode::onLocalPose, this);
     bumper_sub_ = lockstep_.subscribe(control_nh_, "bumper", 10, &ExplorationNode::onBumper, this);
     relocation_sub_ = lockstep_.subscribe(nh_, "relocation", 10, &ExplorationNode::onRelocation, this);
@@ -377,10 +373,6 @@ class ExplorationNode {
     topo_.position = fromMsg(*msg);
     topo_.valid = true;
   }
-  void onConfident(const std_msgs::Bool::ConstPtr& msg) {
-    topo_.confident = msg->data;
-    topo_.valid = true;
-  }
   void onAxes(const hybrid_slam_msgs::BuildingAxes::ConstPtr& msg) {
     if (!std::isfinite(msg->axis_angle) || msg->heading_bins < 4 || msg->heading_bins % 4 != 0) {
       ROS_ERROR_THROTTLE(5.0, "exploration: building axes on %s refused: axis %f, %u heading bins (a multiple of 4 wanted)",
@@ -391,18 +383,16 @@ class ExplorationNode {
     axes_known_ = true;
   }
 
-  void onHeading(const std_msgs::Float64::ConstPtr& msg) {
-    if (!std::isfinite(msg->data)) return;
-    // pomdp_topo publishes the heading right after the features it came from: pair it with the
-    // odometry of the latest features seen here.
-    topo_heading_ = msg->data;
-    topo_.heading_offset = laser_features::normalizeAngle(msg->data - odom_theta_at_features_);
+  void onTopoState(const hybrid_slam_msgs::TopologicalState::ConstPtr& msg) {
+    topo_.mode = modeFromMsg(*msg);
+    topo_.confident = msg->confident;
+    topo_.valid = true;
+    if (!std::isfinite(msg->heading)) return;
+    // pomdp_topo publishes its state right after the features it came from: pair the heading
+    // with the odometry of the latest features seen here.
+    topo_heading_ = msg->heading;
+    topo_.heading_offset = laser_features::normalizeAngle(msg->heading - odom_theta_at_features_);
     topo_.heading_valid = true;
-    topo_.valid = true;
-  }
-  void onMode(const std_msgs::String::ConstPtr& msg) {
-    topo_.mode = msg->data;
-    topo_.valid = true;
   }
   void onLocalPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg) {
     const std::string& f = msg->header.frame_id;
@@ -495,7 +485,7 @@ class ExplorationNode {
   ros::Publisher markers_pub_;
   bool axes_known_ = false;  // the building's axes from pomdp_topo, before the coordinator runs
   ros::Subscriber axes_sub_;
-  ros::Subscriber scan_sub_, features_sub_, map_sub_, belief_sub_, confident_sub_, heading_sub_, mode_sub_, pose_sub_,
+  ros::Subscriber scan_sub_, features_sub_, map_sub_, belief_sub_, state_sub_, pose_sub_,
       bumper_sub_;
   ros::Timer timer_;
   TopoView topo_;
@@ -504,7 +494,7 @@ class ExplorationNode {
   Pose2D sensor_in_robot_;
   bool have_sensor_ = false;
   double odom_theta_at_features_ = 0.0;
-  double topo_heading_ = 0.0;  // pomdp_topo's latest heading (odometry frame)
+  double topo_heading_ = 0.0;  // pomdp_topo's latest heading (rad, map frame)
   struct LocalPose {
     int place = -1;
     Pose2D pose;

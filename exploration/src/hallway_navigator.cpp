@@ -25,7 +25,7 @@ HallwayNavigator::HallwayNavigator(const HallwayFollowerParams& follow, const Ha
 
 bool HallwayNavigator::setOff(const Perception& p, const TopoView& topo, Decision* d) {
   const int along = follower_.startBin(p, topo);
-  if (topo.mode == "frontier") {
+  if (topo.mode == TopoMode::Frontier) {
     // The robot starts mid-hallway, at a crossing or at an open area's edge: the other ways are
     // unexplored openings of the start node.
     for (int way : follower_.waysAtStart(along, p, topo)) {
@@ -46,8 +46,8 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
   HallwayView v;
   const double dir_robot = follower_.track(p, topo, &v);
   if (follower_.stalled(p)) blocked = true;
-  const bool localized = topo.mode == "localized";
-  const bool sure = (topo.mode == "frontier") ||
+  const bool localized = topo.mode == TopoMode::Localized;
+  const bool sure = (topo.mode == TopoMode::Frontier) ||
                     (localized && topo.confident && route_.beliefPlausible(at.graph, topo.position, at.travel));
   step.text = sure ? (localized ? "following the hallway on the known map" : "following a new hallway")
                    : "following the hallway until the belief is confident";
@@ -194,7 +194,7 @@ bool HallwayNavigator::stopAtDoor(const DoorTrack& door, const char* what, const
   } else if (!at.mission_door && door_entry_.otherDoorOfRoomLeft(door, at.travel)) {
     // The room's other door is an explored way into it: recorded so (on a new stretch's node, or
     // the node a trusted belief gives, as every record), not entered as a new room.
-    if (topo.mode == "frontier" || beliefTrusted(topo, at.travel)) {
+    if (topo.mode == TopoMode::Frontier || beliefTrusted(topo, at.travel)) {
       Request rec;
       rec.kind = Request::RecordOpening;
       rec.bearing = follower_.topoBearing(door.into_odom, topo);
@@ -313,7 +313,7 @@ void HallwayNavigator::turnAtEnd(const Perception& p, const TopoView& topo, cons
   }
   // The other ways are the turn's node's unexplored openings, on a new stretch.
   std::vector<int> not_taken;
-  if (topo.mode == "frontier" && !at.mission_door) {
+  if (topo.mode == TopoMode::Frontier && !at.mission_door) {
     for (const EndWay& w : ways) {
       if (w.bin != choice.bin) not_taken.push_back(w.bin);
     }
@@ -354,7 +354,7 @@ bool HallwayNavigator::turnInOpenArea(const TopoView& topo, const HallwayContext
     }
   }
   std::vector<int> not_taken;
-  if (topo.mode == "frontier" && !at.mission_door) not_taken.push_back(choice == left ? right : left);
+  if (topo.mode == TopoMode::Frontier && !at.mission_door) not_taken.push_back(choice == left ? right : left);
   // No wall of the hallway left is in view: a wing's offset ends with it, the area's walls are
   // taken along the axes until one is seen (then the tracking sets the offset again).
   follower_.dropOffset();
@@ -422,7 +422,7 @@ bool HallwayNavigator::turn(const Perception& p, bool motion_reached, bool motio
 
 std::optional<EntryOpening> HallwayNavigator::enterAfterStop(const TopoView& topo, const HallwayContext& at,
                                                              std::string* why_passed) {
-  if (entering_.node < 0 && topo.mode != "frontier") {
+  if (entering_.node < 0 && topo.mode != TopoMode::Frontier) {
     // Stopped for a door on a new stretch, and pomdp_topo has since made its node and taken it
     // for a known one: a loop hypothesis (the check merges the node, the door explored, or
     // rejects it, its opening unexplored and come back to), or a loop closed in the same scan
@@ -431,7 +431,7 @@ std::optional<EntryOpening> HallwayNavigator::enterAfterStop(const TopoView& top
     const std::optional<EntryOpening> known = mayEnter(topo, at, door_);
     if (!known) {
       ++stats_.doors_passed;
-      *why_passed = topo.mode == "loop_check" ? "door passed: pomdp_topo checks whether it is a known one"
+      *why_passed = topo.mode == TopoMode::LoopCheck ? "door passed: pomdp_topo checks whether it is a known one"
                                               : "door passed: it is a known one (pomdp_topo closed a loop at it)";
       return std::nullopt;
     }

@@ -19,9 +19,9 @@
 #include <hybrid_slam_msgs/SaveMap.h>
 #include <hybrid_slam_msgs/TopologicalBelief.h>
 #include <hybrid_slam_msgs/TopologicalMap.h>
+#include <hybrid_slam_msgs/TopologicalState.h>
 #include <hybrid_slam_msgs/UpdateOpening.h>
 #include <ros/ros.h>
-#include <std_msgs/Float64.h>
 #include <std_srvs/Trigger.h>
 #include <tf2/utils.h>
 #include <tf2_ros/transform_listener.h>
@@ -81,7 +81,7 @@ class ReplayPlacesNode {
     if (mapping_) {
       map_sub_ = nh_.subscribe("topological_map", 2, &ReplayPlacesNode::onMap, this);
       belief_sub_ = nh_.subscribe("topological_belief", 20, &ReplayPlacesNode::onBelief, this);
-      heading_sub_ = nh_.subscribe("topo_heading", 20, &ReplayPlacesNode::onHeading, this);
+      state_sub_ = nh_.subscribe("topological_state", 20, &ReplayPlacesNode::onTopoState, this);
       local_map_sub_ = nh_.subscribe("local_map", 5, &ReplayPlacesNode::onLocalMap, this);
       relocation_sub_ = nh_.subscribe("relocation", 10, &ReplayPlacesNode::onRelocation, this);
       map_odom_sub_ = nh_.subscribe("map_odom", 10, &ReplayPlacesNode::onMapOdom, this);
@@ -116,7 +116,7 @@ class ReplayPlacesNode {
     if (msg.at_node[ml] && door_nodes_.count(int(msg.state_edge[ml]))) door_node_ = int(msg.state_edge[ml]);
   }
 
-  void onHeading(const std_msgs::Float64& msg) { heading_map_ = msg.data; }
+  void onTopoState(const hybrid_slam_msgs::TopologicalState& msg) { heading_map_ = msg.heading; }
 
   // ekf_local_map's map -> odom (its topic: publish_tf is off in a replay).
   void onMapOdom(const geometry_msgs::TransformStamped& msg) {
@@ -361,7 +361,7 @@ class ReplayPlacesNode {
   bool mapping_ = true, finished_ = false, last_in_place_ = false;
   double bag_end_time_ = 0.0, bag_duration_ = 0.0, end_tolerance_ = 1.0, end_grace_ = 2.0, end_idle_timeout_ = 10.0, service_timeout_ = 5.0;
   ros::Publisher status_pub_;
-  ros::Subscriber features_sub_, map_sub_, belief_sub_, heading_sub_, local_map_sub_, relocation_sub_, map_odom_sub_;
+  ros::Subscriber features_sub_, map_sub_, belief_sub_, state_sub_, local_map_sub_, relocation_sub_, map_odom_sub_;
   ros::WallTimer end_timer_;
   ros::WallTime wall_start_, last_clock_wall_, end_seen_;
   ros::Time last_clock_, last_status_;

@@ -64,6 +64,16 @@ void featuresInRobot(const hybrid_slam_msgs::LaserFeatures& msg, const Pose2D& s
   }
 }
 
+TopoMode modeFromMsg(const hybrid_slam_msgs::TopologicalState& msg) {
+  using State = hybrid_slam_msgs::TopologicalState;
+  switch (msg.mode) {
+    case State::FRONTIER: return TopoMode::Frontier;
+    case State::LOCALIZED: return TopoMode::Localized;
+    case State::LOOP_CHECK: return TopoMode::LoopCheck;
+    default: return TopoMode::Unknown;
+  }
+}
+
 void fromMsg(const hybrid_slam_msgs::TopologicalMap& msg, TopoGraph* graph) {
   graph->clear();
   for (const auto& n : msg.nodes) {

@@ -7,6 +7,7 @@
 #include <hybrid_slam_msgs/LaserFeatures.h>
 #include <hybrid_slam_msgs/TopologicalBelief.h>
 #include <hybrid_slam_msgs/TopologicalMap.h>
+#include <hybrid_slam_msgs/TopologicalState.h>
 #include <sensor_msgs/LaserScan.h>
 #include <ros/node_handle.h>
 #include <visualization_msgs/MarkerArray.h>
@@ -28,6 +29,8 @@ void featuresInRobot(const hybrid_slam_msgs::LaserFeatures& msg, const laser_fea
                      size_t* dropped);
 
 void fromMsg(const hybrid_slam_msgs::TopologicalMap& msg, TopoGraph* graph);
+/// pomdp_topo's map builder mode; Unknown for a value this version does not know.
+TopoMode modeFromMsg(const hybrid_slam_msgs::TopologicalState& msg);
 
 /// ekf_local_map's add_door request: door `door_id` (a node id) at its pose in the robot's frame.
 hybrid_slam_msgs::AddDoor::Request addDoorRequest(int door_id, const laser_features::Pose2D& door_in_robot);

@@ -87,7 +87,7 @@ bool RoutePolicy::beliefPlausible(const TopoGraph& graph, const GraphPosition& p
 }
 
 bool RoutePolicy::beliefTrusted(const TopoView& topo, double travel) const {
-  return topo.mode == "localized" && topo.confident && travel >= distrust_until_;
+  return topo.mode == TopoMode::Localized && topo.confident && travel >= distrust_until_;
 }
 
 RouteAction RoutePolicy::alongRoute(const RouteContext& at, const RouteStep& route, double heading) {

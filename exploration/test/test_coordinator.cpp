@@ -20,6 +20,7 @@ using exploration::GraphOpening;
 using exploration::Perception;
 using exploration::Request;
 using exploration::TopoGraph;
+using exploration::TopoMode;
 using exploration::TopoView;
 using laser_features::Pose2D;
 
@@ -108,7 +109,7 @@ struct Hallway {
   }
 };
 
-TopoView view(const std::string& mode, bool confident) {
+TopoView view(TopoMode mode, bool confident) {
   TopoView v;
   v.valid = true;
   v.mode = mode;
@@ -184,7 +185,7 @@ RoomVisits driveVisitingRooms(Coordinator* c, Hallway* h, int max_ticks,
     p.odom = r.robot;
     p.room_pose_valid = c->currentPlace() >= 0;
     p.room_pose = laser_features::compose(laser_features::inverse(origin), r.robot);
-    const Decision d = c->update(p, view("frontier", true), false, false);
+    const Decision d = c->update(p, view(TopoMode::Frontier, true), false, false);
     for (const Request& q : d.requests) {
       if (q.kind != Request::CreatePlace) continue;
       origin = r.robot;
@@ -244,14 +245,14 @@ TEST(Coordinator, AStartFacingAcrossTheHallwaySetsOffAlongIt) {
   h.door_x = 30.0;  // no door in view
   Coordinator across;
   const Perception facing_wall = perceiveFacing(h, 10.0, 0.5 * kPi - 0.37);
-  across.update(facing_wall, view("frontier", true), false, false);  // the start: decides
-  const Decision d = across.update(facing_wall, view("frontier", true), false, false);
+  across.update(facing_wall, view(TopoMode::Frontier, true), false, false);  // the start: decides
+  const Decision d = across.update(facing_wall, view(TopoMode::Frontier, true), false, false);
   ASSERT_TRUE(d.has_goal && d.theta.has_value()) << across.state();
   EXPECT_EQ(across.state(), "turning");
   EXPECT_LT(std::abs(std::sin(*d.theta)), 1e-9) << *d.theta;  // along x, one way or the other
   Coordinator along;
-  along.update(perceiveFacing(h, 10.0, 0.3), view("frontier", true), false, false);
-  const Decision e = along.update(perceiveFacing(h, 10.0, 0.3), view("frontier", true), false, false);
+  along.update(perceiveFacing(h, 10.0, 0.3), view(TopoMode::Frontier, true), false, false);
+  const Decision e = along.update(perceiveFacing(h, 10.0, 0.3), view(TopoMode::Frontier, true), false, false);
   EXPECT_NE(along.state(), "turning");
   EXPECT_FALSE(e.theta.has_value() && std::abs(std::sin(*e.theta)) > 0.5);
 }
@@ -262,14 +263,14 @@ TEST(Coordinator, APillarInTheHallwayIsNoEnd) {
   Hallway h;
   h.pillar_x = 3.0;
   Coordinator c;
-  const DriveResult r = drive(&c, 0.0, 8.0, [](double) { return view("frontier", true); }, h);
+  const DriveResult r = drive(&c, 0.0, 8.0, [](double) { return view(TopoMode::Frontier, true); }, h);
   EXPECT_TRUE(r.metric) << c.state();
   EXPECT_GE(r.x_at_switch, 5.0);
 }
 
 TEST(Coordinator, ADoorPassedOnANewStretchIsEntered) {
   Coordinator c;
-  const DriveResult r = drive(&c, 0.0, 8.0, [](double) { return view("frontier", true); });
+  const DriveResult r = drive(&c, 0.0, 8.0, [](double) { return view(TopoMode::Frontier, true); });
   EXPECT_TRUE(r.metric);
   EXPECT_TRUE(r.place_requested);
   // Entered once passed: pomdp_topo makes the door's node when it is 0.2 m behind.
@@ -283,7 +284,7 @@ namespace {
 // (for a gap behind the wall, seen through the door).
 void expectStoppedJustPastTheDoor(const Hallway& h, double x0 = 0.0) {
   Coordinator c;
-  const DriveResult r = drive(&c, x0, 8.0, [](double) { return view("frontier", true); }, h);
+  const DriveResult r = drive(&c, x0, 8.0, [](double) { return view(TopoMode::Frontier, true); }, h);
   EXPECT_TRUE(r.metric);
   EXPECT_GE(r.x_at_switch, 5.0 + 0.3 - 1e-9) << "stopped for the gap, before the door";
   EXPECT_LE(r.x_at_switch, 5.0 + 1.0);
@@ -327,10 +328,10 @@ TEST(Coordinator, ADoorFirstSeenBehindTheRobotIsNotEntered) {
   // 0.4 s later for a door 1.23 m behind it (a known room's, beyond the T) and mapped the room again.
   // A door seen first already behind the robot was not passed on this stretch.
   Coordinator c;
-  const DriveResult behind = drive(&c, 6.2, 10.0, [](double) { return view("frontier", true); });
+  const DriveResult behind = drive(&c, 6.2, 10.0, [](double) { return view(TopoMode::Frontier, true); });
   EXPECT_FALSE(behind.metric) << "entered at x " << behind.x_at_switch;
   Coordinator d;  // seen first just beside the robot, it is entered
-  const DriveResult beside = drive(&d, 5.1, 10.0, [](double) { return view("frontier", true); });
+  const DriveResult beside = drive(&d, 5.1, 10.0, [](double) { return view(TopoMode::Frontier, true); });
   EXPECT_TRUE(beside.metric);
 }
 
@@ -344,7 +345,7 @@ TEST(Coordinator, ADoorTakenForAKnownOneIsNotEntered) {
   double x = 0.0, t = 0.0;
   for (int i = 0; i < 400 && x < 8.0; ++i, t += 0.1) {
     // The door's node (and the hypothesis) comes once the coordinator has decided to stop there.
-    const Decision d = c.update(h.perceive(x, t), view(stopped ? "loop_check" : "frontier", true), false, false);
+    const Decision d = c.update(h.perceive(x, t), view(stopped ? TopoMode::LoopCheck : TopoMode::Frontier, true), false, false);
     stopped |= d.mode == CoordinatorMode::Switching;
     for (const Request& q : d.requests) place_requested |= q.kind == Request::CreatePlace;
     if (!d.stop && d.has_goal && d.x > x) x += 0.05;
@@ -371,9 +372,9 @@ TEST(Coordinator, ADoorWhoseLoopClosedInOneGoIsNotEnteredAgain) {
   bool place_requested = false, stopped = false;
   double x = 0.0, t = 0.0;
   for (int i = 0; i < 400 && x < 8.0; ++i, t += 0.1) {
-    TopoView v = view("frontier", true);
+    TopoView v = view(TopoMode::Frontier, true);
     if (stopped) {
-      v = view("localized", true);
+      v = view(TopoMode::Localized, true);
       v.position.valid = true;
       v.position.id = 1;  // on the edge 2 -> 1
       v.position.offset = x - 5.0;
@@ -402,7 +403,7 @@ TEST(Coordinator, ADoorOnANewStretchThatTheFrontierNodeHasExploredIsNotEntered) 
     Coordinator c;
     c.setGraph(g);
     const DriveResult r = drive(&c, 0.0, 8.0, [](double x) {
-      TopoView v = view("frontier", true);
+      TopoView v = view(TopoMode::Frontier, true);
       v.position.valid = true;
       v.position.at_node = true;
       v.position.id = x < 4.0 ? 0 : 2;
@@ -473,7 +474,7 @@ TEST(Coordinator, ANewRoomsDoorIsTakenAsSeenFromInFrontOfIt) {
     o.kind = laser_features::OpeningKind::kDoor;
     o.confidence = 0.9;
     if (std::abs(seen_x - robot.x) < 6.0) p.openings.push_back(o);
-    const Decision d = c.update(p, view("frontier", true), false, false);
+    const Decision d = c.update(p, view(TopoMode::Frontier, true), false, false);
     for (const Request& q : d.requests) {
       if (q.kind == Request::CreatePlace) {
         origin = robot;
@@ -497,13 +498,13 @@ TEST(Coordinator, ANewRoomsDoorIsTakenAsSeenFromInFrontOfIt) {
 
 TEST(Coordinator, NeverMetricWhileTheBeliefIsUnconfident) {
   Coordinator c;
-  const DriveResult r = drive(&c, 0.0, 8.0, [](double) { return view("localized", false); });
+  const DriveResult r = drive(&c, 0.0, 8.0, [](double) { return view(TopoMode::Localized, false); });
   EXPECT_FALSE(r.metric);
   EXPECT_FALSE(r.place_requested);
   EXPECT_EQ(c.stats().doors_passed, 1);
   // Nor while a loop closure is being verified.
   Coordinator loop;
-  EXPECT_FALSE(drive(&loop, 0.0, 8.0, [](double) { return view("loop_check", true); }).metric);
+  EXPECT_FALSE(drive(&loop, 0.0, 8.0, [](double) { return view(TopoMode::LoopCheck, true); }).metric);
 }
 
 TEST(Coordinator, AKnownUnexploredDoorIsEnteredButNotRightAfterTheBeliefJumped) {
@@ -518,7 +519,7 @@ TEST(Coordinator, AKnownUnexploredDoorIsEnteredButNotRightAfterTheBeliefJumped) 
   g.addEdge(GraphEdge{1, 2, 1, 0.0, 5.0});
   g.addEdge(GraphEdge{2, 3, 0, 0.0, 40.0});
   auto on = [](uint32_t edge, double offset) {
-    TopoView v = view("localized", true);
+    TopoView v = view(TopoMode::Localized, true);
     v.position.valid = true;
     v.position.at_node = false;
     v.position.id = edge;
@@ -571,7 +572,7 @@ TEST(Coordinator, TheRouteTurnsIntoABranchButNotIntoADoorWhereTheBeliefPutsTheBr
     bool turned = false;
     double x = 0.0, t = 0.0;
     for (int i = 0; i < 400 && x < 8.0 && !turned; ++i, t += 0.1) {
-      TopoView v = view("localized", true);
+      TopoView v = view(TopoMode::Localized, true);
       v.position.valid = true;
       v.position.id = x < 5.0 ? 0 : 2;  // along edge 0, then past node 2 on edge 2 (the belief)
       v.position.offset = x < 5.0 ? x : x - 5.0;
@@ -613,7 +614,7 @@ TEST(Coordinator, AGoalOpeningAsWideAsTheDoorBesideTheRobotIsThatDoorAndEntered)
     Coordinator c;
     c.setGraph(g);
     const DriveResult r = drive(&c, 0.0, 8.0, [&](double x) {
-      TopoView v = view("localized", true);
+      TopoView v = view(TopoMode::Localized, true);
       v.position.valid = true;
       v.position.id = x < 5.0 ? 0 : 2;
       v.position.offset = x < 5.0 ? x : x - 5.0;
@@ -642,7 +643,7 @@ TopoGraph exploredHallway() {
 }
 
 TopoView onHallway(double x) {
-  TopoView v = view("localized", true);
+  TopoView v = view(TopoMode::Localized, true);
   v.position.valid = true;
   v.position.id = x < 5.0 ? 0 : 1;
   v.position.offset = x < 5.0 ? x : x - 5.0;
@@ -1006,7 +1007,7 @@ TEST(Coordinator, AWayOutThatEndsInsideTheRoomIsTriedAgainAndNeverTakenForTheHal
       // The door (left wall, y = 1) lets the robot through only after `blocked_exits` ways out.
       const bool shut = leaving && exits <= blocked_exits;
       const bool held = shut && robot.y <= 1.31;
-      const Decision d = c.update(p, view("frontier", true), false, held);
+      const Decision d = c.update(p, view(TopoMode::Frontier, true), false, held);
       for (const Request& q : d.requests) {
         if (q.kind != Request::CreatePlace) continue;
         origin = robot;
@@ -1057,8 +1058,8 @@ TEST(Coordinator, AStartFacingADoubleDoorAcrossAShortHallwaySetsOffAlongTheHallw
       p.points.push_back(to_robot * Eigen::Vector2d(-3.0, y));
     }
     Coordinator c;
-    c.update(p, view("frontier", true), false, false);  // the start: decides
-    const Decision d = c.update(p, view("frontier", true), false, false);
+    c.update(p, view(TopoMode::Frontier, true), false, false);  // the start: decides
+    const Decision d = c.update(p, view(TopoMode::Frontier, true), false, false);
     ASSERT_TRUE(d.has_goal && d.theta.has_value()) << c.state();
     EXPECT_EQ(c.state(), "turning");
     EXPECT_LT(std::abs(std::sin(*d.theta)), 1e-9) << *d.theta;  // along x, one way or the other

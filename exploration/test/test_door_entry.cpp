@@ -13,6 +13,7 @@ using exploration::DoorEntry;
 using exploration::DoorTrack;
 using exploration::HallwayDoorParams;
 using exploration::HallwayDoors;
+using exploration::TopoMode;
 using laser_features::BuildingRules;
 
 namespace {
@@ -32,7 +33,7 @@ DoorTrack door(double x, double y, double into, double width = 0.9) {
 exploration::TopoView localizedAt(uint32_t id) {
   exploration::TopoView topo;
   topo.valid = true;
-  topo.mode = "localized";
+  topo.mode = TopoMode::Localized;
   topo.confident = true;
   topo.position.valid = true;
   topo.position.at_node = true;

@@ -17,6 +17,7 @@ namespace {
 using exploration::Coordinator;
 using exploration::Decision;
 using exploration::Perception;
+using exploration::TopoMode;
 using exploration::TopoView;
 using laser_features::Pose2D;
 
@@ -76,7 +77,7 @@ Perception perceive(const std::vector<Segment>& walls, const Pose2D& pose, doubl
 std::vector<Pose2D> drive(Coordinator* c, const std::vector<Segment>& walls, Pose2D pose, int ticks) {
   TopoView topo;
   topo.valid = true;
-  topo.mode = "frontier";
+  topo.mode = TopoMode::Frontier;
   topo.confident = true;
   topo.heading_valid = true;
   std::vector<Pose2D> poses;

@@ -26,6 +26,7 @@ using exploration::HallwayStep;
 using exploration::Perception;
 using exploration::PlaceDoor;
 using exploration::TopoGraph;
+using exploration::TopoMode;
 using exploration::TopoView;
 using laser_features::kPi;
 using laser_features::Pose2D;
@@ -87,7 +88,7 @@ struct Hallway : exploration::test::SegmentWorld {
   }
 };
 
-TopoView belief(const std::string& mode) {
+TopoView belief(TopoMode mode) {
   TopoView v;
   v.valid = true;
   v.mode = mode;
@@ -126,7 +127,7 @@ struct Followed {
 // Follows the hallway (a new stretch, no map yet) from `robot` until the tick that is not on along
 // the hallway, or for `max_ticks`; `mode`: pomdp_topo's.
 Followed followUntilChange(HallwayNavigator* nav, const Hallway& h, Pose2D* robot, int max_ticks,
-                           const std::string& mode = "frontier") {
+                           TopoMode mode = TopoMode::Frontier) {
   const TopoGraph none;
   Followed run;
   for (; run.ticks < max_ticks; ++run.ticks) {
@@ -161,9 +162,9 @@ TEST(HallwayNavigator, SetsOffAlongTheHallwayAndFollowsItsMidLine) {
   const Hallway h(false);
   HallwayNavigator nav = navigator();
   Pose2D robot{0.0, 0.3, 0.1};
-  nav.faceRobotsBin(h.perceive(robot, 0.0), belief("frontier"));
+  nav.faceRobotsBin(h.perceive(robot, 0.0), belief(TopoMode::Frontier));
   Decision start;
-  EXPECT_FALSE(nav.setOff(h.perceive(robot, 0.0), belief("frontier"), &start));
+  EXPECT_FALSE(nav.setOff(h.perceive(robot, 0.0), belief(TopoMode::Frontier), &start));
   ASSERT_EQ(start.requests.size(), 1u);
   EXPECT_EQ(start.requests[0].kind, exploration::Request::RecordOpening);
   EXPECT_NEAR(std::abs(start.requests[0].bearing), kPi, 1e-9);
@@ -175,14 +176,14 @@ TEST(HallwayNavigator, SetsOffAlongTheHallwayAndFollowsItsMidLine) {
   EXPECT_GT(run.last.x, robot.x + 1.0);
   EXPECT_NEAR(run.last.y, 0.0, 0.05);
   EXPECT_NEAR(robot.y, 0.0, 0.1);
-  EXPECT_EQ(followUntilChange(&nav, h, &robot, 1, "loop_check").step.text,
+  EXPECT_EQ(followUntilChange(&nav, h, &robot, 1, TopoMode::LoopCheck).step.text,
             "following the hallway until the belief is confident");
 
   HallwayNavigator across = navigator();
   Pose2D facing_wall{0.0, 0.0, 0.5 * kPi};
-  across.faceRobotsBin(h.perceive(facing_wall, 0.0), belief("frontier"));
+  across.faceRobotsBin(h.perceive(facing_wall, 0.0), belief(TopoMode::Frontier));
   Decision turn;
-  EXPECT_TRUE(across.setOff(h.perceive(facing_wall, 0.0), belief("frontier"), &turn));
+  EXPECT_TRUE(across.setOff(h.perceive(facing_wall, 0.0), belief(TopoMode::Frontier), &turn));
 }
 
 // Starting at a crossing, the ways to both sides are unexplored openings of the start node as well as
@@ -205,9 +206,9 @@ TEST(HallwayNavigator, TheWaysAtTheStartAreTheOpeningsOfTheStartNode) {
   // The bearings of the openings recorded, sorted (pi for -pi).
   const auto recorded = [](const Hallway& h, const Pose2D& robot, bool* turns) {
     HallwayNavigator nav = navigator();
-    nav.faceRobotsBin(h.perceive(robot, 0.0), belief("frontier"));
+    nav.faceRobotsBin(h.perceive(robot, 0.0), belief(TopoMode::Frontier));
     Decision d;
-    *turns = nav.setOff(h.perceive(robot, 0.0), belief("frontier"), &d);
+    *turns = nav.setOff(h.perceive(robot, 0.0), belief(TopoMode::Frontier), &d);
     std::vector<double> b;
     for (const exploration::Request& r : d.requests) {
       EXPECT_EQ(r.kind, exploration::Request::RecordOpening);
@@ -256,7 +257,7 @@ TEST(HallwayNavigator, TurnsRoundAtADeadEndAndFollowsTheHallwayBack) {
   EXPECT_EQ(nav.direction().bin, 2);
   const TopoGraph none;
   Decision back;
-  nav.follow(h.perceive(robot, 20.0), belief("frontier"), false, HallwayContext{none, run.travel, nullptr}, &back);
+  nav.follow(h.perceive(robot, 20.0), belief(TopoMode::Frontier), false, HallwayContext{none, run.travel, nullptr}, &back);
   ASSERT_TRUE(back.has_goal);
   EXPECT_LT(back.x, robot.x - 1.0);
 }
@@ -273,7 +274,7 @@ TEST(HallwayNavigator, TurnedRoundIntoAClosedWayItTurnsToTheFreerSide) {
   pocket.wall(0.0, 0.8, 0.0, -0.8);
   HallwayNavigator nav = navigator();
   Pose2D robot{0.8, 0.0, 0.5 * kPi};
-  nav.faceRobotsBin(pocket.perceive(robot, 0.0), belief("frontier"));
+  nav.faceRobotsBin(pocket.perceive(robot, 0.0), belief(TopoMode::Frontier));
   const Followed first = followUntilChange(&nav, pocket, &robot, 5);
   ASSERT_EQ(first.step.kind, HallwayStep::Turning) << first.step.text;
   EXPECT_EQ(first.step.text.rfind("hallway end: turning round", 0), 0u) << first.step.text;
@@ -305,10 +306,10 @@ TEST(HallwayNavigator, StopsForADoorPassedOnANewStretch) {
   const TopoGraph none;
   const HallwayContext at{none, run.travel, nullptr};
   std::string why;
-  EXPECT_FALSE(nav.enterAfterStop(belief("loop_check"), at, &why));
+  EXPECT_FALSE(nav.enterAfterStop(belief(TopoMode::LoopCheck), at, &why));
   EXPECT_EQ(why, "door passed: pomdp_topo checks whether it is a known one");
   EXPECT_EQ(nav.stats().doors_passed, 1);
-  const std::optional<EntryOpening> entry = nav.enterAfterStop(belief("frontier"), at, &why);
+  const std::optional<EntryOpening> entry = nav.enterAfterStop(belief(TopoMode::Frontier), at, &why);
   ASSERT_TRUE(entry);
   EXPECT_EQ(entry->node, -1);  // a new door, at pomdp_topo's current node
   EXPECT_NEAR(entry->bearing, 0.5 * kPi, 0.05);
@@ -334,7 +335,7 @@ TEST(HallwayNavigator, ADoorBesideTheHallwaysEndIsEnteredOnceTurned) {
   const TopoGraph none;
   std::string why;
   const std::optional<EntryOpening> entry =
-      nav.enterAfterStop(belief("frontier"), HallwayContext{none, after.travel + run.travel, nullptr}, &why);
+      nav.enterAfterStop(belief(TopoMode::Frontier), HallwayContext{none, after.travel + run.travel, nullptr}, &why);
   ASSERT_TRUE(entry) << why;
   EXPECT_NEAR(entry->bearing, 0.5 * kPi, 0.05);
 }
@@ -393,7 +394,7 @@ TEST(HallwayNavigator, SaysWhenNoOpeningIsLeftAndWhenAMissionsDoorHasNoRoute) {
   g.addNode(GraphNode{1, 2, 10.0, 0.0, {}});
   g.addNode(GraphNode{7, 0, 30.0, 0.0, {GraphOpening{0.5 * kPi, 0.9, true, 3, {0.0, 0.0, 0.0}}}});
   g.addEdge(GraphEdge{0, 0, 1, 0.0, 10.0});
-  TopoView on_edge = belief("localized");
+  TopoView on_edge = belief(TopoMode::Localized);
   on_edge.position.valid = true;
   on_edge.position.id = 0;
   on_edge.position.offset = 2.0;
@@ -454,7 +455,7 @@ TEST(HallwayNavigator, AWingNotTakenAtAHallwaysEndIsAnUnexploredOpening) {
     for (int i = 0; i < 200 && recorded.empty(); ++i) {
       Decision d;
       const Pose2D before = robot;
-      nav.follow(h.perceive(robot, 10.0 + 0.1 * i), belief("frontier"), false, HallwayContext{none, travel, nullptr}, &d);
+      nav.follow(h.perceive(robot, 10.0 + 0.1 * i), belief(TopoMode::Frontier), false, HallwayContext{none, travel, nullptr}, &d);
       for (const exploration::Request& r : d.requests) {
         if (r.kind == exploration::Request::RecordOpening) recorded.push_back(r.bearing);
       }
@@ -491,7 +492,7 @@ TEST(HallwayNavigator, AWayNotTakenIsRecordedThoughTheRobotTurnsAgainAtOnce) {
   for (int i = 0; i < 1500 && recorded.empty(); ++i) {
     Decision d;
     const Pose2D before = robot;
-    const HallwayStep s = nav.follow(t.perceive(robot, 0.1 * i), belief("frontier"), false,
+    const HallwayStep s = nav.follow(t.perceive(robot, 0.1 * i), belief(TopoMode::Frontier), false,
                                      HallwayContext{none, travel, nullptr}, &d);
     for (const exploration::Request& r : d.requests) {
       if (r.kind == exploration::Request::RecordOpening) recorded.push_back(r.bearing);

@@ -11,6 +11,7 @@ using exploration::GraphNode;
 using exploration::GraphOpening;
 using exploration::GraphPosition;
 using exploration::TopoGraph;
+using exploration::TopoMode;
 
 namespace {
 
@@ -38,7 +39,7 @@ TopoGraph hallway(bool door_explored, bool branch_explored) {
 exploration::TopoView localizedAt(const GraphPosition& pos) {
   exploration::TopoView topo;
   topo.valid = true;
-  topo.mode = "localized";
+  topo.mode = TopoMode::Localized;
   topo.confident = true;
   topo.position = pos;
   return topo;

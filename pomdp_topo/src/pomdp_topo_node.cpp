@@ -9,8 +9,6 @@
 #include <hybrid_slam_msgs/SaveMap.h>
 #include <hybrid_slam_msgs/UpdateOpening.h>
 #include <ros/ros.h>
-#include <std_msgs/Bool.h>
-#include <std_msgs/Float64.h>
 #include <std_msgs/String.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
@@ -80,10 +78,8 @@ class TopoNodeRos {
 
     map_pub_ = lockstep_.advertise<hybrid_slam_msgs::TopologicalMap>(nh_, "topological_map", 1, true);
     belief_pub_ = lockstep_.advertise<hybrid_slam_msgs::TopologicalBelief>(nh_, "topological_belief", 10);
-    confident_pub_ = lockstep_.advertise<std_msgs::Bool>(nh_, "topo_confident", 10, true);
-    heading_pub_ = lockstep_.advertise<std_msgs::Float64>(nh_, "topo_heading", 10);
+    state_pub_ = lockstep_.advertise<hybrid_slam_msgs::TopologicalState>(nh_, "topological_state", 10, true);
     events_pub_ = lockstep_.advertise<std_msgs::String>(nh_, "topo_events", 100);
-    mode_pub_ = lockstep_.advertise<std_msgs::String>(nh_, "topo_mode", 1, true);
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("topo_markers", 2, true);
     axes_pub_ = lockstep_.advertise<hybrid_slam_msgs::BuildingAxes>(nh_, "building_axes", 1, true);
     // In lockstep, the features of a step wait for laser_features' acknowledgement of it.
@@ -277,20 +273,9 @@ class TopoNodeRos {
       toMsg(localizer_, header, &belief);
       belief_pub_.publish(belief);
     }
-    const std::string mode = MapBuilder::toString(builder_.mode());
-    if (mode != last_mode_) {
-      std_msgs::String m;
-      m.data = mode;
-      mode_pub_.publish(m);
-      last_mode_ = mode;
-    }
-    std_msgs::Bool confident;
-    confident.data = builder_.confident();
-    if (first || confident.data != last_confident_) confident_pub_.publish(confident);
-    last_confident_ = confident.data;
-    std_msgs::Float64 heading;
-    heading.data = front_end_.heading().theta();
-    heading_pub_.publish(heading);
+    hybrid_slam_msgs::TopologicalState state;
+    toMsg(builder_.mode(), builder_.confident(), front_end_.heading().theta(), header, &state);
+    state_pub_.publish(state);
     if ((msg->header.stamp - last_markers_).toSec() >= markers_period_) {
       last_markers_ = msg->header.stamp;
       visualization_msgs::MarkerArray markers;
@@ -457,14 +442,13 @@ class TopoNodeRos {
   double transform_timeout_ = 0.1, markers_period_ = 0.5;
   double kidnap_consistency_ = 0.75;
   lockstep::Participant lockstep_;
-  lockstep::Publisher map_pub_, belief_pub_, confident_pub_, heading_pub_, events_pub_, mode_pub_, axes_pub_;
+  lockstep::Publisher map_pub_, belief_pub_, state_pub_, events_pub_, axes_pub_;
   ros::Publisher markers_pub_;
-  std::string last_mode_;
   ros::Subscriber features_sub_, status_sub_;
   std::vector<ros::ServiceServer> services_;
   ros::Time last_stamp_, last_markers_;
   uint64_t published_revision_ = ~0ull;
-  bool paused_ = false, last_confident_ = false;
+  bool paused_ = false;
   double paused_travel_ = 0.0;  // m, FrontEnd::travel() when the map was paused
   int paused_bin_ = 0;          // FrontEnd::headingBin() then
   double paused_pending_ = 0.0; // m, FrontEnd::pendingTravel() then

@@ -160,6 +160,19 @@ void toMsg(const TopologicalMap& map, const std_msgs::Header& header, hybrid_sla
   }
 }
 
+void toMsg(MapBuilder::Mode mode, bool confident, double heading, const std_msgs::Header& header,
+           hybrid_slam_msgs::TopologicalState* msg) {
+  using State = hybrid_slam_msgs::TopologicalState;
+  msg->header = header;
+  switch (mode) {
+    case MapBuilder::Mode::Frontier: msg->mode = State::FRONTIER; break;
+    case MapBuilder::Mode::Localized: msg->mode = State::LOCALIZED; break;
+    case MapBuilder::Mode::LoopCheck: msg->mode = State::LOOP_CHECK; break;
+  }
+  msg->confident = confident;
+  msg->heading = heading;
+}
+
 void toMsg(const PomdpLocalizer& loc, const std_msgs::Header& header, hybrid_slam_msgs::TopologicalBelief* msg) {
   msg->header = header;
   const size_t n = loc.size();

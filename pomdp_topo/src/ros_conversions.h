@@ -5,11 +5,13 @@
 #include <hybrid_slam_msgs/LaserFeatures.h>
 #include <hybrid_slam_msgs/TopologicalBelief.h>
 #include <hybrid_slam_msgs/TopologicalMap.h>
+#include <hybrid_slam_msgs/TopologicalState.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include "laser_features/corner_extractor.h"
 #include "laser_features/line_extractor.h"
 #include "laser_features/opening_extractor.h"
+#include "pomdp_topo/map_builder.h"
 #include "pomdp_topo/pomdp_localizer.h"
 #include "pomdp_topo/topological_map.h"
 
@@ -23,6 +25,10 @@ void fromMsg(const hybrid_slam_msgs::LaserFeatures& msg, const Pose2D& sensor_in
 
 void toMsg(const TopologicalMap& map, const std_msgs::Header& header, hybrid_slam_msgs::TopologicalMap* msg);
 void toMsg(const PomdpLocalizer& localizer, const std_msgs::Header& header, hybrid_slam_msgs::TopologicalBelief* msg);
+/// The map builder's mode, whether the robot's place is known (MapBuilder::confident) and the
+/// heading (rad, map frame) of one step.
+void toMsg(MapBuilder::Mode mode, bool confident, double heading, const std_msgs::Header& header,
+           hybrid_slam_msgs::TopologicalState* msg);
 
 /// The graph (nodes by type, edges, corner landmarks coloured by orientation, openings) and the
 /// belief (spheres scaled by probability, at the states' display positions).

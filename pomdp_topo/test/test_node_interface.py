@@ -9,6 +9,7 @@ import rostest
 import tf2_ros
 from geometry_msgs.msg import Point, TransformStamped
 from hybrid_slam_msgs.msg import BuildingAxes, LaserFeatures, LineFeature, OpeningFeature, TopologicalBelief, TopologicalMap
+from hybrid_slam_msgs.msg import TopologicalState
 from hybrid_slam_msgs.srv import LoadMap, ResetBelief, SaveMap
 from std_srvs.srv import Trigger
 
@@ -44,6 +45,8 @@ class NodeInterface(unittest.TestCase):
         rospy.Subscriber('topological_map', TopologicalMap, self.on_map)
         self.axes = []
         rospy.Subscriber('building_axes', BuildingAxes, self.axes.append)
+        self.states = []
+        rospy.Subscriber('topological_state', TopologicalState, self.states.append)
         self.pub = rospy.Publisher('features', LaserFeatures, queue_size=100)
         self.tf = tf2_ros.TransformBroadcaster()
         for name in ('save_map', 'load_map', 'reset_belief', 'clear_map'):
@@ -101,6 +104,14 @@ class NodeInterface(unittest.TestCase):
         self.assertAlmostEqual(self.axes[-1].axis_angle, 0.0, places=3)
         self.assertEqual(self.axes[-1].heading_bins, 4)
         self.assertGreater(self.axes[-1].agreement, 0.99)
+        # One state per features message, stamped with it: mapping a new stretch (FRONTIER), where
+        # the place is known; the heading along the hallway's axis.
+        self.assertTrue(self.states, 'no topological_state published')
+        s = self.states[-1]
+        self.assertEqual(s.mode, TopologicalState.FRONTIER)
+        self.assertTrue(s.confident)
+        self.assertLess(abs(s.heading), 0.05)
+        self.assertEqual(len(set(m.header.stamp for m in self.states)), len(self.states))
 
         # NaN features: dropped, the node keeps working, no NaN in the belief.
         for _ in range(10):
@@ -148,6 +159,15 @@ class NodeInterface(unittest.TestCase):
         rospy.sleep(0.2)
         self.assertEqual(len(self.map.nodes), nodes_before)
         self.assertTrue(self.load(path=path).success)
+        # A loaded map starts a global localization: on the known graph (LOCALIZED), the belief
+        # uniform and not confident; one state for the features of that stamp.
+        x += 0.05
+        stamp = self.step(x)
+        rospy.sleep(0.2)
+        s = [m for m in self.states if m.header.stamp == stamp]
+        self.assertEqual(len(s), 1, 'one topological_state for the features at %s' % stamp)
+        self.assertEqual(s[0].mode, TopologicalState.LOCALIZED)
+        self.assertFalse(s[0].confident)
         self.assertFalse(self.load(path='/nonexistent/dir/map.topo').success)
         os.remove(corrupt)
 

@@ -40,10 +40,13 @@ struct Perception {
                                                             // gave it; zero where it did not (odometry since)
 };
 
+/// pomdp_topo's map builder mode (TopologicalState): Unknown until the first state arrives.
+enum class TopoMode : uint8_t { Unknown, Frontier, Localized, LoopCheck };
+
 /// What pomdp_topo says (its latest messages).
 struct TopoView {
   bool valid = false;         // something was received
-  std::string mode;           // "frontier", "localized" or "loop_check"
+  TopoMode mode = TopoMode::Unknown;
   bool confident = false;
   bool heading_valid = false;
   double heading_offset = 0.0;  // rad, map heading - odometry heading (the heading estimator's correction)
