@@ -50,6 +50,7 @@ class ExplorationNode {
         lockstep_(nh_, {"laser_features", "pomdp_topo", "ekf_local_map"}) {
     visitParams(&params_, laser_features::RosParamReader{pnh_});
     params_.coordinator.rules = laser_features::readBuildingRules(nh_);
+    params_.coordinator.doors.tracks = laser_features::readOpeningTracks(nh_);
     applyFootprint(laser_features::readRobotFootprint(nh_), &params_);
     std::string why;
     if (!params_.coordinator.valid(&why) || !MotionController::validate(params_.motion, &why)) {

@@ -61,7 +61,7 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
     const std::optional<double>& wall = walls[side > 0.0 ? 0 : 1];
     if (wall && std::abs(lateral) > *wall + params_.wall_tolerance) continue;
     const double into = dir_robot + side * 0.5 * kPi;  // robot frame
-    if (std::abs(normalizeAngle(o.theta - into)) > params_.side_angle) continue;
+    if (std::abs(normalizeAngle(o.theta - into)) > params_.tracks.side_angle) continue;
     const Eigen::Vector2d c = transformPoint(odom, o.center);
     const double into_odom = normalizeAngle(into + odom.theta);
     auto it = std::find_if(tracks_.begin(), tracks_.end(), [&](const DoorTrack& t) {
@@ -95,7 +95,7 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
   }
   const Eigen::Vector2d robot(odom.x, odom.y);
   tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(),
-                              [&](const DoorTrack& t) { return (t.centre_odom - robot).norm() > 8.0; }),
+                              [&](const DoorTrack& t) { return (t.centre_odom - robot).norm() > params_.tracks.keep_distance; }),
                tracks_.end());
   return walls;
 }
@@ -115,7 +115,7 @@ std::optional<DoorTrack> HallwayDoors::abeam(const Pose2D& odom, double dir_robo
 bool HallwayDoors::passed(const Pose2D& odom, double dir_robot, const Walls& walls, DoorTrack* door) {
   const TravelFrame f(odom, dir_robot);
   for (DoorTrack& t : tracks_) {
-    if (t.decided || t.sightings < kMinSightings) continue;
+    if (t.decided || t.sightings < params_.tracks.min_sightings) continue;
     const double along = f.along(t.centre_odom);
     if (along > -params_.pass_distance) continue;
     if (along < -params_.pass_distance - 1.0) {  // seen only from behind: too late
@@ -131,7 +131,7 @@ bool HallwayDoors::besideEnd(const Pose2D& odom, double dir_robot, const Walls& 
                              const std::array<bool, 2>& closed, bool turning_round, DoorTrack* door) {
   const TravelFrame f(odom, dir_robot);
   for (DoorTrack& t : tracks_) {
-    if (t.decided || t.sightings < kMinSightings) continue;
+    if (t.decided || t.sightings < params_.tracks.min_sightings) continue;
     const double along = f.along(t.centre_odom), lateral = f.lateral(t.centre_odom);
     // Not passed (passed() has those), and in a side wall short of the end wall (a door lies on its
     // wall: wall_tolerance).
@@ -188,7 +188,7 @@ std::optional<DoorTrack> HallwayDoors::inEndWall(const Pose2D& odom, const std::
     // between unrelated surfaces is told from a door by its edges' support.
     const bool in_end_wall = walls_seen && std::abs(ahead - v.free_ahead) <= params_.wall_tolerance;
     if (o.confidence < params_.min_confidence && !in_end_wall) continue;
-    if (std::abs(normalizeAngle(o.theta - dir_robot)) > params_.side_angle) continue;
+    if (std::abs(normalizeAngle(o.theta - dir_robot)) > params_.tracks.side_angle) continue;
     if (walls_seen && !rules_.fitsInEndWall(o.width, v.width())) continue;  // the hallway's mouth
     if (best && lateral >= best_lateral) continue;
     DoorTrack t;

@@ -100,7 +100,7 @@ std::optional<RoomVisit::DoorSighting> RoomVisit::seeDoor(const Perception& q, c
   std::optional<DoorSighting> seen;
   for (const laser_features::Opening& o : q.openings) {
     if (!(o.width >= rules_.door_min_width && rules_.mayBeDoor(o.width))) continue;
-    if (std::abs(normalizeAngle(o.theta + q.room_pose.theta - facing)) > doors_.side_angle) continue;
+    if (std::abs(normalizeAngle(o.theta + q.room_pose.theta - facing)) > doors_.tracks.side_angle) continue;
     const Eigen::Vector2d c = transformPoint(q.room_pose, o.center);
     const double off = (c - near).norm();
     if (off < nearest) {

@@ -2,6 +2,7 @@
 // no node's own YAML restates one (nor the heading bins and the building's axis, which are
 // pomdp_topo's alone); the rules' door test itself.
 #include "laser_features/building_rules.h"
+#include "laser_features/opening_tracks.h"
 #include "laser_features/robot_footprint.h"
 
 #include <gtest/gtest.h>
@@ -22,10 +23,10 @@ template <typename T, typename Visit>
 void expectTheYamlHoldsTheDefaults(const std::string& file, T* values, Visit visit) {
   const YAML::Node root = YAML::LoadFile(std::string(CONFIG_DIR) + "/" + file);
   std::set<std::string> visited;
-  visit(values, [&](const char* name, double* value) {
+  visit(values, [&](const char* name, auto* value) {
     visited.insert(name);
     ASSERT_TRUE(root[name].IsDefined()) << name << " is not in " << file;
-    EXPECT_DOUBLE_EQ(root[name].as<double>(), *value) << name;
+    EXPECT_DOUBLE_EQ(root[name].as<double>(), double(*value)) << name;
   });
   for (const auto& kv : root) EXPECT_TRUE(visited.count(kv.first.as<std::string>())) << "unknown key " << kv.first;
 }
@@ -49,7 +50,7 @@ void keys(const YAML::Node& node, const std::string& prefix, std::set<std::strin
 TEST(BuildingRules, NoNodesYamlRestatesThem) {
   std::set<std::string> rules;
   BuildingRules r;
-  laser_features::visitBuildingRules(&r, [&](const char* name, double*) { rules.insert(name); });
+  laser_features::visitBuildingRules(&r, [&](const char* name, auto*) { rules.insert(name); });
   rules.insert("min_width");  // the narrowest opening is the narrowest door
   const std::set<std::string> pomdp_topo_only = {"axis_angle", "heading_bins"};
   int files = 0;
@@ -84,6 +85,43 @@ TEST(RobotFootprint, TheYamlHoldsItWithTheCodesDefaultAndNoNodesYamlRestatesIt) 
     for (const char* k : {"robot_radius", "safety_margin", "radius"})
       EXPECT_FALSE(found.count(k)) << name << " restates the robot's footprint (" << k << ")";
   }
+}
+
+// How openings are tracked lives once too: config/opening_tracks.yaml with the code's defaults, and
+// no node's YAML holds a tracking value of its own (pomdp_topo's front end and the exploration's door
+// tracker both read these).
+TEST(OpeningTracks, TheYamlHoldsThemWithTheCodesDefaultsAndNoNodesYamlRestatesThem) {
+  laser_features::OpeningTracks tracks;
+  expectTheYamlHoldsTheDefaults("opening_tracks.yaml", &tracks, [](laser_features::OpeningTracks* t, auto&& f) {
+    laser_features::visitOpeningTracks(t, f);
+  });
+  EXPECT_TRUE(tracks.valid());
+  std::set<std::string> names = {"track_keep_distance", "door_side_angle", "door_min_sightings"};
+  laser_features::visitOpeningTracks(&tracks, [&](const char* name, auto*) { names.insert(name); });
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(CONFIG_DIR)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.path().extension() != ".yaml" || name == "opening_tracks.yaml") continue;
+    ++files;
+    std::set<std::string> found;
+    keys(YAML::LoadFile(entry.path().string()), "", &found);
+    for (const std::string& k : names) EXPECT_FALSE(found.count(k)) << name << " restates the opening tracks' " << k;
+  }
+  EXPECT_GE(files, 4);
+}
+
+TEST(OpeningTracks, OutOfRangeValuesAreRefusedWithTheirNamespace) {
+  laser_features::OpeningTracks t;
+  t.min_sightings = 0;
+  std::string why;
+  EXPECT_FALSE(t.valid(&why));
+  EXPECT_NE(why.find("opening_tracks/min_sightings"), std::string::npos) << why;
+  t = laser_features::OpeningTracks();
+  t.side_angle = 1.6;
+  EXPECT_FALSE(t.valid());
+  t = laser_features::OpeningTracks();
+  t.keep_distance = std::nan("");
+  EXPECT_FALSE(t.valid());
 }
 
 TEST(BuildingRules, NarrowerThanAnyHallwayIsADoorAndADoubleDoorsWidthNeedsARoomBehind) {

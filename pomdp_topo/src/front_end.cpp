@@ -119,7 +119,7 @@ bool FrontEnd::process(const Pose2D& odom, const std::vector<laser_features::Lin
   }
   const Eigen::Vector2d robot(pose_.x, pose_.y);
   tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(),
-                               [&](const Track& t) { return (t.position - robot).norm() > params_.track_keep_distance; }),
+                               [&](const Track& t) { return (t.position - robot).norm() > params_.tracks.keep_distance; }),
                 tracks_.end());
   checkPassed();
   return true;
@@ -168,7 +168,7 @@ void FrontEnd::track(LandmarkType type, const Eigen::Vector2d& p_robot, double t
 }
 
 bool FrontEnd::confirmed(const Track& t) const {
-  return t.sightings >= params_.min_sightings && t.confidence() >= params_.min_confidence;
+  return t.sightings >= params_.tracks.min_sightings && t.confidence() >= params_.min_confidence;
 }
 
 void FrontEnd::followWalls(const std::vector<laser_features::LineSegment>& lines, double rotation,
@@ -238,7 +238,7 @@ void FrontEnd::checkPassed() {
     if (!behind) t.armed = true;
     if (t.armed && behind && confirmed(t)) {
       const bool side = t.type == LandmarkType::Corner ||
-                        std::abs(std::abs(o.orientation) - 0.5 * kPi) <= params_.side_angle;
+                        std::abs(std::abs(o.orientation) - 0.5 * kPi) <= params_.tracks.side_angle;
       const double max_lateral = t.type == LandmarkType::Opening ? params_.rules.hallwayReach() : params_.observation_range;
       if (side && std::abs(o.lateral) <= max_lateral) {
         passed_.push_back({o, travel_, bin_, wing_offset_, t.id});

@@ -257,7 +257,7 @@ double MapBuilder::trackedAlong(const NodeOpening& door, const FrontEnd& fe) con
   const double side = normalizeAngle(door.bearing - h);
   double best = std::numeric_limits<double>::infinity(), along = 0.0;
   for (const auto& t : fe.tracks()) {
-    if (t.type != LandmarkType::Opening || t.sightings < fe_params_.min_sightings) continue;
+    if (t.type != LandmarkType::Opening || t.sightings < fe_params_.tracks.min_sightings) continue;
     const Eigen::Vector2d d = t.position - here;
     const double a = d.dot(along_dir), lateral = along_dir.x() * d.y() - along_dir.y() * d.x();
     if (std::abs(a) > params_.match_distance || lateral * side <= 0.0 || !showsWay(t, door.bearing)) continue;
@@ -301,7 +301,7 @@ void MapBuilder::frontierTurn(int k, const Scan& scan, const FrontEnd& fe) {
     const Eigen::Vector2d here(scan.pose.x, scan.pose.y);
     double best = 2.5;
     for (const auto& t : fe.tracks()) {
-      if (t.type != LandmarkType::Opening || t.sightings < fe_params_.min_sightings) continue;
+      if (t.type != LandmarkType::Opening || t.sightings < fe_params_.tracks.min_sightings) continue;
       const Eigen::Vector2d d = t.position - here;
       const double along = d.dot(laser_features::unitVector(branch.bearing));
       if (d.norm() > best || along < 0.3) continue;
@@ -409,7 +409,7 @@ uint32_t MapBuilder::createNode(NodeType type, double pos, const Scan& scan, con
 Fingerprint MapBuilder::fingerprintAt(const Eigen::Vector2d& position, const FrontEnd& fe) const {
   Fingerprint f;
   for (const auto& t : fe.tracks()) {
-    if (t.sightings < fe_params_.min_sightings) continue;
+    if (t.sightings < fe_params_.tracks.min_sightings) continue;
     const Eigen::Vector2d d = t.position - position;
     if (d.norm() > params_.fingerprint_radius || d.norm() < 1e-6) continue;
     FingerprintEntry e;

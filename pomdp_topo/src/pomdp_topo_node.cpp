@@ -35,6 +35,7 @@ TopoParams readParams(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) {
   TopoParams p;
   visitParams(&p, laser_features::RosParamReader{pnh});
   p.builder.rules = laser_features::readBuildingRules(nh);
+  p.front_end.tracks = laser_features::readOpeningTracks(nh);
   p.sync();
   std::string why;
   if (!validateParams(p, &why)) throw std::invalid_argument("parameter " + why);

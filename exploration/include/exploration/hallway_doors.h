@@ -10,6 +10,7 @@
 
 #include "exploration/hallway_view.h"
 #include "laser_features/building_rules.h"
+#include "laser_features/opening_tracks.h"
 #include "laser_features/geometry.h"
 #include "laser_features/opening_extractor.h"
 
@@ -26,10 +27,10 @@ struct HallwayDoorParams {
   double min_confidence = 0.5;   // -, laser_features' opening confidence a door needs (not in a dead end's end wall)
   double wall_tolerance = 0.35;  // m, a door lies on its side's wall: one farther behind the wall seen is not tracked
   double wall_memory = 3.0;      // m of travel, a side's wall line is kept where the scan no longer sees it
-  double side_angle = 0.44;      // rad (25 deg), a door's normal within this of +-90 deg of the travel
   double pass_distance = 0.3;    // m, a door is passed once this far behind the robot (the map builder
                                  // has made its node then; pomdp_topo's pass_lag is 0.2)
   double same_distance = 1.0;    // m, a door this close to one already decided on is the same door
+  laser_features::OpeningTracks tracks;  // side openings, sightings, keep distance (config/opening_tracks.yaml)
 };
 
 struct DoorTrack {
@@ -57,9 +58,6 @@ class HallwayDoors {
   // An opening seen within 45 deg of abeam (|along| <= |lateral|) has both jambs in view: its
   // centre is found to within its half-width. At a grazing angle the near jamb hides the far one.
   static constexpr double kAbeam = 1.0;  // |along| / |lateral| at most
-  // Sightings a track needs to be offered for entering: a gap seen in one or two scans is most often
-  // a grazing view between furniture and a wall.
-  static constexpr int kMinSightings = 3;
   using Walls = std::array<std::optional<double>, 2>;  // wallLateral of the left and the right side
 
   HallwayDoors(const HallwayDoorParams& params, const laser_features::BuildingRules& rules)

@@ -48,7 +48,7 @@ class RoomVisit {
   static constexpr double kArrived = 0.15;     // m (and rad): the robot stands at a goal in a room within this
 
   /// `rules` and `doors`: a door seen on the approach to a new room is one of the building's doors
-  /// (BuildingRules), facing the way the tracked one does within doors.side_angle, within
+  /// (BuildingRules), facing the way the tracked one does within doors.tracks.side_angle, within
   /// doors.same_distance of it.
   RoomVisit(const RoomVisitParams& params, const RoomExplorerParams& room, const laser_features::BuildingRules& rules,
             const HallwayDoorParams& doors);
@@ -153,7 +153,7 @@ class RoomVisit {
     double width;            // m
   };
   /// The door as the scan `q` shows it: of the openings of a door's width (BuildingRules) whose
-  /// direction lies within doors.side_angle of `facing` (rad, place frame), the nearest to `near`
+  /// direction lies within doors.tracks.side_angle of `facing` (rad, place frame), the nearest to `near`
   /// (place frame) within doors.same_distance.
   std::optional<DoorSighting> seeDoor(const Perception& q, const Eigen::Vector2d& near, double facing) const;
   /// The door to go out by: the mean of its sightings from inside the room since beginDoorExit()

@@ -1,4 +1,4 @@
-// The building rules and the robot's footprint read by a node (ROS, not part of the ROS-free core):
+// The building rules, the opening tracks and the robot's footprint read by a node (ROS, not part of the ROS-free core):
 // from the `building` and `robot` namespaces (config/building.yaml and config/robot.yaml, loaded
 // once by the launch file) relative to the node's namespace, so that robots in their own namespaces
 // each have theirs; the code's defaults where a launch loads none. The one reader for every package.
@@ -10,6 +10,7 @@
 #include <string>
 
 #include "laser_features/building_rules.h"
+#include "laser_features/opening_tracks.h"
 #include "laser_features/robot_footprint.h"
 
 namespace laser_features {
@@ -19,7 +20,7 @@ namespace laser_features {
 template <typename T, typename Visit>
 T readShared(const ros::NodeHandle& nh, const std::string& ns, Visit visit) {
   T values;
-  visit(&values, [&](const char* name, double* value) { nh.param(ns + "/" + name, *value, *value); });
+  visit(&values, [&](const char* name, auto* value) { nh.param(ns + "/" + name, *value, *value); });
   std::string why;
   if (!values.valid(&why)) throw std::invalid_argument(why);
   return values;
@@ -28,6 +29,11 @@ T readShared(const ros::NodeHandle& nh, const std::string& ns, Visit visit) {
 /// The building rules (config/building.yaml, the `building` namespace).
 inline BuildingRules readBuildingRules(const ros::NodeHandle& nh) {
   return readShared<BuildingRules>(nh, "building", [](BuildingRules* r, auto&& f) { visitBuildingRules(r, f); });
+}
+
+/// How openings are tracked over scans (config/opening_tracks.yaml, the `opening_tracks` namespace).
+inline OpeningTracks readOpeningTracks(const ros::NodeHandle& nh) {
+  return readShared<OpeningTracks>(nh, "opening_tracks", [](OpeningTracks* t, auto&& f) { visitOpeningTracks(t, f); });
 }
 
 /// The robot's footprint (config/robot.yaml, the `robot` namespace).

@@ -9,6 +9,7 @@
 #include "laser_features/corner_extractor.h"
 #include "laser_features/geometry.h"
 #include "laser_features/opening_extractor.h"
+#include "laser_features/opening_tracks.h"
 #include "pomdp_topo/heading_estimator.h"
 #include "pomdp_topo/observation.h"
 
@@ -26,17 +27,14 @@ struct FrontEndParams {
                                      // heading and the rotation has slowed below track_max_rotation
   double max_feature_range = 5.0;    // m, features farther from the robot are not tracked
   double track_gate = 0.5;           // m, a feature this close to a track of its type updates the track
-  double track_keep_distance = 8.0;  // m, tracks farther than this from the robot are dropped
-  int min_sightings = 3;             // -, scans a track needs before it is observed or passed
   double min_confidence = 0.3;       // -, mean extraction confidence a track needs
   double observation_range = 3.5;    // m, tracks within this along and lateral distance are observed
   double pass_lag = 0.2;             // m, a side landmark is passed once this far behind the robot
-  double side_angle = 0.44;          // rad (25 deg), openings whose normal is within this of +-90 deg
-                                     // of the travel heading are side openings (doors, branches)
   double track_max_rotation = 0.05;  // rad, scans during which the robot turned more are not tracked
                                      // (the heading estimate lags in fast turns)
   double max_odometry_step = 3.0;    // m, a larger odometry jump between scans is refused (a reset), not travelled
   laser_features::BuildingRules rules;  // which tracked openings are doors (config/building.yaml)
+  laser_features::OpeningTracks tracks;  // side openings, sightings, keep distance (config/opening_tracks.yaml)
 };
 
 /// A landmark the robot has just passed (abeam and `pass_lag` behind), in the travel frame at

@@ -87,12 +87,9 @@ void visitParams(TopoParams* p, Visitor&& visit) {
   visit("turn_settle_angle", &p->front_end.turn_settle_angle);
   visit("max_feature_range", &p->front_end.max_feature_range);
   visit("track_gate", &p->front_end.track_gate);
-  visit("track_keep_distance", &p->front_end.track_keep_distance);
-  visit("min_sightings", &p->front_end.min_sightings);
   visit("min_confidence", &p->front_end.min_confidence);
   visit("observation_range", &p->front_end.observation_range);
   visit("pass_lag", &p->front_end.pass_lag);
-  visit("side_angle", &p->front_end.side_angle);
   visit("track_max_rotation", &p->front_end.track_max_rotation);
   visit("max_odometry_step", &p->front_end.max_odometry_step);
   // Map building and loop closing.
