@@ -32,6 +32,7 @@
 #include "laser_features/planar_covariance.h"
 #include "laser_features/tf_lookup.h"
 #include "lockstep/participant.h"
+#include "local_poses.h"
 #include "ros_conversions.h"
 #include "service_requests.h"
 
@@ -149,35 +150,7 @@ class ExplorationNode {
       return;
     }
     Perception p;
-    p.stamp = msg->header.stamp.toSec();
-    if (!lookup(odom_frame_, base_frame_, msg->header.stamp, &p.odom)) return;
-    p.sensor_in_robot = sensor_in_robot_;
-    p.ranges = scan->ranges;
-    p.angle_min = scan->angle_min;
-    p.angle_increment = scan->angle_increment;
-    scanPoints(*scan, sensor_in_robot_, &p.points);
-    size_t dropped = 0;
-    featuresInRobot(*msg, sensor_in_robot_, &p.lines, &p.openings, &dropped);
-    if (dropped > 0) ROS_WARN_THROTTLE(10.0, "exploration: %zu non-finite features dropped", dropped);
-    odom_theta_at_features_ = p.odom.theta;
-    // In lockstep pomdp_topo's heading of these very features has arrived (the step waited for it):
-    // pair it with their odometry.
-    if (lockstep_.enabled() && topo_.heading_valid) topo_.heading_offset = laser_features::normalizeAngle(topo_heading_ - p.odom.theta);
-    auto pose = local_poses_.find(msg->header.stamp.toNSec());
-    if (pose != local_poses_.end() && coordinator_->currentPlace() >= 0 &&
-        pose->second.place == coordinator_->currentPlace()) {
-      p.room_pose_valid = true;
-      p.room_pose = pose->second.pose;
-      p.room_pose_cov = pose->second.cov;
-    } else if (coordinator_->currentPlace() >= 0 && last_local_place_ == coordinator_->currentPlace() &&
-               std::abs((last_local_stamp_ - msg->header.stamp).toSec()) < 0.3) {
-      // The EKF's pose of a slightly older scan, moved by the odometry since (rooms are metric).
-      Pose2D odom_then;
-      if (lookup(odom_frame_, base_frame_, last_local_stamp_, &odom_then)) {
-        p.room_pose_valid = true;
-        p.room_pose = laser_features::compose(last_local_pose_, laser_features::compose(laser_features::inverse(odom_then), p.odom));
-      }
-    }
+    if (!perceive(*msg, *scan, &p)) return;
     std::unique_lock<std::mutex> lock(mutex_);
     if (paused_) {
       lock.unlock();
@@ -190,7 +163,36 @@ class ExplorationNode {
     const Decision d = coordinator_->update(p, topo_, reached, blocked);
     for (const Request& r : d.requests) execute(r);
     serviceMission();
-    lock.lock();
+    applyGoal(d);
+    report(msg->header.stamp);
+  }
+
+  /// The perception of one features message and its scan: odometry at their stamp, the scan and
+  /// the features in the robot frame, and the EKF's pose in the current place. False without odometry.
+  bool perceive(const hybrid_slam_msgs::LaserFeatures& msg, const sensor_msgs::LaserScan& scan, Perception* p) {
+    p->stamp = msg.header.stamp.toSec();
+    if (!lookup(odom_frame_, base_frame_, msg.header.stamp, &p->odom)) return false;
+    p->sensor_in_robot = sensor_in_robot_;
+    p->ranges = scan.ranges;
+    p->angle_min = scan.angle_min;
+    p->angle_increment = scan.angle_increment;
+    scanPoints(scan, sensor_in_robot_, &p->points);
+    size_t dropped = 0;
+    featuresInRobot(msg, sensor_in_robot_, &p->lines, &p->openings, &dropped);
+    if (dropped > 0) ROS_WARN_THROTTLE(10.0, "exploration: %zu non-finite features dropped", dropped);
+    odom_theta_at_features_ = p->odom.theta;
+    // In lockstep pomdp_topo's heading of these very features has arrived (the step waited for it):
+    // pair it with their odometry.
+    if (lockstep_.enabled() && topo_.heading_valid) topo_.heading_offset = laser_features::normalizeAngle(topo_heading_ - p->odom.theta);
+    const auto odom_at = [&](const ros::Time& t, Pose2D* out) { return lookup(odom_frame_, base_frame_, t, out); };
+    p->room_pose_valid =
+        local_poses_.at(coordinator_->currentPlace(), msg.header.stamp, p->odom, odom_at, &p->room_pose, &p->room_pose_cov);
+    return true;
+  }
+
+  /// The coordinator's goal to the motion controller: a new goal only when it changed.
+  void applyGoal(const Decision& d) {
+    std::lock_guard<std::mutex> lock(mutex_);
     motion_->setPassageWidth(d.passage_width);
     if (d.has_goal) {
       const bool same = has_goal_ && std::abs(d.x - goal_x_) < 1e-6 && std::abs(d.y - goal_y_) < 1e-6 &&
@@ -207,24 +209,27 @@ class ExplorationNode {
       motion_->cancel();
       has_goal_ = false;
     }
-    lock.unlock();
+  }
+
+  /// The log line on a change of mode or state, the status each second, the progress line and the markers.
+  void report(const ros::Time& stamp) {
     if (coordinator_->mode() != last_mode_ || coordinator_->state() != last_state_) {
       ROS_INFO("exploration: %s - %s", toString(coordinator_->mode()), coordinator_->state().c_str());
       last_mode_ = coordinator_->mode();
       last_state_ = coordinator_->state();
-      publishStatus(msg->header.stamp);
+      publishStatus(stamp);
     }
-    if ((msg->header.stamp - last_status_).toSec() > 1.0) publishStatus(msg->header.stamp);
-    if ((msg->header.stamp - last_progress_).toSec() > progress_period_) {
-      last_progress_ = msg->header.stamp;
-      printProgress(msg->header.stamp);
+    if ((stamp - last_status_).toSec() > 1.0) publishStatus(stamp);
+    if ((stamp - last_progress_).toSec() > progress_period_) {
+      last_progress_ = stamp;
+      printProgress(stamp);
     }
-    if (markers_pub_.getNumSubscribers() > 0 && (msg->header.stamp - last_markers_).toSec() > 1.0) {
-      last_markers_ = msg->header.stamp;
+    if (markers_pub_.getNumSubscribers() > 0 && (stamp - last_markers_).toSec() > 1.0) {
+      last_markers_ = stamp;
       visualization_msgs::MarkerArray m;
       if (coordinator_->mode() == CoordinatorMode::Metric && coordinator_->currentPlace() >= 0)
-        roomMarkers(coordinator_->room(), "place_" + std::to_string(coordinator_->currentPlace()), msg->header.stamp, &m);
-      m.markers.push_back(modeMarker(coordinator_->mode(), coordinator_->state(), base_frame_, msg->header.stamp));
+        roomMarkers(coordinator_->room(), "place_" + std::to_string(coordinator_->currentPlace()), stamp, &m);
+      m.markers.push_back(modeMarker(coordinator_->mode(), coordinator_->state(), base_frame_, stamp));
       markers_pub_.publish(m);
     }
   }
@@ -270,7 +275,8 @@ class ExplorationNode {
     r->success = o.success;
     r->message = o.message;
     r->path_length = o.path_length;
-    if (coordinator_->currentPlace() >= 0 && last_local_place_ == coordinator_->currentPlace()) r->final_pose = last_local_msg_.pose;
+    if (coordinator_->currentPlace() >= 0 && local_poses_.lastPlace() == coordinator_->currentPlace())
+      r->final_pose = local_poses_.lastMessage().pose;
   }
 
   /// After each coordinator step: the mission's feedback, and its result once it ended.
@@ -395,19 +401,7 @@ class ExplorationNode {
     topo_.heading_offset = laser_features::normalizeAngle(msg->heading - odom_theta_at_features_);
     topo_.heading_valid = true;
   }
-  void onLocalPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg) {
-    const std::string& f = msg->header.frame_id;
-    const std::string prefix = "place_";
-    if (f.compare(0, prefix.size(), prefix) != 0) return;
-    const int id = std::atoi(f.c_str() + prefix.size());
-    const Pose2D pose{msg->pose.pose.position.x, msg->pose.pose.position.y, tf2::getYaw(msg->pose.pose.orientation)};
-    local_poses_[msg->header.stamp.toNSec()] = {id, pose, laser_features::planarCovariance(msg->pose.covariance)};
-    while (local_poses_.size() > 20) local_poses_.erase(local_poses_.begin());
-    last_local_place_ = id;
-    last_local_pose_ = pose;
-    last_local_stamp_ = msg->header.stamp;
-    last_local_msg_ = *msg;
-  }
+  void onLocalPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg) { local_poses_.add(*msg); }
   /// ~pause (SetBool): true stops the robot and the coordinator's decisions where they are (the
   /// maps keep their state); false goes on. Paused sim time counts towards the time limits.
   bool onPause(std_srvs::SetBool::Request& req, std_srvs::SetBool::Response& res) {
@@ -479,7 +473,6 @@ class ExplorationNode {
   std::unique_ptr<MissionServer> mission_server_;
   ros::Subscriber relocation_sub_;
   double entropy_ = 0.0;
-  geometry_msgs::PoseWithCovarianceStamped last_local_msg_;
   lockstep::Participant lockstep_;
   ros::Time next_control_;  // lockstep: the sim time of the next control step
   lockstep::Publisher cmd_pub_, status_pub_;
@@ -496,15 +489,7 @@ class ExplorationNode {
   bool have_sensor_ = false;
   double odom_theta_at_features_ = 0.0;
   double topo_heading_ = 0.0;  // pomdp_topo's latest heading (rad, map frame)
-  struct LocalPose {
-    int place = -1;
-    Pose2D pose;
-    Eigen::Matrix3d cov;  // over (x, y, theta)
-  };
-  std::map<uint64_t, LocalPose> local_poses_;
-  int last_local_place_ = -1;
-  Pose2D last_local_pose_;
-  ros::Time last_local_stamp_;
+  LocalPoses local_poses_;
   bool bumper_ = false;
   bool has_goal_ = false;
   double goal_x_ = 0.0, goal_y_ = 0.0;
