@@ -14,7 +14,6 @@
 #include <ros/ros.h>
 #include <std_msgs/Bool.h>
 #include <std_srvs/SetBool.h>
-#include <tf2/utils.h>
 #include <tf2_ros/transform_listener.h>
 
 #include <chrono>
@@ -29,7 +28,6 @@
 #include "exploration/run_summary.h"
 #include "laser_features/building_rules_ros.h"
 #include "laser_features/param_reader_ros.h"
-#include "laser_features/planar_covariance.h"
 #include "laser_features/tf_lookup.h"
 #include "lockstep/participant.h"
 #include "local_poses.h"

@@ -37,9 +37,7 @@ class LocalPoses {
     Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();  // over (x, y, theta)
   };
   std::map<uint64_t, Entry> by_stamp_;
-  int last_place_ = -1;
-  laser_features::Pose2D last_pose_;
-  ros::Time last_stamp_;
+  int last_place_ = -1;  // of last_msg_
   geometry_msgs::PoseWithCovarianceStamped last_msg_;
 };
 
