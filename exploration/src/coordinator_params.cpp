@@ -12,8 +12,8 @@ bool CoordinatorParams::valid(std::string* error) const {
   if (!rules.valid(error)) return false;
   if (!(doors.min_confidence >= 0.0 && doors.min_confidence <= 1.0)) return fail("door_min_confidence must be in [0, 1]");
   if (!doors.tracks.valid(error)) return false;
-  if (!(doors.pass_distance >= 0.0 && doors.same_distance > 0.0 && doors.wall_tolerance > 0.0 && doors.wall_memory >= 0.0))
-    return fail("door_same_distance and door_wall_tolerance must be > 0, door_pass_distance and door_wall_memory >= 0");
+  if (!(doors.same_distance > 0.0 && doors.wall_tolerance > 0.0 && doors.wall_memory >= 0.0))
+    return fail("door_same_distance and door_wall_tolerance must be > 0, door_wall_memory >= 0");
   if (!RoomVisit::validate(room_visit, error)) return false;
   if (!(settle_time >= 0.0 && max_time >= 0.0)) return fail("settle_time and max_time must be >= 0");
   if (route.max_route_attempts < 1) return fail("max_route_attempts must be >= 1");

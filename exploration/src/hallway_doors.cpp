@@ -79,7 +79,7 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
       // First seen already passed: behind where this stretch started, seen in the turn into it
       // (large_floor: a known room's door 1.2 m behind the T where the robot turned into hall_3,
       // entered as new 0.4 s after the turn).
-      t.decided = o.center.dot(unitVector(dir_robot)) < -params_.pass_distance;
+      t.decided = o.center.dot(unitVector(dir_robot)) < -params_.tracks.enter_lag;
       tracks_.push_back(t);
       continue;
     }
@@ -117,8 +117,8 @@ bool HallwayDoors::passed(const Pose2D& odom, double dir_robot, const Walls& wal
   for (DoorTrack& t : tracks_) {
     if (t.decided || t.sightings < params_.tracks.min_sightings) continue;
     const double along = f.along(t.centre_odom);
-    if (along > -params_.pass_distance) continue;
-    if (along < -params_.pass_distance - 1.0) {  // seen only from behind: too late
+    if (along > -params_.tracks.enter_lag) continue;
+    if (along < -params_.tracks.enter_lag - 1.0) {  // seen only from behind: too late
       t.decided = true;
       continue;
     }
@@ -135,7 +135,7 @@ bool HallwayDoors::besideEnd(const Pose2D& odom, double dir_robot, const Walls& 
     const double along = f.along(t.centre_odom), lateral = f.lateral(t.centre_odom);
     // Not passed (passed() has those), and in a side wall short of the end wall (a door lies on its
     // wall: wall_tolerance).
-    const double min_along = turning_round ? params_.pass_distance : -params_.pass_distance;
+    const double min_along = turning_round ? params_.tracks.enter_lag : -params_.tracks.enter_lag;
     if (along <= min_along || along > free_ahead + params_.wall_tolerance) continue;
     if (!closed[lateral > 0.0 ? 0 : 1]) continue;  // the side the robot turns to: its way on
     if (offer(t, lateral, walls, door)) return true;

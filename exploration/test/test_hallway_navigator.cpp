@@ -340,7 +340,7 @@ TEST(HallwayNavigator, ADoorBesideTheHallwaysEndIsEnteredOnceTurned) {
   EXPECT_NEAR(entry->bearing, 0.5 * kPi, 0.05);
 }
 
-// Turning round, a door within pass_distance of abeam lies on the robot's way back: it is passed and
+// Turning round, a door within tracks.enter_lag of abeam lies on the robot's way back: it is passed and
 // entered there as any door, not taken at the end (which would change nothing but the moment).
 TEST(HallwayNavigator, TurningRoundADoorAbeamIsPassedOnTheWayBack) {
   const Hallway h(true, 18.85);  // the robot turns round at x = 18.7: the door 0.15 m ahead

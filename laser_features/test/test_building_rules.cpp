@@ -124,6 +124,22 @@ TEST(OpeningTracks, OutOfRangeValuesAreRefusedWithTheirNamespace) {
   EXPECT_FALSE(t.valid());
 }
 
+// A door is entered after it is passed: the exploration turns back to it only once pomdp_topo's
+// front end has made its node (enter_lag > pass_lag), else the entry marks explored an opening of
+// the node before and the door's own node, made later, stays unexplored (the room mapped twice).
+TEST(OpeningTracks, ADoorIsEnteredOnlyAfterItIsPassed) {
+  laser_features::OpeningTracks t;
+  EXPECT_GT(t.enter_lag, t.pass_lag);
+  t.enter_lag = t.pass_lag;
+  std::string why;
+  EXPECT_FALSE(t.valid(&why));
+  EXPECT_NE(why.find("opening_tracks/enter_lag"), std::string::npos) << why;
+  t.enter_lag = t.pass_lag + 0.05;
+  EXPECT_TRUE(t.valid());
+  t.pass_lag = -0.1;
+  EXPECT_FALSE(t.valid());
+}
+
 TEST(BuildingRules, NarrowerThanAnyHallwayIsADoorAndADoubleDoorsWidthNeedsARoomBehind) {
   const BuildingRules rules;
   EXPECT_FALSE(rules.isDoor(0.6, true));   // too narrow to pass

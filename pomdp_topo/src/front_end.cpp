@@ -234,7 +234,7 @@ void FrontEnd::checkPassed() {
   // confirmed (its confirmation may come a little after it went behind), and armed.
   for (auto& t : tracks_) {
     const ObservedLandmark o = toTravelFrame(t);
-    const bool behind = o.along < -params_.pass_lag;
+    const bool behind = o.along < -params_.tracks.pass_lag;
     if (!behind) t.armed = true;
     if (t.armed && behind && confirmed(t)) {
       const bool side = t.type == LandmarkType::Corner ||

@@ -237,7 +237,7 @@ void MapBuilder::processFrontier(const Scan& scan, const FrontEnd& fe) {
 
 int MapBuilder::nodeBesideRobot(const NodeOpening& door, const FrontEnd& fe) {
   if (mode_ != Mode::Frontier || !params_.mapping || !std::isfinite(door.bearing)) return currentNode();
-  // The robot stops at a door to enter it before the front end passes it (pass_lag beyond it); a
+  // The robot stops at a door to enter it before the front end passes it (tracks.pass_lag beyond it); a
   // door taken for a node's farther back would be unexplored at the node its passing makes later,
   // and the room behind it mapped again.
   Scan here;
@@ -442,7 +442,7 @@ bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const
 void MapBuilder::processLoopCheck(const Scan& scan, const FrontEnd& fe) {
   buffer_.push_back(scan);
   const bool turned =
-      loop_.observe(*map_, params_, headingBins(), fe_params_.pass_lag, scan.passed, scan.actions, scan.travel);
+      loop_.observe(*map_, params_, headingBins(), fe_params_.tracks.pass_lag, scan.passed, scan.actions, scan.travel);
   const double u = scan.travel - loop_.travel0();
   const double odds = loopLogOdds();
   if (odds >= params_.loop_decision_log_odds) {
@@ -604,7 +604,7 @@ void MapBuilder::processLocalized(const Scan& scan) {
       event("relocalized after the odometry jump");
     }
   }
-  if (sure && params_.mapping && beyond_ == 0.0) updater_.update(scan, params_, gate_, headingBins(), fe_params_.pass_lag, &events_);
+  if (sure && params_.mapping && beyond_ == 0.0) updater_.update(scan, params_, gate_, headingBins(), fe_params_.tracks.pass_lag, &events_);
 }
 
 MapBuilder::Departure MapBuilder::departure(const TopoNode& n, double heading, const Pose2D& robot, double* s) const {

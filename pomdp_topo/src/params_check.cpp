@@ -43,7 +43,6 @@ bool validateParams(const TopoParams& p, std::string* error) {
   need(positive(f.track_gate), "track_gate must be > 0");
   need(unit(f.min_confidence), "min_confidence must be in [0, 1]");
   need(positive(f.observation_range), "observation_range must be > 0");
-  need(nonneg(f.pass_lag), "pass_lag must be >= 0");
   need(positive(f.track_max_rotation), "track_max_rotation must be > 0");
   need(positive(f.max_odometry_step), "max_odometry_step must be > 0");
   const MapBuilderParams& b = p.builder;

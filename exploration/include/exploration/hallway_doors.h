@@ -27,10 +27,8 @@ struct HallwayDoorParams {
   double min_confidence = 0.5;   // -, laser_features' opening confidence a door needs (not in a dead end's end wall)
   double wall_tolerance = 0.35;  // m, a door lies on its side's wall: one farther behind the wall seen is not tracked
   double wall_memory = 3.0;      // m of travel, a side's wall line is kept where the scan no longer sees it
-  double pass_distance = 0.3;    // m, a door is passed once this far behind the robot (the map builder
-                                 // has made its node then; pomdp_topo's pass_lag is 0.2)
   double same_distance = 1.0;    // m, a door this close to one already decided on is the same door
-  laser_features::OpeningTracks tracks;  // side openings, sightings, keep distance (config/opening_tracks.yaml)
+  laser_features::OpeningTracks tracks;  // side openings, sightings, keep distance, enter_lag (config/opening_tracks.yaml)
 };
 
 struct DoorTrack {
@@ -67,14 +65,14 @@ class HallwayDoors {
   /// direction in the robot frame, `travel` (m) the total travel. Returns the walls it gated with.
   Walls track(const laser_features::Pose2D& odom, const std::vector<laser_features::Opening>& openings,
               double dir_robot, const HallwayView& v, double travel);
-  /// A door passed (pass_distance behind), not behind its side's wall in `walls`.
+  /// A door passed (tracks.enter_lag behind), not behind its side's wall in `walls`.
   bool passed(const laser_features::Pose2D& odom, double dir_robot, const Walls& walls, DoorTrack* door);
   /// At a hallway's end (its end wall `free_ahead` away): a door tracked beside the robot on a side
   /// closed there (`closed`: left, right) and not passed yet, no farther ahead than the end wall.
   /// The robot goes no farther along this hallway, so the door is passed now; offered as `passed`
   /// offers one. The turn that follows would forget it. `turning_round`: a door within
-  /// pass_distance of abeam lies on the robot's way back and is passed on it as any door (track()
-  /// takes a door first seen more than pass_distance behind for passed before); it is left to that.
+  /// tracks.enter_lag of abeam lies on the robot's way back and is passed on it as any door (track()
+  /// takes a door first seen more than enter_lag behind for passed before); it is left to that.
   bool besideEnd(const laser_features::Pose2D& odom, double dir_robot, const Walls& walls, double free_ahead,
                  const std::array<bool, 2>& closed, bool turning_round, DoorTrack* door);
   /// A tracked door beside the robot (within kSameDoorSpan along) on the side `side` (+1 left, -1 right):

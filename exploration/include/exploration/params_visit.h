@@ -44,7 +44,6 @@ void visitParams(ExplorationParams* p, Visitor&& visit) {
   visit("door_min_confidence", &c.doors.min_confidence);
   visit("door_wall_tolerance", &c.doors.wall_tolerance);
   visit("door_wall_memory", &c.doors.wall_memory);
-  visit("door_pass_distance", &c.doors.pass_distance);
   visit("door_same_distance", &c.doors.same_distance);
   visit("settle_time", &c.settle_time);
   visit("branch_record_distance", &c.branch_record_distance);

@@ -23,14 +23,23 @@ struct OpeningTracks {
   // m, tracks farther than this from the robot are dropped: beyond the range openings are tracked
   // at (pomdp_topo's max_feature_range), so a track is dropped only once it is out of use.
   double keep_distance = 8.0;
+  // m, a side opening is passed once this far behind the robot: pomdp_topo's front end makes its
+  // landmark (a door's node) then. A few scans' travel (0.05-0.1 m each), so that the opening is
+  // seen abeam, where its position is best, before it is passed.
+  double pass_lag = 0.2;
+  // m, a door is entered once this far behind the robot: after it was passed (pomdp_topo has made
+  // its node, which the entry marks explored), so more than pass_lag. The robot turns back to it.
+  double enter_lag = 0.3;
 
   bool valid(std::string* error = nullptr) const {
     if (std::isfinite(side_angle) && side_angle > 0.0 && side_angle < M_PI / 2 && min_sightings >= 1 &&
-        std::isfinite(keep_distance) && keep_distance > 0.0)
+        std::isfinite(keep_distance) && keep_distance > 0.0 && std::isfinite(pass_lag) && pass_lag >= 0.0 &&
+        std::isfinite(enter_lag) && enter_lag > pass_lag && enter_lag < keep_distance)
       return true;
     if (error)
-      *error = "opening_tracks/side_angle must be in (0, pi/2), opening_tracks/min_sightings >= 1 and "
-               "opening_tracks/keep_distance > 0";
+      *error = "opening_tracks/side_angle must be in (0, pi/2), opening_tracks/min_sightings >= 1, "
+               "opening_tracks/keep_distance > 0, opening_tracks/pass_lag >= 0 and opening_tracks/enter_lag "
+               "in (pass_lag, keep_distance): a door is entered after it is passed";
     return false;
   }
 };
@@ -41,6 +50,8 @@ void visitOpeningTracks(OpeningTracks* t, Visitor&& visit) {
   visit("side_angle", &t->side_angle);
   visit("min_sightings", &t->min_sightings);
   visit("keep_distance", &t->keep_distance);
+  visit("pass_lag", &t->pass_lag);
+  visit("enter_lag", &t->enter_lag);
 }
 
 }  // namespace laser_features

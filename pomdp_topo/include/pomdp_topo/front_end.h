@@ -29,7 +29,6 @@ struct FrontEndParams {
   double track_gate = 0.5;           // m, a feature this close to a track of its type updates the track
   double min_confidence = 0.3;       // -, mean extraction confidence a track needs
   double observation_range = 3.5;    // m, tracks within this along and lateral distance are observed
-  double pass_lag = 0.2;             // m, a side landmark is passed once this far behind the robot
   double track_max_rotation = 0.05;  // rad, scans during which the robot turned more are not tracked
                                      // (the heading estimate lags in fast turns)
   double max_odometry_step = 3.0;    // m, a larger odometry jump between scans is refused (a reset), not travelled
@@ -37,7 +36,7 @@ struct FrontEndParams {
   laser_features::OpeningTracks tracks;  // side openings, sightings, keep distance (config/opening_tracks.yaml)
 };
 
-/// A landmark the robot has just passed (abeam and `pass_lag` behind), in the travel frame at
+/// A landmark the robot has just passed (abeam and tracks.pass_lag behind), in the travel frame at
 /// that moment.
 struct PassedLandmark {
   ObservedLandmark landmark;

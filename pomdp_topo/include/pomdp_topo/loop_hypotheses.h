@@ -38,7 +38,7 @@ class LoopHypotheses {
              double travel0);
   /// One scan of the check (`travel`: FrontEnd::travel() after it): the landmarks passed along the
   /// way verified and its turns scored for every hypothesis; the landmarks expected more than
-  /// match_distance + `pass_lag` (FrontEndParams: how far behind the robot a landmark is passed)
+  /// match_distance + `pass_lag` (OpeningTracks: how far behind the robot a landmark is passed)
   /// behind the robot and not seen count as missed. True when the scan has a turn.
   bool observe(const TopologicalMap& map, const MapBuilderParams& params, const laser_features::HeadingBins& bins,
                double pass_lag, const std::vector<PassedLandmark>& passed, const std::vector<Action>& actions,

@@ -33,7 +33,7 @@ class MapUpdater {
 
   /// One scan with a confident belief (its most likely state): the map updated from its passed
   /// landmarks by the map builder's `params`; `gate` says where the dead reckoning puts them, `bins`
-  /// are the heading bins, `pass_lag` (m, FrontEndParams) how far behind the robot a landmark is
+  /// are the heading bins, `pass_lag` (m, OpeningTracks) how far behind the robot a landmark is
   /// passed. What changed is told in `events`.
   void update(const ScanRecord& scan, const MapBuilderParams& params, const DeadReckoningGate& gate,
               const laser_features::HeadingBins& bins, double pass_lag, std::vector<std::string>* events);

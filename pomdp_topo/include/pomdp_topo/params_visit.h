@@ -89,7 +89,6 @@ void visitParams(TopoParams* p, Visitor&& visit) {
   visit("track_gate", &p->front_end.track_gate);
   visit("min_confidence", &p->front_end.min_confidence);
   visit("observation_range", &p->front_end.observation_range);
-  visit("pass_lag", &p->front_end.pass_lag);
   visit("track_max_rotation", &p->front_end.track_max_rotation);
   visit("max_odometry_step", &p->front_end.max_odometry_step);
   // Map building and loop closing.
