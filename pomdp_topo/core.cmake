@@ -10,6 +10,8 @@ add_library(pomdp_topo_core
   ${POMDP_TOPO_CORE_DIR}/src/topological_map.cpp
   ${POMDP_TOPO_CORE_DIR}/src/heading_estimator.cpp
   ${POMDP_TOPO_CORE_DIR}/src/map_io.cpp
+  ${POMDP_TOPO_CORE_DIR}/src/graph_states.cpp
+  ${POMDP_TOPO_CORE_DIR}/src/observation_model.cpp
   ${POMDP_TOPO_CORE_DIR}/src/pomdp_localizer.cpp
   ${POMDP_TOPO_CORE_DIR}/src/front_end.cpp
   ${POMDP_TOPO_CORE_DIR}/src/dead_reckoning_gate.cpp
