@@ -44,6 +44,7 @@
 #pragma once
 
 #include "ekf_local_map/measurement_model.h"
+#include "ekf_local_map/update_kernels.h"
 
 #include <laser_features/geometry.h>
 #include <laser_features/line_extractor.h>
@@ -163,14 +164,6 @@ struct MapLine {
   Eigen::Vector2d extent_end = Eigen::Vector2d::Zero();
   double length() const { return (extent_end - extent_start).norm(); }
 };
-
-/// The SIMD kernels of the stacked update (eqs. 15–17): portable (SSE2 / NEON width), or AVX2 +
-/// FMA on x86-64 CPUs that have it (chosen at run time, the default when available). The results
-/// agree up to floating-point rounding. For tests and benchmarks; process-wide.
-enum class UpdateKernelIsa : uint8_t { kPortable, kAvx2Fma };
-UpdateKernelIsa updateKernelIsa();
-/// False, changing nothing, when this CPU (or build) lacks the instruction set.
-bool setUpdateKernelIsa(UpdateKernelIsa isa);
 
 class StochasticMap {
  public:
