@@ -111,6 +111,14 @@ class MapBuilder {
   void dispatch(const Scan& scan, const FrontEnd& fe);
   void processFrontier(const Scan& scan, const FrontEnd& fe);
   void processLocalized(const Scan& scan);
+  /// What one action of processLocalized does where the belief stands at a node heading where no
+  /// edge leads: nothing special (OnGraph), the observation not used (an unexplored way, or the
+  /// belief reset), used with the travel beyond still counted (a hallway's end), or a new stretch
+  /// started (LeftGraph: the rest of the scan is the frontier's).
+  enum class BeyondStep { OnGraph, SkipObservation, ObserveAtEnd, LeftGraph };
+  BeyondStep stepBeyondGraph(const Action& a, const Scan& scan);
+  /// The node `st` is at, recorded twice: merged into its twin, the belief on along the twin's way.
+  bool mergeTwin(const PomdpLocalizer::State& st);
   void processLoopCheck(const Scan& scan, const FrontEnd& fe);
   void frontierTurn(int k, const Scan& scan, const FrontEnd& fe);
   /// Creates a node `pos` metres along the frontier (or adds the openings to the node it started
