@@ -5,6 +5,7 @@
 #pragma once
 
 #include "laser_features/geometry.h"
+#include "laser_features/line_fit.h"
 #include "laser_features/scan.h"
 
 #include <Eigen/Core>
@@ -81,16 +82,7 @@ class LineExtractor {
     size_t end;
   };
 
-  double rangeSigma(double range) const { return params_.range_sigma + params_.range_sigma_per_meter * range; }
-  /// Weight of a point in the fit, 1 / sigma_rho^2.
-  double weight(double range) const {
-    if (constant_weight_ > 0.0) return constant_weight_;
-    const double sigma = rangeSigma(range);
-    return 1.0 / (sigma * sigma);
-  }
   bool usable(const ScanPoints& points, size_t v) const;
-  bool fit(const ScanPoints& points, size_t begin, size_t end, bool skip_ignored, Line* line,
-           uint32_t* num_points) const;
   void markBreaks(const ScanPoints& points);
   bool isBreak(const ScanPoints& points, size_t a, size_t b) const;
   size_t findWalkStart(const ScanPoints& points, bool* continuous_ring) const;
@@ -113,11 +105,11 @@ class LineExtractor {
   size_t previousUsable(const ScanPoints& points, size_t i, size_t begin) const;
 
   Params params_;
+  WeightedLineFit line_fit_;
   std::vector<Piece> pieces_;
   std::vector<Interval> stack_;
   std::vector<uint8_t> ignored_;       // per beam: a valid point left out of every line (isolated clutter)
   std::vector<uint8_t> break_before_;  // per valid beam: a breakpoint separates it from the previous one
-  double constant_weight_ = 0.0;        // 1 / range_sigma^2 when the noise does not grow with range
   double neighbour_break_ratio_ = 0.0;  // sin(dphi) / sin(lambda - dphi) for neighbouring beams
 };
 
