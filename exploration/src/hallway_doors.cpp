@@ -122,7 +122,7 @@ bool HallwayDoors::passed(const Pose2D& odom, double dir_robot, const Walls& wal
       t.decided = true;
       continue;
     }
-    if (offer(t, f.lateral(t.centre_odom), walls, door)) return true;
+    if (offer(t, f.lateral(t.centre_odom), walls, f.robot, door)) return true;
   }
   return false;
 }
@@ -138,14 +138,23 @@ bool HallwayDoors::besideEnd(const Pose2D& odom, double dir_robot, const Walls& 
     const double min_along = turning_round ? params_.tracks.enter_lag : -params_.tracks.enter_lag;
     if (along <= min_along || along > free_ahead + params_.wall_tolerance) continue;
     if (!closed[lateral > 0.0 ? 0 : 1]) continue;  // the side the robot turns to: its way on
-    if (offer(t, lateral, walls, door)) return true;
+    if (offer(t, lateral, walls, f.robot, door)) return true;
   }
   return false;
 }
 
-bool HallwayDoors::offer(DoorTrack& t, double lateral, const Walls& walls, DoorTrack* door) {
+bool HallwayDoors::opensAwayFrom(const DoorTrack& t, const Eigen::Vector2d& robot) {
+  return (t.centre_odom - robot).dot(unitVector(t.into_odom)) > 0.0;
+}
+
+bool HallwayDoors::offer(DoorTrack& t, double lateral, const Walls& walls, const Eigen::Vector2d& robot, DoorTrack* door) {
   t.decided = true;
   if (!rules_.isDoorTracked(t.width, t.room_sightings)) return false;  // a hallway's mouth
+  // A door opens away from the hallway the robot stands in: the robot is on its near side. Each
+  // sighting's direction into the room points away from the robot; a track whose last sighting was
+  // taken from elsewhere (in a turn at a junction, seen from another hallway) can point back at
+  // the robot, and its room would be the hallway.
+  if (!opensAwayFrom(t, robot)) return false;
   // Behind the wall known now, though tracked while none was (large_floor: just after a turn into
   // a hallway, a gap 1.58 m aside with the wall found 1.04 m aside by the time it was passed).
   const std::optional<double>& wall = walls[lateral > 0.0 ? 0 : 1];

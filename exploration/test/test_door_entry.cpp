@@ -358,3 +358,18 @@ TEST(DoorEntry, AMissionsDoorIsNoDoorOfAnotherWidth) {
   EXPECT_FALSE(entry.mayEnter(topo, graph, door(0.0, 1.0, 0.5 * kPi, 1.79), 0.5 * kPi, true, &*mission).has_value());
   EXPECT_FALSE(entry.mayEnter(topo, graph, door(0.0, -1.0, -0.5 * kPi, 1.79), -0.5 * kPi, false, &*mission).has_value());
 }
+
+// A door opens away from the hallway the robot stands in: its direction into the room points from
+// the robot's side of the wall to the other. A track whose direction points back at the robot (its
+// last sighting taken from elsewhere, in a turn at a junction) is no door to enter from here: its
+// "room" would be the hallway, which the robot could never leave through that door.
+TEST(HallwayDoors, ADoorOpensAwayFromTheHallwayTheRobotStandsIn) {
+  DoorTrack door;
+  door.centre_odom = {2.0, 1.1};  // in the left wall of a hallway along +x
+  door.into_odom = 0.5 * kPi;     // into the room behind that wall
+  for (const double x : {0.0, 2.0, 4.0})
+    EXPECT_TRUE(HallwayDoors::opensAwayFrom(door, {x, 0.0})) << "robot at x = " << x << " in the hallway";
+  EXPECT_FALSE(HallwayDoors::opensAwayFrom(door, {2.0, 2.5})) << "the robot in the room";
+  door.into_odom = -0.5 * kPi;  // pointing back into the hallway
+  EXPECT_FALSE(HallwayDoors::opensAwayFrom(door, {2.0, 0.0}));
+}

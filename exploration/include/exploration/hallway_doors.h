@@ -100,7 +100,12 @@ class HallwayDoors {
   /// `t` (at `lateral` from the robot, + left) is decided now: offered as a door to enter (true,
   /// copied to `door`) when it is a door by the building rules, on its side's wall in `walls`, and
   /// not taken already on this stretch.
-  bool offer(DoorTrack& t, double lateral, const Walls& walls, DoorTrack* door);
+  bool offer(DoorTrack& t, double lateral, const Walls& walls, const Eigen::Vector2d& robot, DoorTrack* door);
+ public:
+  /// A door opens away from a robot at `robot` (odometry frame): the robot is on its near side.
+  static bool opensAwayFrom(const DoorTrack& t, const Eigen::Vector2d& robot);
+
+ private:
   /// The lateral distance (m) of the wall line on `side` (0 left, 1 right): seen in `v`, or seen
   /// within wall_memory of travel on this stretch; none if neither.
   std::optional<double> wallLateral(const laser_features::Pose2D& odom, double dir_robot, const HallwayView& v,
