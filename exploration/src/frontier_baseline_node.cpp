@@ -1,8 +1,8 @@
 // frontier_baseline_node: the baseline the topological-metric exploration is compared against
 // (issue 6): greedy frontier exploration on one occupancy grid of the whole building, in the spirit
 // of explore_lite (Hörner 2016) on top of a grid map. Thin: the ROS-free core does the work
-// (exploration/occupancy_grid.h, frontier_explorer.h, motion_controller.h); this node converts
-// messages and keeps the goal.
+// (exploration/occupancy_grid.h, frontier_explorer.h, frontier_goal.h, motion_controller.h); this
+// node converts messages and drives the goal's path.
 //
 // Localization: the robot's pose is tf map -> base_link. The simulator runs with
 // fake_localization, so map -> odom is the ground truth: the baseline maps with perfect poses. That
@@ -62,6 +62,7 @@
 #include <vector>
 
 #include "exploration/baseline_params.h"
+#include "exploration/frontier_goal.h"
 #include "laser_features/building_rules_ros.h"
 #include "laser_features/param_reader_ros.h"
 #include "laser_features/tf_lookup.h"
@@ -105,6 +106,12 @@ class FrontierBaselineNode {
       throw std::invalid_argument(why);
     }
     explorer_ = std::make_unique<FrontierExplorer>(p_.frontier, p_.planner);
+    FrontierGoalParams goal;
+    goal.reach_tolerance = p_.goal_reach_tolerance;
+    goal.timeout = p_.goal_timeout;
+    goal.blacklist_radius = p_.blacklist_radius;
+    goal.track_radius = std::max(p_.frontier.goal_search_radius, p_.goal_reach_tolerance);
+    goal_ = FrontierGoal(goal);
     motion_ = std::make_unique<MotionController>(p_.motion);
 
     cmd_pub_ = lockstep_.advertise<geometry_msgs::Twist>(nh_, "cmd_vel", 10);
@@ -212,19 +219,28 @@ class FrontierBaselineNode {
     }
   }
 
-  void dropGoal() {
-    goal_.reset();
+  /// The controller's goal and the path's waypoints go with the goal.
+  void stopDriving() {
     std::lock_guard<std::mutex> lock(mutex_);
     waypoints_.clear();
     waypoint_ = 0;
     motion_->cancel();
   }
 
-  void giveUp(const char* why) {
-    explorer_->blacklist(*goal_, p_.blacklist_radius);
-    ++goals_given_up_;
-    ROS_WARN("frontier_baseline: goal (%.2f, %.2f) given up (%s): blacklisted", goal_->x(), goal_->y(), why);
-    dropGoal();
+  /// The held goal reached or given up (FrontierGoal::review).
+  void reviewGoal(const Eigen::Vector2d& robot, bool reached, bool stopped, const ros::Time& now) {
+    const std::optional<Eigen::Vector2d> held = goal_.goal();
+    const FrontierGoal::End end = goal_.review(robot, reached, stopped, now.toNSec(), explorer_.get());
+    if (end == FrontierGoal::End::Held) return;
+    if (end == FrontierGoal::End::Reached) {
+      ++goals_reached_;
+    } else {
+      ++goals_given_up_;
+      ROS_WARN("frontier_baseline: goal (%.2f, %.2f) given up (%s): blacklisted", held->x(), held->y(),
+               end == FrontierGoal::End::Stopped ? "the motion controller stopped: blocked or bumped"
+                                                 : "no progress within goal_timeout");
+    }
+    stopDriving();
   }
 
   void plan(const Eigen::Vector2d& robot, const ros::Time& now) {
@@ -235,17 +251,7 @@ class FrontierBaselineNode {
       stopped_flag = stopped_flag_;
       reached_flag_ = stopped_flag_ = false;
     }
-    // The held goal: reached, or given up.
-    if (goal_) {
-      if (reached_flag || (robot - *goal_).norm() <= p_.goal_reach_tolerance) {
-        ++goals_reached_;
-        dropGoal();
-      } else if (stopped_flag) {
-        giveUp("the motion controller stopped: blocked or bumped");
-      } else if ((now - goal_progress_time_).toSec() > p_.goal_timeout) {
-        giveUp("no progress within goal_timeout");
-      }
-    }
+    reviewGoal(robot, reached_flag, stopped_flag, now);
 
     const auto t0 = std::chrono::steady_clock::now();
     explorer_->nextGoal(*grid_, robot);  // all frontiers costed; the choice of goal is below
@@ -259,39 +265,36 @@ class FrontierBaselineNode {
     for (const Frontier& f : explorer_->frontiers()) usable_frontiers_ += f.reachable && !f.blacklisted;
     total_frontiers_ = explorer_->frontiers().size();
 
-    // The held goal follows its frontier; a frontier gone frees the robot.
-    if (goal_ && !select(robot, true)) {
-      ROS_DEBUG("frontier_baseline: the goal's frontier vanished");
-      dropGoal();
+    // The held goal follows its frontier; a frontier gone frees the robot for the cheapest one.
+    const bool held = goal_.goal().has_value();
+    bool is_new = false;
+    std::vector<Eigen::Vector2d> unobservable;
+    const bool have = goal_.choose(robot, now.toNSec(), explorer_.get(), &is_new, &unobservable);
+    for (const Eigen::Vector2d& c : unobservable) {
+      ++goals_given_up_;
+      ROS_WARN("frontier_baseline: the frontier at (%.2f, %.2f) stays unseen from its goal: blacklisted", c.x(), c.y());
     }
-    if (!goal_) {
-      if (!select(robot, false)) {
-        finish(true, "exploration complete: no reachable frontier left");
-        return;
-      }
+    if (held && (is_new || !have)) {
+      ROS_DEBUG("frontier_baseline: the goal's frontier vanished");
+      stopDriving();
+    }
+    if (!have) {
+      finish(true, "exploration complete: no reachable frontier left");
+      return;
+    }
+    const Eigen::Vector2d goal = *goal_.goal();
+    if (is_new) {
       ++goals_;
-      goal_anchor_ = *goal_;
-      goal_best_length_ = std::numeric_limits<double>::infinity();
-      goal_progress_time_ = now;
-      ROS_DEBUG("frontier_baseline: goal %d at (%.2f, %.2f), %zu usable frontiers", goals_, goal_->x(), goal_->y(),
+      ROS_DEBUG("frontier_baseline: goal %d at (%.2f, %.2f), %zu usable frontiers", goals_, goal.x(), goal.y(),
                 usable_frontiers_);
     }
-    std::optional<Path> path = explorer_->planner().pathTo(*goal_);
+    std::optional<Path> path = explorer_->planner().pathTo(goal);
     if (!path) {  // not expected for a reachable frontier's goal: drive straight
       path = Path();
-      path->waypoints = {robot, *goal_};
-      path->length = (*goal_ - robot).norm();
+      path->waypoints = {robot, goal};
+      path->length = (goal - robot).norm();
     }
-    // Progress (explore_lite's progress_timeout): a new shortest path to the goal by a cell, or the
-    // goal moved away with its frontier (a new target).
-    if ((*goal_ - goal_anchor_).norm() > p_.goal_reach_tolerance) {
-      goal_anchor_ = *goal_;
-      goal_best_length_ = path->length;
-      goal_progress_time_ = now;
-    } else if (path->length < goal_best_length_ - grid_->resolution()) {
-      goal_best_length_ = path->length;
-      goal_progress_time_ = now;
-    }
+    goal_.progress(path->length, grid_->resolution(), now.toNSec());
     publishPath(*path, now);
     std::lock_guard<std::mutex> lock(mutex_);
     waypoints_.assign(path->waypoints.begin() + (path->waypoints.size() > 1 ? 1 : 0), path->waypoints.end());
@@ -306,37 +309,6 @@ class FrontierBaselineNode {
   void sendGoal(const Eigen::Vector2d& target) {
     motion_->setGoal(target.x(), target.y());
     target_ = target;
-  }
-
-  /// track: the held goal follows the usable frontier whose goal or centroid lies near it. Else: the
-  /// cheapest usable frontier not under the robot.
-  bool select(const Eigen::Vector2d& robot, bool track) {
-    const double track_radius = std::max(p_.frontier.goal_search_radius, p_.goal_reach_tolerance);
-    double best = std::numeric_limits<double>::infinity();
-    std::optional<Eigen::Vector2d> chosen;
-    for (const Frontier& f : explorer_->frontiers()) {  // cheapest first, unusable ones last
-      if (!f.reachable || f.blacklisted) break;
-      if (track) {
-        const double d = std::min((f.goal - *goal_).norm(), (f.centroid - *goal_).norm());
-        if (d <= track_radius && (f.goal - *goal_).norm() < best) {
-          best = (f.goal - *goal_).norm();
-          chosen = f.goal;
-        }
-        continue;
-      }
-      if ((f.goal - robot).norm() <= p_.goal_reach_tolerance) {
-        explorer_->blacklist(f.goal, p_.blacklist_radius);
-        ++goals_given_up_;
-        ROS_WARN("frontier_baseline: the frontier at (%.2f, %.2f) stays unseen from its goal: blacklisted",
-                 f.centroid.x(), f.centroid.y());
-        continue;
-      }
-      chosen = f.goal;
-      break;
-    }
-    if (!chosen) return false;
-    goal_ = *chosen;
-    return true;
   }
 
   void publishMap(const ros::Time& stamp) {
@@ -383,7 +355,7 @@ class FrontierBaselineNode {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start_).count();
     const double sim = (stamp - sim_start_).toSec();
     char goal[64] = "none";
-    if (goal_) std::snprintf(goal, sizeof(goal), "(%.1f, %.1f)", goal_->x(), goal_->y());
+    if (goal_.goal()) std::snprintf(goal, sizeof(goal), "(%.1f, %.1f)", goal_.goal()->x(), goal_.goal()->y());
     ROS_INFO("frontier_baseline: %.1f m2 free | %zu frontiers (%zu usable) | %d goals (%d reached, %d given up), "
              "goal %s | %.0f m | sim %.0f s, real-time factor %.1f | grid %d x %d, plan %.0f ms",
              freeArea(), total_frontiers_, usable_frontiers_, goals_, goals_reached_, goals_given_up_, goal, travel(),
@@ -519,10 +491,8 @@ class FrontierBaselineNode {
   std::unique_ptr<FrontierExplorer> explorer_;
   Pose2D sensor_in_robot_map_;
   bool have_sensor_map_ = false;
-  std::optional<Eigen::Vector2d> goal_;  // the held frontier goal, map frame
-  Eigen::Vector2d goal_anchor_ = Eigen::Vector2d::Zero();  // where the goal was at the last progress reset
-  double goal_best_length_ = 0.0;        // m, shortest path to the goal since then
-  ros::Time goal_progress_time_, last_plan_, last_map_publish_, last_progress_, sim_start_;
+  FrontierGoal goal_;  // the held frontier goal, map frame
+  ros::Time last_plan_, last_map_publish_, last_progress_, sim_start_;
   int goals_ = 0, goals_reached_ = 0, goals_given_up_ = 0, plans_ = 0;
   size_t usable_frontiers_ = 0, total_frontiers_ = 0, scans_refused_ = 0;
   double plan_seconds_ = 0.0;

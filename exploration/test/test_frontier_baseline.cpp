@@ -2,6 +2,7 @@
 // worlds: walls as segments, a 360-beam laser ray-cast against them (+inf beyond its range), and a
 // point robot teleported along the planned paths.
 #include "exploration/frontier_explorer.h"
+#include "exploration/frontier_goal.h"
 #include "exploration/occupancy_grid.h"
 
 #include <gtest/gtest.h>
@@ -645,6 +646,91 @@ TEST(FrontierExplorer, BlacklistedFrontierIsSkipped) {
   EXPECT_TRUE(explorer.frontiers()[0].blacklisted);
   explorer.clearBlacklist();
   EXPECT_TRUE(explorer.nextGoal(grid, robot).has_value());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Goal keeping (FrontierGoal, explore_lite's)
+
+constexpr int64_t kSecond = 1000000000;
+
+// The held goal is given up (blacklisted) when no planned path to it got shorter by a cell for
+// the timeout, not before: explore_lite's progress_timeout.
+TEST(FrontierGoal, AGoalWithoutProgressForTheTimeoutIsBlacklisted) {
+  const OccupancyGrid grid = corridorWithOpenings({{1.0, 2.0}, {8.0, 9.0}});
+  FrontierExplorer explorer;
+  const Vector2d robot(1.5, 1.0);
+  explorer.nextGoal(grid, robot);
+  FrontierGoalParams params;
+  params.timeout = 30.0;
+  FrontierGoal goal(params);
+  bool is_new = false;
+  ASSERT_TRUE(goal.choose(robot, 0, &explorer, &is_new, nullptr));
+  EXPECT_TRUE(is_new);
+  const Vector2d first = *goal.goal();
+  EXPECT_LT(first.x(), 3.0);  // the nearer opening
+  goal.progress(4.0, grid.resolution(), 0);
+  goal.progress(3.0, grid.resolution(), 10 * kSecond);  // shorter: progress at 10 s
+  goal.progress(3.0, grid.resolution(), 20 * kSecond);  // no shorter: none
+  EXPECT_EQ(goal.review(robot, false, false, 40 * kSecond, &explorer), FrontierGoal::End::Held);  // exactly 30 s
+  EXPECT_EQ(goal.review(robot, false, false, 40 * kSecond + 1, &explorer), FrontierGoal::End::NoProgress);
+  EXPECT_FALSE(goal.goal().has_value());
+  // Blacklisted: the next goal is the other opening.
+  explorer.nextGoal(grid, robot);
+  ASSERT_TRUE(goal.choose(robot, 41 * kSecond, &explorer, &is_new, nullptr));
+  EXPECT_TRUE(is_new);
+  EXPECT_GT(goal.goal()->x(), 7.0);
+}
+
+// A goal ends reached within reach_tolerance (or when the controller says so), and is given up when
+// the motion controller stopped (blocked or bumped).
+TEST(FrontierGoal, AGoalEndsReachedOrGivenUpWhenTheControllerStopped) {
+  const OccupancyGrid grid = corridorWithOpenings({{1.0, 2.0}, {8.0, 9.0}});
+  FrontierExplorer explorer;
+  const Vector2d robot(5.0, 1.0);
+  explorer.nextGoal(grid, robot);
+  FrontierGoal goal;
+  bool is_new = false;
+  ASSERT_TRUE(goal.choose(robot, 0, &explorer, &is_new, nullptr));
+  const Vector2d target = *goal.goal();
+  EXPECT_EQ(goal.review(target + Vector2d(0.3, 0.0), false, false, kSecond, &explorer), FrontierGoal::End::Reached);
+  EXPECT_EQ(explorer.blacklistSize(), 0u);
+  ASSERT_TRUE(goal.choose(robot, kSecond, &explorer, &is_new, nullptr));
+  EXPECT_EQ(goal.review(robot, true, false, 2 * kSecond, &explorer), FrontierGoal::End::Reached);
+  ASSERT_TRUE(goal.choose(robot, 2 * kSecond, &explorer, &is_new, nullptr));
+  EXPECT_EQ(goal.review(robot, false, true, 3 * kSecond, &explorer), FrontierGoal::End::Stopped);
+  EXPECT_EQ(explorer.blacklistSize(), 1u);
+}
+
+// The held goal follows its frontier as the grid changes, and is dropped for the cheapest one when
+// its frontier is gone; a frontier whose goal is where the robot stands cannot be seen from there:
+// blacklisted, not taken.
+TEST(FrontierGoal, TheGoalFollowsItsFrontierAndAFrontierUnderTheRobotIsBlacklisted) {
+  FrontierExplorer explorer;
+  const Vector2d robot(5.0, 1.0);
+  explorer.nextGoal(corridorWithOpenings({{1.0, 2.0}, {8.0, 9.0}}), robot);
+  FrontierGoal goal;
+  bool is_new = false;
+  ASSERT_TRUE(goal.choose(robot, 0, &explorer, &is_new, nullptr));
+  const bool left = goal.goal()->x() < 5.0;
+  // The same frontier, grown by half a metre: still held.
+  explorer.nextGoal(corridorWithOpenings({{0.5, 2.0}, {8.0, 9.5}}), robot);
+  ASSERT_TRUE(goal.choose(robot, kSecond, &explorer, &is_new, nullptr));
+  EXPECT_FALSE(is_new);
+  EXPECT_EQ(goal.goal()->x() < 5.0, left);
+  // Its frontier gone: the other one.
+  explorer.nextGoal(left ? corridorWithOpenings({{8.0, 9.0}}) : corridorWithOpenings({{1.0, 2.0}}), robot);
+  ASSERT_TRUE(goal.choose(robot, 2 * kSecond, &explorer, &is_new, nullptr));
+  EXPECT_TRUE(is_new);
+  EXPECT_NE(goal.goal()->x() < 5.0, left);
+  // The robot at the only frontier's goal: blacklisted, and no goal is left.
+  const Vector2d at = *goal.goal();
+  goal.drop();
+  const OccupancyGrid last = left ? corridorWithOpenings({{8.0, 9.0}}) : corridorWithOpenings({{1.0, 2.0}});
+  explorer.nextGoal(last, at);
+  std::vector<Vector2d> unobservable;
+  EXPECT_FALSE(goal.choose(at, 3 * kSecond, &explorer, &is_new, &unobservable));
+  EXPECT_EQ(unobservable.size(), 1u);
+  EXPECT_EQ(explorer.blacklistSize(), 1u);
 }
 
 // ---------------------------------------------------------------------------------------------
