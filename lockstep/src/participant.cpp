@@ -17,6 +17,16 @@ std::vector<std::string> resolveNodeNames(const ros::NodeHandle& nh, const std::
   return out;
 }
 
+void CountedPublishers::count(const std::string& topic) {
+  for (auto& [name, count] : counts_) {
+    if (name == topic) {
+      ++*count;
+      return;
+    }
+  }
+  counts_.emplace_back(topic, std::make_shared<std::atomic<uint64_t>>(1));
+}
+
 Counts CountedPublishers::counts() const {
   Counts out;
   for (const auto& [topic, count] : counts_) out[topic] += count->load();

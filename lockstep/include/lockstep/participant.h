@@ -75,6 +75,9 @@ class CountedPublishers {
     counts_.emplace_back(pub.getTopic(), count);
     return Publisher(pub, count);
   }
+  /// Counts a message published on `topic` (a resolved name) by a publisher not made here (an
+  /// action server's result): announced like the others.
+  void count(const std::string& topic);
   /// Messages published so far on each topic.
   Counts counts() const;
 
@@ -144,6 +147,13 @@ class Participant {
                             const ros::TransportHints& hints = ros::TransportHints()) {
     return subscribe<M>(nh, topic, queue, [object, method](const boost::shared_ptr<const M>& m) { (object->*method)(m); },
                         delivery, hints);
+  }
+
+  /// A message this node published on `topic` (resolved through `nh`) through a publisher it does
+  /// not own — an action server's result —: its next acknowledgement announces it, so a downstream
+  /// participant that counts the topic has it at the next step. Lockstep only.
+  void published(const ros::NodeHandle& nh, const std::string& topic) {
+    if (enabled_) published_.count(nh.resolveName(topic));
   }
 
   /// Runs at every step, after the step's gated callbacks, with the step's stamp; returns the next

@@ -36,6 +36,8 @@ class Participant(object):
         self._wake = rospy.Time()
         self._joined = False
         self._subscribers = []
+        self._published = collections.OrderedDict()  # resolved topic -> messages published so far
+        self._published_lock = threading.Lock()
         if not self.enabled:
             return
         self._ack_pub = rospy.Publisher(rospy.get_name() + '/lockstep_ack', LockstepAck, queue_size=100)
@@ -61,6 +63,14 @@ class Participant(object):
                                tcp_nodelay=True)
         self._subscribers.append(sub)
         return sub
+
+    def published(self, topic, n=1):
+        """Counts `n` messages this node has published on `topic` (through a publisher it does not
+        own, such as an action client's goal): its next acknowledgement announces them, and a
+        downstream participant that counts the topic waits for them before that step."""
+        resolved = rospy.resolve_name(topic)
+        with self._published_lock:  # not self.lock: a script may publish within a step whose hook holds that
+            self._published[resolved] = self._published.get(resolved, 0) + n
 
     def on_step(self, hook):
         """hook(stamp) runs at every step; it returns the next sim time it needs a step at, or None."""
@@ -113,6 +123,8 @@ class Participant(object):
                 if self._hook is not None and not start:  # a start step carries no data yet
                     wake = self._hook(stamp)
                     self._wake = wake if wake is not None else rospy.Time()
-                ack = LockstepAck(node=rospy.get_name(), stamp=stamp)
+                with self._published_lock:
+                    topics, counts = list(self._published), list(self._published.values())
+                ack = LockstepAck(node=rospy.get_name(), stamp=stamp, topics=topics, counts=counts)
                 ack.wake = self._wake if self._wake > stamp else rospy.Time()
                 self._ack_pub.publish(ack)
