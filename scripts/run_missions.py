@@ -16,7 +16,13 @@ without a known frame are not used.
 
 ~unknown_place_check and ~wall_goal_check add two missions that must fail cleanly: one to a place
 id no node links (refused), one to a goal inside a wall of the room the robot is in (ends at the
-closest reachable pose)."""
+closest reachable pose).
+
+In lockstep (the simulator at rate 0) this node is a participant and the exploration node's
+upstream (its ~mission_client): each goal is sent within a step (lockstep.ScriptClock), a result is
+seen at the step after the one it was set at, and every figure is taken by stamp (the ground truth
+at the step, the beliefs and relocations between two steps), so the same seed and map give the
+same missions, path and errors whatever the machine's load."""
 import bisect
 import json
 import math
@@ -28,14 +34,18 @@ import time
 import actionlib
 import rospy
 import yaml
+from actionlib_msgs.msg import GoalStatus
+from lockstep import Participant, ScriptClock
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from visualization_msgs.msg import MarkerArray
 from world_geometry import compose, inside, inverse, yaw_of
-from hybrid_slam_msgs.msg import (ExplorationStatus, GoToPlaceAction, GoToPlaceGoal, RelocationResult,
-                                  TopologicalBelief, TopologicalMap)
+from hybrid_slam_msgs.msg import (ExplorationStatus, GoToPlaceAction, GoToPlaceActionResult, GoToPlaceGoal,
+                                  RelocationResult, TopologicalBelief, TopologicalMap)
 from nav_msgs.msg import Odometry
 
 DONE, TOPOLOGICAL = 3, 0
+TERMINAL = (GoalStatus.PREEMPTED, GoalStatus.SUCCEEDED, GoalStatus.ABORTED, GoalStatus.REJECTED, GoalStatus.RECALLED,
+            GoalStatus.LOST)
 
 
 def segment_distance(p, a, b):
@@ -96,32 +106,49 @@ class MissionRunner:
         if self.truth_file and os.path.exists(self.truth_file):
             with open(self.truth_file) as f:
                 self.frames = {int(k): tuple(v) for k, v in json.load(f).items()}
+        self.pending_frames = set()  # place ids whose first EKF pose waits for its ground truth
+        self.pending_truth = []  # (stamp, use): what waits for the ground truth of its stamp
         self.map = None
         self.status = None
-        self.local = None
-        self.beliefs = 0
-        self.unconfident = 0
-        self.counting = False
+        self.modes = []  # (stamp s, exploration mode) of each status: the mode at a belief's stamp
+        self.beliefs = []  # (stamp s, confident) of every belief
         self.entropy = []  # (sim s, entropy, entropy_max, confident): the whole run, every 5th belief
-        self.belief_count = 0
         self.place_lines = {}  # place id -> [[x1, y1, x2, y2], ...] in the place frame
+        self.relocations = []  # (stamp s, verdict) of every relocation
         # The map, the places' frames and the entropy series for the report's plots.
         self.dump = rospy.get_param('~map_dump', self.output + '.map.json' if self.output else '')
-        rospy.Subscriber('ground_truth', Odometry, self.on_truth, queue_size=200)
-        rospy.Subscriber('local_pose', PoseWithCovarianceStamped, self.on_local, queue_size=50)
-        rospy.Subscriber('topological_map', TopologicalMap, self.on_map, queue_size=2)
-        rospy.Subscriber('topological_belief', TopologicalBelief, self.on_belief, queue_size=50)
-        rospy.Subscriber('exploration_status', ExplorationStatus, self.on_status, queue_size=50)
-        rospy.Subscriber('places_markers', MarkerArray, self.on_places, queue_size=2)
-        rospy.Subscriber('relocation', RelocationResult, self.on_relocation, queue_size=50)
-        self.relocations = []  # of the running mission: the verdicts, first and last of each run of equal ones
+        # Lockstep: every input counted (a step has all its messages), goals sent within steps.
+        self.lockstep = Participant()
+        self.clock = ScriptClock(self.lockstep)
         self.client = actionlib.SimpleActionClient('go_to_place', GoToPlaceAction)
+        sub = self.lockstep.subscribe
+        sub('ground_truth', Odometry, self.on_truth, queue_size=200)
+        sub('local_pose', PoseWithCovarianceStamped, self.on_local, queue_size=50)
+        sub('topological_map', TopologicalMap, self.on_map, queue_size=2)
+        sub('topological_belief', TopologicalBelief, self.on_belief, queue_size=50)
+        sub('exploration_status', ExplorationStatus, self.on_status, queue_size=50)
+        sub('relocation', RelocationResult, self.on_relocation, queue_size=50)
+        # Counted after the action client's own subscription (rospy calls a topic's callbacks in
+        # order): once a step's result is counted, the client has it.
+        sub('go_to_place/result', GoToPlaceActionResult, lambda msg: None, queue_size=10)
+        rospy.Subscriber('places_markers', MarkerArray, self.on_places, queue_size=2)  # for the plots only
 
     def on_truth(self, msg):
         p = msg.pose.pose
         self.truth.append((msg.header.stamp.to_sec(), (p.position.x, p.position.y, yaw_of(p.orientation))))
         if len(self.truth) > 4000:
             del self.truth[:1000]
+        waiting, self.pending_truth = self.pending_truth, []
+        for stamp, use in waiting:
+            self.with_truth(stamp, use)
+
+    def with_truth(self, stamp, use):
+        """use(ground truth at `stamp`, or None if there is none) once the ground truth of that stamp
+        has come: a message stamped at a step may arrive before the step's ground truth."""
+        if not self.truth or self.truth[-1][0] < stamp:
+            self.pending_truth.append((stamp, use))
+        else:
+            use(self.truth_at(stamp))
 
     def truth_at(self, stamp):
         if not self.truth:
@@ -138,32 +165,52 @@ class MissionRunner:
         pid = int(f[len('place_'):])
         p = msg.pose.pose
         pose = (p.position.x, p.position.y, yaw_of(p.orientation))
-        self.local = (pid, pose, msg)
-        if pid not in self.frames:
+        if pid not in self.frames and pid not in self.pending_frames and math.hypot(pose[0], pose[1]) < 0.3:
             # The place's first EKF pose: the robot is at (or within centimetres of) its origin.
-            t = self.truth_at(msg.header.stamp.to_sec())
-            if t is not None and math.hypot(pose[0], pose[1]) < 0.3:
-                self.frames[pid] = compose(t, inverse(pose))
+            self.pending_frames.add(pid)
+
+            def frame(t):  # the place's frame in the world (none without a ground truth at the stamp)
+                self.pending_frames.discard(pid)
+                if t is not None:
+                    self.frames[pid] = compose(t, inverse(pose))
+            self.with_truth(msg.header.stamp.to_sec(), frame)
 
     def on_relocation(self, msg):
         v = {'place': msg.place_id, 'success': msg.success, 'verdict': msg.verdict, 'matched': msg.matched,
              'joint_nis': round(msg.joint_nis, 2), 'bound': round(msg.joint_nis_bound, 2)}
-        if self.truth:  # where the robot really was (ground truth, world), to tell a wrong door from a bad match
-            v['truth'] = [round(c, 2) for c in self.truth[-1][1]]
-        if len(self.relocations) < 40:
-            self.relocations.append(v)
+        self.relocations.append((msg.header.stamp.to_sec(), v))
+
+        def where(t):  # where the robot really was (ground truth, world), to tell a wrong door from a bad match
+            if t is not None:
+                v['truth'] = [round(c, 2) for c in t]
+        self.with_truth(msg.header.stamp.to_sec(), where)
+
+    def relocations_between(self, t0, t1):
+        """The relocation verdicts stamped in [t0, t1) (s): those of one mission, at most 40."""
+        return [v for t, v in self.relocations if t0 <= t < t1][:40]
 
     def on_map(self, msg):
         self.map = msg
 
     def on_belief(self, msg):
-        self.belief_count += 1
-        if self.belief_count % 5 == 0:
-            self.entropy.append((round(msg.header.stamp.to_sec(), 2), round(msg.entropy, 4), msg.entropy_max,
-                                 bool(msg.confident)))
-        if self.counting and self.status is not None and self.status.mode == TOPOLOGICAL:
-            self.beliefs += 1
-            self.unconfident += 0 if msg.confident else 1
+        stamp = msg.header.stamp.to_sec()
+        self.beliefs.append((stamp, bool(msg.confident)))
+        if len(self.beliefs) % 5 == 0:
+            self.entropy.append((round(stamp, 2), round(msg.entropy, 4), msg.entropy_max, bool(msg.confident)))
+
+    def state_estimates(self, t0, t1):
+        """(beliefs, unconfident ones) stamped in [t0, t1) (s) while the exploration node was in its
+        topological mode (its last status stamped before the belief)."""
+        stamps = [t for t, _ in self.modes]
+        n = unconfident = 0
+        for t, confident in self.beliefs:
+            if not t0 <= t < t1:
+                continue
+            i = bisect.bisect_left(stamps, t) - 1
+            if i >= 0 and self.modes[i][1] == TOPOLOGICAL:
+                n += 1
+                unconfident += 0 if confident else 1
+        return n, unconfident
 
     def on_places(self, msg):
         lines = {}
@@ -192,6 +239,7 @@ class MissionRunner:
 
     def on_status(self, msg):
         self.status = msg
+        self.modes.append((msg.header.stamp.to_sec(), msg.mode))
 
     def idle(self):
         s = self.status
@@ -246,7 +294,7 @@ class MissionRunner:
 
     def wall_goal(self, place_id, room):
         """A point on the room's wall farthest from the robot (inside the wall)."""
-        here = self.truth[-1][1]
+        here = self.truth_at(self.clock.stamp.to_sec()) or self.truth[-1][1]
         poly = room['polygon']
         mids = [((poly[i][0] + poly[(i + 1) % len(poly)][0]) / 2, (poly[i][1] + poly[(i + 1) % len(poly)][1]) / 2)
                 for i in range(len(poly))]
@@ -255,25 +303,28 @@ class MissionRunner:
         return world, compose(inverse(self.frames[place_id]), world)
 
     def send(self, place_id, goal_place):
+        """Sends a goal at the current step and waits for its result: (result, sim s)."""
         g = GoToPlaceGoal()
         g.place_id = place_id
         g.goal.x, g.goal.y, g.goal.theta = goal_place
-        t0 = rospy.Time.now()
+        t0 = self.clock.stamp
         self.client.send_goal(g)
-        while not rospy.is_shutdown():
-            if self.client.wait_for_result(rospy.Duration(1.0)):
-                break
-            if (rospy.Time.now() - t0).to_sec() > self.mission_timeout:
-                self.client.cancel_goal()
-                self.client.wait_for_result(rospy.Duration(10.0))
-                break
-        return self.client.get_result(), (rospy.Time.now() - t0).to_sec()
+        self.lockstep.published('go_to_place/goal')
+        done = lambda stamp: self.client.get_state() in TERMINAL
+        end = self.clock.wait_until(lambda stamp: done(stamp) or (stamp - t0).to_sec() > self.mission_timeout)
+        if not done(end):
+            self.client.cancel_goal()
+            self.lockstep.published('go_to_place/cancel')
+            end = self.clock.wait_until(lambda stamp: done(stamp) or (stamp - t0).to_sec() > self.mission_timeout + 10.0)
+        return self.client.get_result(), (end - t0).to_sec()
 
     def error(self, place_id, goal_place):
-        """Ground-truth pose in the place frame against the goal: (position m, heading rad)."""
-        if not self.truth:
+        """Ground-truth pose in the place frame against the goal, at the current step: (position m,
+        heading rad)."""
+        truth = self.truth_at(self.clock.stamp.to_sec())
+        if truth is None:
             return None, None
-        true_in_place = compose(inverse(self.frames[place_id]), self.truth[-1][1])
+        true_in_place = compose(inverse(self.frames[place_id]), truth)
         e = math.hypot(true_in_place[0] - goal_place[0], true_in_place[1] - goal_place[1])
         h = abs(math.atan2(math.sin(true_in_place[2] - goal_place[2]), math.cos(true_in_place[2] - goal_place[2])))
         return e, h
@@ -281,12 +332,11 @@ class MissionRunner:
     def run(self):
         wall0 = time.time()
         rospy.loginfo('missions: waiting for the exploration node to be idle and its go_to_place server')
-        while not rospy.is_shutdown() and not self.idle():
-            rospy.sleep(1.0)
         if not self.client.wait_for_server(rospy.Duration(60.0)):
             rospy.logfatal('missions: no go_to_place action server (exploration node with serve_missions)')
             return 1
-        rospy.sleep(2.0)  # the last map message
+        idle = self.clock.wait_until(lambda stamp: self.idle())
+        self.clock.wait_until(lambda stamp: stamp >= idle + rospy.Duration(2.0))  # the last map message
         places = self.places()
         if self.truth_file:
             with open(self.truth_file, 'w') as f:
@@ -295,8 +345,7 @@ class MissionRunner:
         rows = []
         if len(places) < 2:
             rospy.logerr('missions: fewer than two places with a known frame (%s)', sorted(places))
-        sim0 = rospy.Time.now().to_sec()
-        self.counting = True
+        sim0 = self.clock.stamp.to_sec()
         current = self.status.current_place if self.status else -1
         for k in range(self.missions if len(places) >= 2 else 0):
             target = self.rng.choice([p for p in sorted(places) if p != current])
@@ -306,14 +355,16 @@ class MissionRunner:
                 continue
             rospy.loginfo('missions: %d/%d to place %d (%s) at world (%.2f, %.2f)', k + 1, self.missions, target,
                           places[target]['name'], world[0], world[1])
-            self.relocations = []
+            t0 = self.clock.stamp
             res, sim = self.send(target, goal)
-            rospy.sleep(0.5)
+            settled = self.clock.stamp + rospy.Duration(0.5)  # the robot at rest, its last ground truth
+            self.clock.wait_until(lambda stamp: stamp >= settled)
             e, h = self.error(target, goal)
             row = {'place': target, 'room': places[target]['name'], 'goal_world': [round(v, 3) for v in world],
                    'success': bool(res and res.success), 'message': res.message if res else 'no result',
                    'path_m': res.path_length if res else 0.0, 'sim_s': sim,
-                   'goal_error_m': e, 'heading_error_rad': h, 'relocations': self.relocations[:]}
+                   'goal_error_m': e, 'heading_error_rad': h,
+                   'relocations': self.relocations_between(t0.to_sec(), self.clock.stamp.to_sec())}
             if res:
                 p = res.final_pose.pose
                 est = (p.position.x, p.position.y)
@@ -321,7 +372,7 @@ class MissionRunner:
             rows.append(row)
             rospy.loginfo('missions: %s', json.dumps(row))
             current = target if row['success'] else -1
-        self.counting = False
+        sim1 = self.clock.stamp.to_sec()
         checks = {}
         if rospy.get_param('~unknown_place_check', False):
             res, _ = self.send(max(list(places) + [0]) + 100, (0.0, 0.0, 0.0))
@@ -332,17 +383,19 @@ class MissionRunner:
             e, _ = self.error(current, goal)
             checks['wall_goal'] = {'success': bool(res and res.success), 'message': res.message if res else '',
                                    'distance_to_wall_point_m': e, 'sim_s': sim}
+        self.clock.finish()
+        beliefs, unconfident = self.state_estimates(sim0, sim1)
         ok = [r for r in rows if r['success']]
         errs = [r['goal_error_m'] for r in ok if r['goal_error_m'] is not None]
         report = {
             'world': self.world.name, 'missions': len(rows), 'successes': len(ok),
             'success_rate': len(ok) / len(rows) if rows else 0.0,
-            'state_estimates': self.beliefs, 'unconfident_states': self.unconfident,
-            'unconfident_rate': self.unconfident / self.beliefs if self.beliefs else 0.0,
+            'state_estimates': beliefs, 'unconfident_states': unconfident,
+            'unconfident_rate': unconfident / beliefs if beliefs else 0.0,
             'travel_m': sum(r['path_m'] for r in rows),
             'mean_goal_error_m': sum(errs) / len(errs) if errs else None,
             'max_goal_error_m': max(errs) if errs else None,
-            'sim_s': rospy.Time.now().to_sec() - sim0, 'wall_s': time.time() - wall0,
+            'sim_s': sim1 - sim0, 'wall_s': time.time() - wall0,
             'rows': rows, 'checks': checks,
         }
         self.write_dump(sim0)

@@ -46,7 +46,7 @@ class ExplorationNode {
         pnh_("~"),
         tf_listener_(tf_buffer_, true, lockstep::kTransportHints),
         control_spinner_(1, &control_queue_),
-        lockstep_(nh_, {"laser_features", "pomdp_topo", "ekf_local_map"}) {
+        lockstep_(nh_, lockstepUpstream(pnh_)) {
     visitParams(&params_, laser_features::RosParamReader{pnh_});
     params_.coordinator.rules = laser_features::readBuildingRules(nh_);
     params_.coordinator.doors.tracks = laser_features::readOpeningTracks(nh_);
@@ -100,6 +100,12 @@ class ExplorationNode {
       mission_server_->registerGoalCallback([this] { onMissionGoal(); });
       mission_server_->registerPreemptCallback([this] { onMissionPreempt(); });
       mission_server_->start();
+      // In lockstep a goal counts as the step's input from the mission client (its upstream): the
+      // step waits for it. Subscribed after the server, so on the one callback queue the server
+      // takes the goal before this count lets the step run.
+      if (lockstep_.enabled() && !mission_client_.empty())
+        goal_count_sub_ = lockstep_.subscribe<hybrid_slam_msgs::GoToPlaceActionGoal>(
+            nh_, "go_to_place/goal", 10, [](const hybrid_slam_msgs::GoToPlaceActionGoal::ConstPtr&) {});
     }
     if (lockstep_.enabled()) {
       lockstep_.onStep([this](const ros::Time& t) { return onStep(t); });
@@ -112,6 +118,16 @@ class ExplorationNode {
   }
 
  private:
+  /// The participants whose output of a step the coordinator uses within that step: the perception
+  /// and, when one is named (~mission_client, e.g. run_missions), the node sending GoToPlace goals,
+  /// so that a goal sent at a step is taken at that step whatever the machine's load.
+  std::vector<std::string> lockstepUpstream(const ros::NodeHandle& pnh) {
+    pnh.param<std::string>("mission_client", mission_client_, "");
+    std::vector<std::string> upstream{"laser_features", "pomdp_topo", "ekf_local_map"};
+    if (!mission_client_.empty()) upstream.push_back(mission_client_);
+    return upstream;
+  }
+
   bool lookup(const std::string& target, const std::string& source, const ros::Time& stamp, Pose2D* out) {
     std::string why;
     if (laser_features::lookupPose2D(tf_buffer_, target, source, stamp, lockstep_.transformTimeout(0.1), out, &why)) return true;
@@ -244,6 +260,7 @@ class ExplorationNode {
       r.success = false;
       r.message = "refused: " + why;
       mission_server_->setAborted(r, r.message);
+      lockstep_.published(nh_, "go_to_place/result");
       return;
     }
     ROS_INFO("exploration: mission to (%.2f, %.2f, %.2f) in place %d", g.x, g.y, g.theta, goal->place_id);
@@ -266,6 +283,7 @@ class ExplorationNode {
     hybrid_slam_msgs::GoToPlaceResult r;
     missionResult(&r);
     mission_server_->setPreempted(r, r.message);
+    lockstep_.published(nh_, "go_to_place/result");
   }
 
   void missionResult(hybrid_slam_msgs::GoToPlaceResult* r) const {
@@ -295,6 +313,7 @@ class ExplorationNode {
     ROS_INFO("exploration: mission %s: %s (%.1f m)", r.success ? "succeeded" : "failed", r.message.c_str(), r.path_length);
     if (r.success) mission_server_->setSucceeded(r, r.message);
     else mission_server_->setAborted(r, r.message);
+    lockstep_.published(nh_, "go_to_place/result");  // the mission client sees it at the next step
   }
 
   void onRelocation(const hybrid_slam_msgs::RelocationResult::ConstPtr& msg) {
@@ -461,6 +480,7 @@ class ExplorationNode {
   ros::AsyncSpinner control_spinner_;
   std::unique_ptr<ServiceRequests> requests_;
   std::string odom_frame_, base_frame_, summary_file_;
+  std::string mission_client_;  // ~mission_client: lockstep upstream sending goals ("": none)
   double control_rate_ = 20.0, progress_period_ = 30.0;
   bool shutdown_when_done_ = true;
   bool serve_missions_ = false;
@@ -469,7 +489,7 @@ class ExplorationNode {
   bool freeze_map_for_missions_ = true;  // pomdp_topo's mapping off from the first mission on
   bool map_frozen_ = false;
   std::unique_ptr<MissionServer> mission_server_;
-  ros::Subscriber relocation_sub_;
+  ros::Subscriber relocation_sub_, goal_count_sub_;
   double entropy_ = 0.0;
   lockstep::Participant lockstep_;
   ros::Time next_control_;  // lockstep: the sim time of the next control step
