@@ -11,6 +11,7 @@ import rostest
 from hybrid_slam_msgs.msg import LockstepAck, LockstepStep
 from std_msgs.msg import String
 
+from waiting import wait_for
 from lockstep import Participant
 
 
@@ -28,7 +29,7 @@ class Observer(unittest.TestCase):
         observer = Participant(observer=True)
         self.assertTrue(observer.enabled)
         observer.subscribe('observed', String, lambda msg: None)
-        self.wait_for(lambda: steps.get_num_connections() > 0, 'the observer subscribing to lockstep/step')
+        wait_for(self, lambda: steps.get_num_connections() > 0, 'the observer subscribing to lockstep/step')
 
         def step(nsec, start):
             s = LockstepStep(start=start, topics=[rospy.resolve_name('observed')], counts=[0])
@@ -41,21 +42,15 @@ class Observer(unittest.TestCase):
         with lock:
             self.assertEqual(acks, [])
         publisher = rospy.Publisher('observed', String, queue_size=1)
-        self.wait_for(lambda: publisher.get_num_connections() > 0, 'the observer connecting to "observed"')
+        wait_for(self, lambda: publisher.get_num_connections() > 0, 'the observer connecting to "observed"')
         step(2, True)
-        self.wait_for(lambda: acks, 'an acknowledgement of the start step')
+        wait_for(self, lambda: acks, 'an acknowledgement of the start step')
         # A step of the run: never acknowledged.
         step(3, False)
         time.sleep(1.0)
         with lock:
             self.assertEqual([a[0] for a in acks], [2])
             self.assertEqual(acks[0][1], rospy.get_name())
-
-    def wait_for(self, condition, what, timeout=10.0):
-        end = time.time() + timeout
-        while not condition():
-            self.assertLess(time.time(), end, 'no ' + what + ' within %.0f s' % timeout)
-            time.sleep(0.05)
 
 
 if __name__ == '__main__':

@@ -11,6 +11,7 @@ import rospy
 import rostest
 from hybrid_slam_msgs.msg import LockstepAck, LockstepStep
 
+from waiting import wait_for
 from lockstep import Participant, ScriptClock
 
 
@@ -28,8 +29,8 @@ class ScriptAtSteps(unittest.TestCase):
         participant = Participant()
         self.assertTrue(participant.enabled)
         clock = ScriptClock(participant)
-        self.wait_for(lambda: steps.get_num_connections() > 0, 'the participant subscribing to lockstep/step')
-        self.wait_for(lambda: participant._ack_pub.get_num_connections() > 0, 'the test subscribing to the acknowledgements')
+        wait_for(self, lambda: steps.get_num_connections() > 0, 'the participant subscribing to lockstep/step')
+        wait_for(self, lambda: participant._ack_pub.get_num_connections() > 0, 'the test subscribing to the acknowledgements')
 
         def step(nsec, start=False):
             s = LockstepStep(start=start)
@@ -37,7 +38,7 @@ class ScriptAtSteps(unittest.TestCase):
             steps.publish(s)
 
         step(1, start=True)
-        self.wait_for(lambda: acks, 'the start step acknowledged')
+        wait_for(self, lambda: acks, 'the start step acknowledged')
         acted = []
 
         def script():
@@ -55,7 +56,7 @@ class ScriptAtSteps(unittest.TestCase):
         time.sleep(0.3)  # the script is waiting
         for nsec in (10, 20, 30):
             step(nsec)
-        self.wait_for(lambda: len(acks) >= 4, 'the acknowledgement of step 30')
+        wait_for(self, lambda: len(acks) >= 4, 'the acknowledgement of step 30')
         with lock:
             self.assertEqual([a[0] for a in acks], [1, 10, 20, 30])
             self.assertEqual(acks[2][1], {}, 'nothing published before the script acted')
@@ -63,19 +64,13 @@ class ScriptAtSteps(unittest.TestCase):
         self.assertEqual(acted, [30])
         for nsec in (40, 50, 60):
             step(nsec)
-        self.wait_for(lambda: len(acks) >= 7, 'the later steps acknowledged')
+        wait_for(self, lambda: len(acks) >= 7, 'the later steps acknowledged')
         worker.join(5.0)
         self.assertFalse(worker.is_alive())
         self.assertEqual(acted, [30, 'second'])
         with lock:
             self.assertEqual([a[0] for a in acks], [1, 10, 20, 30, 40, 50, 60])
             self.assertEqual(acks[-1][1], {rospy.resolve_name('goal'): 2}, 'counts are cumulative')
-
-    def wait_for(self, condition, what, timeout=10.0):
-        end = time.time() + timeout
-        while not condition():
-            self.assertLess(time.time(), end, 'no ' + what + ' within %.0f s' % timeout)
-            time.sleep(0.02)
 
 
 if __name__ == '__main__':
