@@ -3,12 +3,10 @@
 // carries out the core's requests as service calls to pomdp_topo and ekf_local_map. Missions
 // (GoToPlace) are an actionlib server on `go_to_place` once the exploration is done (or with
 // explore false, on a loaded map).
-#include <actionlib/server/simple_action_server.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <geometry_msgs/Twist.h>
 #include <hybrid_slam_msgs/BuildingAxes.h>
 #include <hybrid_slam_msgs/ExplorationStatus.h>
-#include <hybrid_slam_msgs/GoToPlaceAction.h>
 #include <hybrid_slam_msgs/RelocationResult.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
@@ -31,6 +29,7 @@
 #include "laser_features/tf_lookup.h"
 #include "lockstep/participant.h"
 #include "local_poses.h"
+#include "mission_service.h"
 #include "ros_conversions.h"
 #include "service_requests.h"
 
@@ -96,16 +95,19 @@ class ExplorationNode {
     relocation_sub_ = lockstep_.subscribe(nh_, "relocation", 10, &ExplorationNode::onRelocation, this);
     pause_srv_ = pnh_.advertiseService("pause", &ExplorationNode::onPause, this);
     if (serve_missions_) {
-      mission_server_ = std::make_unique<MissionServer>(nh_, "go_to_place", false);
-      mission_server_->registerGoalCallback([this] { onMissionGoal(); });
-      mission_server_->registerPreemptCallback([this] { onMissionPreempt(); });
-      mission_server_->start();
-      // In lockstep a goal counts as the step's input from the mission client (its upstream): the
-      // step waits for it. Subscribed after the server, so on the one callback queue the server
-      // takes the goal before this count lets the step run.
-      if (lockstep_.enabled() && !mission_client_.empty())
-        goal_count_sub_ = lockstep_.subscribe<hybrid_slam_msgs::GoToPlaceActionGoal>(
-            nh_, "go_to_place/goal", 10, [](const hybrid_slam_msgs::GoToPlaceActionGoal::ConstPtr&) {});
+      MissionService::Hooks hooks;
+      hooks.stop_motion = [this] {
+        std::lock_guard<std::mutex> lock(mutex_);
+        motion_->cancel();
+        has_goal_ = false;
+      };
+      hooks.freeze_map = [this](std::string* message) { return requests_->setMapping(false, message); };
+      hooks.final_pose = [this](hybrid_slam_msgs::GoToPlaceResult* r) {
+        if (coordinator_->currentPlace() >= 0 && local_poses_.lastPlace() == coordinator_->currentPlace())
+          r->final_pose = local_poses_.lastMessage().pose;
+      };
+      missions_ = std::make_unique<MissionService>(nh_, coordinator_.get(), &lockstep_, !mission_client_.empty(),
+                                                   freeze_map_for_missions_, std::move(hooks));
     }
     if (lockstep_.enabled()) {
       lockstep_.onStep([this](const ros::Time& t) { return onStep(t); });
@@ -176,7 +178,7 @@ class ExplorationNode {
     lock.unlock();
     const Decision d = coordinator_->update(p, topo_, reached, blocked);
     for (const Request& r : d.requests) execute(r);
-    serviceMission();
+    if (missions_) missions_->afterStep(topo_.confident ? coordinator_->graph().nearestNode(topo_.position) : -1, entropy_);
     applyGoal(d);
     report(msg->header.stamp);
   }
@@ -248,74 +250,6 @@ class ExplorationNode {
     }
   }
 
-  using MissionServer = actionlib::SimpleActionServer<hybrid_slam_msgs::GoToPlaceAction>;
-
-  void onMissionGoal() {
-    const auto goal = mission_server_->acceptNewGoal();
-    const Pose2D g{goal->goal.x, goal->goal.y, goal->goal.theta};
-    std::string why;
-    if (!coordinator_->startMission(goal->place_id, g, &why)) {
-      ROS_WARN("exploration: mission to place %d refused: %s", goal->place_id, why.c_str());
-      hybrid_slam_msgs::GoToPlaceResult r;
-      r.success = false;
-      r.message = "refused: " + why;
-      mission_server_->setAborted(r, r.message);
-      lockstep_.published(nh_, "go_to_place/result");
-      return;
-    }
-    ROS_INFO("exploration: mission to (%.2f, %.2f, %.2f) in place %d", g.x, g.y, g.theta, goal->place_id);
-    // Missions run on the finished map: nodes made of a look-alike stretch of hallway (while the
-    // belief is briefly wrong) would only add states to confuse the belief with.
-    if (freeze_map_for_missions_ && !map_frozen_) {
-      std::string message;
-      map_frozen_ = requests_->setMapping(false, &message);
-      if (map_frozen_) ROS_INFO("exploration: topological map frozen for missions (%s)", message.c_str());
-    }
-  }
-
-  void onMissionPreempt() {
-    coordinator_->cancelMission("cancelled by the client");
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      motion_->cancel();
-      has_goal_ = false;
-    }
-    hybrid_slam_msgs::GoToPlaceResult r;
-    missionResult(&r);
-    mission_server_->setPreempted(r, r.message);
-    lockstep_.published(nh_, "go_to_place/result");
-  }
-
-  void missionResult(hybrid_slam_msgs::GoToPlaceResult* r) const {
-    const MissionOutcome& o = coordinator_->missionOutcome();
-    r->success = o.success;
-    r->message = o.message;
-    r->path_length = o.path_length;
-    if (coordinator_->currentPlace() >= 0 && local_poses_.lastPlace() == coordinator_->currentPlace())
-      r->final_pose = local_poses_.lastMessage().pose;
-  }
-
-  /// After each coordinator step: the mission's feedback, and its result once it ended.
-  void serviceMission() {
-    if (!mission_server_ || !mission_server_->isActive()) return;
-    if (coordinator_->missionActive()) {
-      hybrid_slam_msgs::GoToPlaceFeedback f;
-      f.mode = static_cast<uint8_t>(coordinator_->mode());
-      f.current_node = topo_.confident ? coordinator_->graph().nearestNode(topo_.position) : -1;
-      f.current_place = coordinator_->mode() == CoordinatorMode::Metric ? coordinator_->placeOfRobot() : -1;
-      f.entropy = entropy_;
-      f.distance_left = coordinator_->missionDistanceLeft();
-      mission_server_->publishFeedback(f);
-      return;
-    }
-    hybrid_slam_msgs::GoToPlaceResult r;
-    missionResult(&r);
-    ROS_INFO("exploration: mission %s: %s (%.1f m)", r.success ? "succeeded" : "failed", r.message.c_str(), r.path_length);
-    if (r.success) mission_server_->setSucceeded(r, r.message);
-    else mission_server_->setAborted(r, r.message);
-    lockstep_.published(nh_, "go_to_place/result");  // the mission client sees it at the next step
-  }
-
   void onRelocation(const hybrid_slam_msgs::RelocationResult::ConstPtr& msg) {
     coordinator_->relocationResult(msg->place_id, msg->success, msg->verdict);
   }
@@ -338,7 +272,7 @@ class ExplorationNode {
     }
     exit_code_ = r.success ? 0 : 1;
     if (serve_missions_) {
-      ROS_INFO("exploration: serving missions on %s", mission_server_ ? "go_to_place" : "?");
+      ROS_INFO("exploration: serving missions on %s", missions_ ? "go_to_place" : "?");
       return;  // the robot stays under control for missions
     }
     done_ = true;
@@ -487,11 +421,10 @@ class ExplorationNode {
   std::atomic<bool> paused_{false};  // ~pause: no decisions, no motion
   ros::ServiceServer pause_srv_;
   bool freeze_map_for_missions_ = true;  // pomdp_topo's mapping off from the first mission on
-  bool map_frozen_ = false;
-  std::unique_ptr<MissionServer> mission_server_;
-  ros::Subscriber relocation_sub_, goal_count_sub_;
+  ros::Subscriber relocation_sub_;
   double entropy_ = 0.0;
   lockstep::Participant lockstep_;
+  std::unique_ptr<MissionService> missions_;  // after lockstep_: its goal count is a lockstep subscription
   ros::Time next_control_;  // lockstep: the sim time of the next control step
   lockstep::Publisher cmd_pub_, status_pub_;
   ros::Publisher markers_pub_;
