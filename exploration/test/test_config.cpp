@@ -24,7 +24,7 @@ TEST(Config, YamlDefaultsEqualTheCodeDefaults) {
     EXPECT_NEAR(static_cast<double>(node.as<T>()), static_cast<double>(*value), 1e-12) << name;
   });
   const std::set<std::string> node_keys = {"odom_frame", "base_frame", "topo_node", "local_map_node", "control_rate",
-                                           "progress_period", "shutdown_when_done", "summary_file", "serve_missions", "freeze_map_for_missions",
+                                           "progress_period", "shutdown_when_done", "summary_file", "serve_missions", "mission_client", "freeze_map_for_missions",
                                            "relocation_sigma_xy", "relocation_sigma_theta"};
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
