@@ -20,10 +20,10 @@ import rospy
 import yaml
 from world_geometry import yaw_of
 from geometry_msgs.msg import Pose2D
-from hybrid_slam_msgs.msg import TopologicalBelief, TopologicalMap, TopologicalState
+from hybrid_slam_msgs.msg import TopoEvent, TopologicalBelief, TopologicalMap, TopologicalState
 from hybrid_slam_msgs.srv import Teleport
 from nav_msgs.msg import Odometry
-from std_msgs.msg import Bool, String
+from std_msgs.msg import Bool
 
 MODE_NAMES = {TopologicalState.FRONTIER: 'frontier', TopologicalState.LOCALIZED: 'localized',
               TopologicalState.LOOP_CHECK: 'loop_check'}
@@ -85,7 +85,7 @@ class TopoEvaluator:
         rospy.Subscriber('topological_map', TopologicalMap, self.on_map, queue_size=2)
         rospy.Subscriber('topological_belief', TopologicalBelief, self.on_belief, queue_size=50)
         rospy.Subscriber('topological_state', TopologicalState, self.on_mode, queue_size=10)
-        rospy.Subscriber('topo_events', String, self.on_event, queue_size=100)
+        rospy.Subscriber('topo_events', TopoEvent, self.on_event, queue_size=100)
         rospy.Subscriber('tour_done', Bool, self.on_done, queue_size=1)
         rospy.on_shutdown(self.write)
 
@@ -122,7 +122,7 @@ class TopoEvaluator:
         self.mode = MODE_NAMES.get(msg.mode, 'unknown')
 
     def on_event(self, msg):
-        self.events.append(msg.data)
+        self.events.append((msg.kind, msg.text))
 
     def on_done(self, msg):
         if msg.data:
@@ -291,8 +291,8 @@ class TopoEvaluator:
                'first_confident_and_right': self.first_right, 'travel_m': round(self.truth_path, 1),
                'kidnaps': [{k: v for k, v in x.items() if k not in ('path0', 'stamp')} for x in self.kidnap_log],
                'kidnap_unrecovered': self.pending_kidnap is not None,
-               'loops_closed': [e for e in self.events if e.startswith('loop closed')],
-               'loops_rejected': [e for e in self.events if e.startswith('loop hypothesis rejected')],
+               'loops_closed': [t for k, t in self.events if k == TopoEvent.LOOP_CLOSED],
+               'loops_rejected': [t for k, t in self.events if k == TopoEvent.LOOP_REJECTED],
                'tour_done': self.done}
         out.update(self.node_match())
         return out

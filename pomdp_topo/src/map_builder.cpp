@@ -39,8 +39,8 @@ int MapBuilder::binOf(double heading) const { return headingBins().bin(heading);
 
 void MapBuilder::refreshLocalizer() { localizer_->setMap(*map_); }
 
-std::vector<std::string> MapBuilder::takeEvents() {
-  std::vector<std::string> out;
+std::vector<TopoEvent> MapBuilder::takeEvents() {
+  std::vector<TopoEvent> out;
   out.swap(events_);
   return out;
 }
@@ -88,7 +88,7 @@ void MapBuilder::start(const FrontEnd& fe) {
     start.type = NodeType::Start;
     start.pose = fe.pose();
     const uint32_t id = map_->addNode(start);
-    event("node " + std::to_string(id) + " (start) created");
+    event(TopoEvent::Kind::NodeCreated, "node " + std::to_string(id) + " (start) created", int(id));
     refreshLocalizer();
     startFrontier(id, fe.headingBin(), 0.0, fe.travel());
     return;
@@ -138,8 +138,9 @@ void MapBuilder::odometryJump(const FrontEnd& fe) {
       if (!found) map_->recordOpening(from_node_, o);
       n->explored = false;
       localizer_->addOpenWay(from_node_, bearing);
-      event("odometry jump on the frontier from node " + std::to_string(from_node_) +
-            ": that way is left unexplored");
+      event(TopoEvent::Kind::OdometryJump,
+            "odometry jump on the frontier from node " + std::to_string(from_node_) + ": that way is left unexplored",
+            int(from_node_));
     }
   }
   mode_ = Mode::Localized;
@@ -151,7 +152,7 @@ void MapBuilder::odometryJump(const FrontEnd& fe) {
   travel_since_localized_ = 0.0;
   relocation_pending_ = true;
   relocated_ = false;
-  event("odometry jump: the robot was moved; belief uniform over the known graph");
+  event(TopoEvent::Kind::OdometryJump, "odometry jump: the robot was moved; belief uniform over the known graph");
 }
 
 bool MapBuilder::takeRelocatedPosition(Eigen::Vector2d* position) {
@@ -395,8 +396,10 @@ uint32_t MapBuilder::createNode(NodeType type, double pos, const Scan& scan, con
     why += (o.width > 0.0 ? "an opening " + std::to_string(o.width).substr(0, 4) + " m wide" : "a turn") +
            std::string(normalizeAngle(o.bearing - h) > 0.0 ? " on the left" : " on the right");
   }
-  event("node " + std::to_string(id) + " (" + pomdp_topo::toString(type) + ") created " + std::to_string(pos).substr(0, 5) +
-        " m from node " + std::to_string(previous) + ": " + why);
+  event(TopoEvent::Kind::NodeCreated,
+        "node " + std::to_string(id) + " (" + pomdp_topo::toString(type) + ") created " + std::to_string(pos).substr(0, 5) +
+            " m from node " + std::to_string(previous) + ": " + why,
+        int(id), int(previous));
   from_node_ = id;
   s_base_ -= pos;
   s_ -= pos;
@@ -435,7 +438,9 @@ bool MapBuilder::startLoopCheck(uint32_t new_node, uint32_t previous_node, const
   buffer_.clear();
   std::string names;
   for (const uint32_t c : loop_.candidates()) names += " " + std::to_string(c);
-  event("loop hypothesis: node " + std::to_string(new_node) + " may be node(s)" + names + "; map building paused");
+  event(TopoEvent::Kind::LoopHypothesis,
+        "loop hypothesis: node " + std::to_string(new_node) + " may be node(s)" + names + "; map building paused",
+        int(new_node));
   return true;
 }
 
@@ -467,11 +472,15 @@ void MapBuilder::decideLoop(bool old_wins, const FrontEnd& fe) {
     map_->mergeNodes(keep, loop_.newNode(), &zipped,
                      params_.position_gate > 0.0 ? params_.position_gate : std::numeric_limits<double>::infinity());
     loops_.emplace_back(keep, loop_.newNode());
-    event("loop closed: node " + std::to_string(loop_.newNode()) + " merged into node " + std::to_string(keep) +
-          " (log odds " + std::to_string(odds) + "; " + evidence + ")");
+    event(TopoEvent::Kind::LoopClosed,
+          "loop closed: node " + std::to_string(loop_.newNode()) + " merged into node " + std::to_string(keep) +
+              " (log odds " + std::to_string(odds) + "; " + evidence + ")",
+          int(loop_.newNode()), int(keep));
     for (const auto& [kept, dropped] : zipped) {
-      event("node " + std::to_string(dropped) + " merged into node " + std::to_string(kept) +
-            ": the same place, on the stretch the loop closed along");
+      event(TopoEvent::Kind::NodesMerged,
+            "node " + std::to_string(dropped) + " merged into node " + std::to_string(kept) +
+                ": the same place, on the stretch the loop closed along",
+            int(dropped), int(kept));
     }
     // Continue on the known graph from the old node, replaying the motion since.
     becomeLocalizedAt(keep, loop_.bin());
@@ -483,8 +492,10 @@ void MapBuilder::decideLoop(bool old_wins, const FrontEnd& fe) {
     return;
   }
   ++loops_rejected_;
-  event("loop hypothesis rejected: node " + std::to_string(loop_.newNode()) + " is a new place (log odds " +
-        std::to_string(loopLogOdds()) + "; " + loopEvidence() + ")");
+  event(TopoEvent::Kind::LoopRejected,
+        "loop hypothesis rejected: node " + std::to_string(loop_.newNode()) + " is a new place (log odds " +
+            std::to_string(loopLogOdds()) + "; " + loopEvidence() + ")",
+        int(loop_.newNode()));
   loop_.clear();
   if (loop_.bin() != frontier_bin_) {
     // Turned at the new junction: the new stretch starts there, along the branch taken.
@@ -512,7 +523,7 @@ void MapBuilder::processLocalized(const Scan& scan) {
   if (const std::string said = gate_.gate(*map_, localizer_, params_, headingBins(), scan.pose, scan.travel,
                                         scan.heading_bin);
       !said.empty()) {
-    event(said);
+    event(TopoEvent::Kind::BeliefGated, said);
   }
   const int ml = localizer_->mostLikely();
   if (ml < 0) return;
@@ -528,7 +539,7 @@ void MapBuilder::processLocalized(const Scan& scan) {
       relocated_ = true;
       relocated_position_ = p;
       gate_.relocated(scan.travel);  // the caller moves the front end there (takeRelocatedPosition)
-      event("relocalized after the odometry jump");
+      event(TopoEvent::Kind::Relocalized, "relocalized after the odometry jump");
     }
   }
   if (sure && params_.mapping && beyond_ == 0.0) updater_.update(scan, params_, gate_, headingBins(), fe_params_.tracks.pass_lag, &events_);
@@ -560,8 +571,10 @@ MapBuilder::BeyondStep MapBuilder::stepBeyondGraph(const Action& a, const Scan& 
   const double limit = params_.leave_graph_distance + (end != end_beyond_.end() ? end->second : 0.0);
   if (closed) {
     if (beyond_ < limit) return BeyondStep::ObserveAtEnd;
-    event("the belief puts the robot past the end of the hallway at node " + std::to_string(st.id) +
-          ": it is wrong; reset to uniform");
+    event(TopoEvent::Kind::BeliefReset,
+          "the belief puts the robot past the end of the hallway at node " + std::to_string(st.id) +
+              ": it is wrong; reset to uniform",
+          int(st.id));
     localizer_->setUniform();
     beyond_ = 0.0;
     return BeyondStep::SkipObservation;
@@ -575,13 +588,15 @@ MapBuilder::BeyondStep MapBuilder::stepBeyondGraph(const Action& a, const Scan& 
     return BeyondStep::SkipObservation;
   }
   if (where == Departure::Elsewhere) {
-    event("the belief would leave the known graph at node " + std::to_string(st.id) +
-          ", where the dead reckoning does not put the robot: it is wrong; reset to uniform");
+    event(TopoEvent::Kind::BeliefReset,
+          "the belief would leave the known graph at node " + std::to_string(st.id) +
+              ", where the dead reckoning does not put the robot: it is wrong; reset to uniform",
+          int(st.id));
     localizer_->setUniform();
     beyond_ = 0.0;
     return BeyondStep::SkipObservation;
   }
-  event("leaving the known graph at node " + std::to_string(st.id) + ": new stretch");
+  event(TopoEvent::Kind::NewStretch, "leaving the known graph at node " + std::to_string(st.id) + ": new stretch", int(st.id));
   startFrontier(st.id, binOf(st.heading), s, scan.travel);
   beyond_ = 0.0;
   return BeyondStep::LeftGraph;
@@ -595,11 +610,15 @@ bool MapBuilder::mergeTwin(const PomdpLocalizer::State& st) {
   if (twin < 0) return false;
   std::vector<std::pair<uint32_t, uint32_t>> zipped;
   map_->mergeNodes(uint32_t(twin), st.id, &zipped, params_.position_gate);
-  event("node " + std::to_string(st.id) + " merged into node " + std::to_string(twin) +
-        ": the same place by the dead reckoning, and it has the way on");
+  event(TopoEvent::Kind::NodesMerged,
+        "node " + std::to_string(st.id) + " merged into node " + std::to_string(twin) +
+            ": the same place by the dead reckoning, and it has the way on",
+        int(st.id), twin);
   for (const auto& [kept, dropped] : zipped) {
-    event("node " + std::to_string(dropped) + " merged into node " + std::to_string(kept) +
-          ": the same place, on the stretch beyond");
+    event(TopoEvent::Kind::NodesMerged,
+          "node " + std::to_string(dropped) + " merged into node " + std::to_string(kept) +
+              ": the same place, on the stretch beyond",
+          int(dropped), int(kept));
   }
   Action on;
   on.kind = Action::Travel;

@@ -18,7 +18,7 @@ NodeOpening sideOpening(double heading, const PassedLandmark& p) {
 }
 
 void MapUpdater::update(const ScanRecord& scan, const MapBuilderParams& params, const DeadReckoningGate& gate,
-                        const laser_features::HeadingBins& bins, double pass_lag, std::vector<std::string>* events) {
+                        const laser_features::HeadingBins& bins, double pass_lag, std::vector<TopoEvent>* events) {
   params_ = &params;
   gate_ = &gate;
   bins_ = bins;
@@ -93,7 +93,7 @@ void MapUpdater::addOpeningsAtNode(const PomdpLocalizer::State& st, const ScanRe
     if (gate_->farFromNode(*params_, bins_, *n, p, scan.pose, scan.travel)) continue;
     n->openings.push_back(o);
     changed = true;
-    event("opening added to node " + std::to_string(n->id));
+    event(TopoEvent::Kind::OpeningAdded, "opening added to node " + std::to_string(n->id), int(n->id));
   }
   if (changed) {  // as on an edge (updateKnownEdge)
     map_->touch();
@@ -156,7 +156,7 @@ void MapUpdater::updateKnownEdge(const ScanRecord& scan) {
       e->sortLandmarks();
       matched_recently_.push_back(uint32_t(std::lround(l.distance * 1000.0)));
       changed = true;
-      event("corner landmark added to edge " + std::to_string(e->id));
+      event(TopoEvent::Kind::LandmarkAdded, "corner landmark added to edge " + std::to_string(e->id), -1, -1, int(e->id));
     } else if (!near_end && !p.landmark.door) {
       // A wide opening in the middle of a known stretch: a junction the first pass did not see is
       // unlikely (hallway branches are seen from afar); a gap beside a pillar or a wide view into
@@ -190,7 +190,7 @@ void MapUpdater::updateKnownEdge(const ScanRecord& scan) {
       if (!map_->hasOpeningToward(nid, o.bearing) && !gate_->farFromNode(*params_, bins_, *n, p, scan.pose, scan.travel)) {
         n->openings.push_back(o);
         changed = true;
-        event("opening added to node " + std::to_string(nid));
+        event(TopoEvent::Kind::OpeningAdded, "opening added to node " + std::to_string(nid), int(nid));
       }
     }
   }
@@ -207,8 +207,10 @@ void MapUpdater::updateKnownEdge(const ScanRecord& scan) {
         it->p_lmap = it->p_lmap * it->observations / (it->observations + 1);
         it->observations += 1;
         if (it->p_lmap < params_->p_lmap_min && int(it->observations) >= params_->p_lmap_min_observations) {
-          event("landmark at " + std::to_string(it->distance) + " m on edge " + std::to_string(e->id) + " deleted (p_lmap " +
-                std::to_string(it->p_lmap) + ")");
+          event(TopoEvent::Kind::LandmarkDeleted,
+                "landmark at " + std::to_string(it->distance) + " m on edge " + std::to_string(e->id) + " deleted (p_lmap " +
+                    std::to_string(it->p_lmap) + ")",
+                -1, -1, int(e->id));
           it = e->landmarks.erase(it);
           changed = true;
           continue;
@@ -246,8 +248,10 @@ void MapUpdater::splitEdgeWithDoor(uint32_t edge_id, double distance, const Node
   map_->removeEdge(edge_id);
   const uint32_t e1 = map_->addEdge(old.source, id, old.heading, distance, first);
   map_->addEdge(id, old.target, old.heading, std::max(0.0, old.length - distance), second);
-  event("node " + std::to_string(id) + " (" + pomdp_topo::toString(door.type) + ") created on known edge " +
-        std::to_string(edge_id) + ", which is split");
+  event(TopoEvent::Kind::NodeCreated,
+        "node " + std::to_string(id) + " (" + pomdp_topo::toString(door.type) + ") created on known edge " +
+            std::to_string(edge_id) + ", which is split",
+        int(id), int(old.source), int(edge_id));
   // The robot is on one of the halves, where the belief was.
   const int ml = localizer_->mostLikely();
   const PomdpLocalizer::State st = localizer_->state(size_t(ml));

@@ -9,7 +9,6 @@
 #include <hybrid_slam_msgs/SaveMap.h>
 #include <hybrid_slam_msgs/UpdateOpening.h>
 #include <ros/ros.h>
-#include <std_msgs/String.h>
 #include <std_srvs/SetBool.h>
 #include <std_srvs/Trigger.h>
 #include <tf2/utils.h>
@@ -80,7 +79,7 @@ class TopoNodeRos {
     map_pub_ = lockstep_.advertise<hybrid_slam_msgs::TopologicalMap>(nh_, "topological_map", 1, true);
     belief_pub_ = lockstep_.advertise<hybrid_slam_msgs::TopologicalBelief>(nh_, "topological_belief", 10);
     state_pub_ = lockstep_.advertise<hybrid_slam_msgs::TopologicalState>(nh_, "topological_state", 10, true);
-    events_pub_ = lockstep_.advertise<std_msgs::String>(nh_, "topo_events", 100);
+    events_pub_ = lockstep_.advertise<hybrid_slam_msgs::TopoEvent>(nh_, "topo_events", 100);
     markers_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("topo_markers", 2, true);
     axes_pub_ = lockstep_.advertise<hybrid_slam_msgs::BuildingAxes>(nh_, "building_axes", 1, true);
     // In lockstep, the features of a step wait for laser_features' acknowledgement of it.
@@ -251,16 +250,12 @@ class TopoNodeRos {
     if (localizer_.lostResets() != lost_resets_) {
       lost_resets_ = localizer_.lostResets();
       ROS_WARN("pomdp_topo: the belief is lost (the map does not explain the observations or a turn); reset to uniform");
-      std_msgs::String s;
-      s.data = "belief lost: reset to uniform";
-      events_pub_.publish(s);
+      publishEvent(TopoEvent{TopoEvent::Kind::BeliefLost, -1, -1, -1, "belief lost: reset to uniform"}, msg->header.stamp);
     }
     if (!actions_.empty()) realignHeading();
-    for (const std::string& e : builder_.takeEvents()) {
-      ROS_INFO("pomdp_topo: %s", e.c_str());
-      std_msgs::String s;
-      s.data = e;
-      events_pub_.publish(s);
+    for (const TopoEvent& e : builder_.takeEvents()) {
+      ROS_INFO("pomdp_topo: %s", e.text.c_str());
+      publishEvent(e, msg->header.stamp);
     }
     if (map_.revision() != published_revision_) {
       publishMap();
@@ -295,6 +290,15 @@ class TopoNodeRos {
     if (k == 0) return;
     ROS_WARN("pomdp_topo: heading estimate re-aligned by %d bin(s) to the localized state", k);
     front_end_.shiftHeading(k);
+  }
+
+  void publishEvent(const TopoEvent& event, const ros::Time& stamp) {
+    std_msgs::Header header;
+    header.stamp = stamp;
+    header.frame_id = map_frame_;
+    hybrid_slam_msgs::TopoEvent msg;
+    toMsg(event, header, &msg);
+    events_pub_.publish(msg);
   }
 
   void publishMap() {

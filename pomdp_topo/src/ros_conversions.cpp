@@ -173,6 +173,32 @@ void toMsg(MapBuilder::Mode mode, bool confident, double heading, const std_msgs
   msg->heading = heading;
 }
 
+void toMsg(const TopoEvent& event, const std_msgs::Header& header, hybrid_slam_msgs::TopoEvent* msg) {
+  using Msg = hybrid_slam_msgs::TopoEvent;
+  using Kind = TopoEvent::Kind;
+  msg->header = header;
+  switch (event.kind) {
+    case Kind::NodeCreated: msg->kind = Msg::NODE_CREATED; break;
+    case Kind::OpeningAdded: msg->kind = Msg::OPENING_ADDED; break;
+    case Kind::LandmarkAdded: msg->kind = Msg::LANDMARK_ADDED; break;
+    case Kind::LandmarkDeleted: msg->kind = Msg::LANDMARK_DELETED; break;
+    case Kind::LoopHypothesis: msg->kind = Msg::LOOP_HYPOTHESIS; break;
+    case Kind::LoopClosed: msg->kind = Msg::LOOP_CLOSED; break;
+    case Kind::LoopRejected: msg->kind = Msg::LOOP_REJECTED; break;
+    case Kind::NodesMerged: msg->kind = Msg::NODES_MERGED; break;
+    case Kind::BeliefLost: msg->kind = Msg::BELIEF_LOST; break;
+    case Kind::BeliefGated: msg->kind = Msg::BELIEF_GATED; break;
+    case Kind::BeliefReset: msg->kind = Msg::BELIEF_RESET; break;
+    case Kind::OdometryJump: msg->kind = Msg::ODOMETRY_JUMP; break;
+    case Kind::Relocalized: msg->kind = Msg::RELOCALIZED; break;
+    case Kind::NewStretch: msg->kind = Msg::NEW_STRETCH; break;
+  }
+  msg->node = event.node;
+  msg->other_node = event.other_node;
+  msg->edge = event.edge;
+  msg->text = event.text;
+}
+
 void toMsg(const PomdpLocalizer& loc, const std_msgs::Header& header, hybrid_slam_msgs::TopologicalBelief* msg) {
   msg->header = header;
   const size_t n = loc.size();

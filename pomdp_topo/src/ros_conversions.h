@@ -6,6 +6,7 @@
 #include <hybrid_slam_msgs/TopologicalBelief.h>
 #include <hybrid_slam_msgs/TopologicalMap.h>
 #include <hybrid_slam_msgs/TopologicalState.h>
+#include <hybrid_slam_msgs/TopoEvent.h>
 #include <visualization_msgs/MarkerArray.h>
 
 #include "laser_features/corner_extractor.h"
@@ -13,6 +14,7 @@
 #include "laser_features/opening_extractor.h"
 #include "pomdp_topo/map_builder.h"
 #include "pomdp_topo/pomdp_localizer.h"
+#include "pomdp_topo/topo_event.h"
 #include "pomdp_topo/topological_map.h"
 
 namespace pomdp_topo {
@@ -29,6 +31,8 @@ void toMsg(const PomdpLocalizer& localizer, const std_msgs::Header& header, hybr
 /// heading (rad, map frame) of one step.
 void toMsg(MapBuilder::Mode mode, bool confident, double heading, const std_msgs::Header& header,
            hybrid_slam_msgs::TopologicalState* msg);
+/// An event of the map builder, stamped with the step it happened at.
+void toMsg(const TopoEvent& event, const std_msgs::Header& header, hybrid_slam_msgs::TopoEvent* msg);
 
 /// The graph (nodes by type, edges, corner landmarks coloured by orientation, openings) and the
 /// belief (spheres scaled by probability, at the states' display positions).

@@ -584,7 +584,7 @@ TEST(MapBuilder, ADoorRecordedAtAJunctionIsThatDoorWhenANewStretchFromThereSeesI
   if (::testing::Test::HasFatalFailure()) return;
   drive.run(&floor, {{1.5, 0.0}, {14.0, 0.0}}, kPi);
   bool left_graph = false;
-  for (const auto& e : drive.builder.takeEvents()) left_graph |= e.find("leaving the known graph") != std::string::npos;
+  for (const auto& e : drive.builder.takeEvents()) left_graph |= e.kind == TopoEvent::Kind::NewStretch;
   ASSERT_TRUE(left_graph) << "no new stretch east of the junction";
   EXPECT_EQ(drive.count(NodeType::Door), 1u) << "the junction's door became a door node of its own";
   EXPECT_EQ(drive.count(NodeType::Junction), 1u);
@@ -656,8 +656,8 @@ TEST(MapBuilder, RingLoopIsClosedOnceAndTheSecondLapIsLocalized) {
   // The loop closes at the south door: that door, passed during the check, is the old node's own
   // (it once counted as unexpected, and the loop closed only by a hair at the corner's turn).
   std::string closed;
-  for (const std::string& e : drive.builder.takeEvents()) {
-    if (e.rfind("loop closed", 0) == 0) closed = e;
+  for (const TopoEvent& e : drive.builder.takeEvents()) {
+    if (e.kind == TopoEvent::Kind::LoopClosed) closed = e.text;
   }
   EXPECT_NE(closed.find("0 unexpected openings"), std::string::npos) << closed;
   EXPECT_EQ(drive.count(NodeType::Door), 2u);
@@ -704,11 +704,12 @@ TEST(MapBuilder, ComingDownAStemToAKnownHallwayClosesTheLoopAtItsJunction) {
   Drive drive;
   drive.run(&floor, {{2, 1}, {15, 1}, {15, 11}, {8, 11}, {8, 1}, {15, 1}, {15, 6}}, 0.0);
   EXPECT_EQ(drive.builder.loopsClosed().size(), 1u);
-  std::string closed;
-  for (const std::string& e : drive.builder.takeEvents()) {
-    if (e.rfind("loop closed", 0) == 0) closed = e;
+  TopoEvent closed;
+  for (const TopoEvent& e : drive.builder.takeEvents()) {
+    if (e.kind == TopoEvent::Kind::LoopClosed) closed = e;
   }
-  EXPECT_NE(closed.find("merged into node 1 "), std::string::npos) << closed;  // the T, the first node after the start
+  ASSERT_EQ(closed.kind, TopoEvent::Kind::LoopClosed);
+  EXPECT_EQ(closed.other_node, 1) << closed.text;  // the T, the first node after the start
   EXPECT_EQ(drive.count(NodeType::Junction), 4u);  // two T's, two corners
   EXPECT_EQ(drive.count(NodeType::Door), 1u);
   EXPECT_EQ(drive.map.nodeCount(), 6u);  // and the start
@@ -729,9 +730,9 @@ TEST(MapBuilder, ACrossingRecordedTwiceIsMergedWhereTheCopyHasNoWayOn) {
   Drive drive;
   drive.run(&floor, {{2, 1}, {15, 1}, {15, 11}, {8, 11}, {8, -5}, {8, 1}, {13, 1}}, 0.0);
   bool merged = false, left = false;
-  for (const std::string& e : drive.builder.takeEvents()) {
-    merged = merged || e.find("the same place by the dead reckoning") != std::string::npos;
-    left = left || e.rfind("leaving the known graph", 0) == 0;
+  for (const TopoEvent& e : drive.builder.takeEvents()) {
+    merged = merged || (e.kind == TopoEvent::Kind::NodesMerged && e.text.find("by the dead reckoning") != std::string::npos);
+    left = left || e.kind == TopoEvent::Kind::NewStretch;
   }
   EXPECT_TRUE(merged);
   EXPECT_FALSE(left);

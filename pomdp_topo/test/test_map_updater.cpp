@@ -47,7 +47,7 @@ TEST(MapUpdater, ALandmarkSeenWhereExpectedGainsAndOneMissedLosesUntilDeleted) {
   const MapBuilderParams params;
   MapUpdater updater(&map, &localizer);
   DeadReckoningGate gate;  // not trusted: no dead-reckoning checks
-  std::vector<std::string> events;
+  std::vector<pomdp_topo::TopoEvent> events;
 
   // The robot in the cell at 6 m; the corner at 5 m passed (1.25 m behind the cell's centre).
   ASSERT_TRUE(localizer.resetToEdge(edge, 6.0, true));
@@ -76,5 +76,6 @@ TEST(MapUpdater, ALandmarkSeenWhereExpectedGainsAndOneMissedLosesUntilDeleted) {
   EXPECT_DOUBLE_EQ(landmarks()[0].distance, 5.0);
   EXPECT_EQ(landmarks()[0].observations, 3u);
   ASSERT_FALSE(events.empty());
-  EXPECT_NE(events.back().find("deleted"), std::string::npos);
+  EXPECT_EQ(events.back().kind, pomdp_topo::TopoEvent::Kind::LandmarkDeleted) << events.back().text;
+  EXPECT_GE(events.back().edge, 0);
 }

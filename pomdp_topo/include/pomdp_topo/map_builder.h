@@ -22,10 +22,12 @@
 #include "pomdp_topo/map_builder_params.h"
 #include "pomdp_topo/map_updater.h"
 #include "pomdp_topo/pomdp_localizer.h"
+#include "pomdp_topo/topo_event.h"
 #include "pomdp_topo/topological_map.h"
 
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pomdp_topo {
@@ -90,8 +92,8 @@ class MapBuilder {
   int frontierHeadingBin() const { return frontier_bin_; }
   /// Whether the robot's place is known: always in Frontier mode, the belief's flag otherwise.
   bool confident() const;
-  /// Log of what happened ("node 4 (door) created", "loop closed: node 9 merged into node 2", ...).
-  std::vector<std::string> takeEvents();
+  /// What happened since the last call (a node made, a loop closed, ...), in order.
+  std::vector<TopoEvent> takeEvents();
   /// Loop closures done so far (pairs kept, dropped).
   const std::vector<std::pair<uint32_t, uint32_t>>& loopsClosed() const { return loops_; }
   size_t loopsRejected() const { return loops_rejected_; }
@@ -136,7 +138,9 @@ class MapBuilder {
   double binHeading(int bin) const;
   int binOf(double heading) const;
   void refreshLocalizer();
-  void event(const std::string& text) { events_.push_back(text); }
+  void event(TopoEvent::Kind kind, std::string text, int node = -1, int other_node = -1) {
+    events_.push_back(TopoEvent{kind, node, other_node, -1, std::move(text)});
+  }
 
   TopologicalMap* map_;
   PomdpLocalizer* localizer_;
@@ -173,7 +177,7 @@ class MapBuilder {
   LoopHypotheses loop_;
   std::vector<Scan> buffer_;  // the scans since the new node: replayed as a new stretch if it is one
 
-  std::vector<std::string> events_;
+  std::vector<TopoEvent> events_;
   std::vector<std::pair<uint32_t, uint32_t>> loops_;
   size_t loops_rejected_ = 0;
 };

@@ -13,6 +13,7 @@
 #include "pomdp_topo/map_builder_params.h"
 #include "pomdp_topo/pomdp_localizer.h"
 #include "pomdp_topo/scan_record.h"
+#include "pomdp_topo/topo_event.h"
 #include "pomdp_topo/topological_map.h"
 
 #include <cstdint>
@@ -36,7 +37,7 @@ class MapUpdater {
   /// are the heading bins, `pass_lag` (m, OpeningTracks) how far behind the robot a landmark is
   /// passed. What changed is told in `events`.
   void update(const ScanRecord& scan, const MapBuilderParams& params, const DeadReckoningGate& gate,
-              const laser_features::HeadingBins& bins, double pass_lag, std::vector<std::string>* events);
+              const laser_features::HeadingBins& bins, double pass_lag, std::vector<TopoEvent>* events);
   /// The belief left the edge it was on (a reset, a new stretch, a jump): the next one starts afresh.
   void forget() { last_edge_ = -1; }
 
@@ -53,7 +54,9 @@ class MapUpdater {
   /// Doors passed while the belief is at node `st` that no node within reach has: added to it.
   void addOpeningsAtNode(const PomdpLocalizer::State& st, const ScanRecord& scan);
   void splitEdgeWithDoor(uint32_t edge, double distance, const NodeOpening& opening, bool is_door);
-  void event(const std::string& text) { events_->push_back(text); }
+  void event(TopoEvent::Kind kind, std::string text, int node = -1, int other_node = -1, int edge = -1) {
+    events_->push_back(TopoEvent{kind, node, other_node, edge, std::move(text)});
+  }
 
   TopologicalMap* map_;
   PomdpLocalizer* localizer_;
@@ -62,7 +65,7 @@ class MapUpdater {
   const DeadReckoningGate* gate_ = nullptr;
   laser_features::HeadingBins bins_;
   double pass_lag_ = 0.0;
-  std::vector<std::string>* events_ = nullptr;
+  std::vector<TopoEvent>* events_ = nullptr;
 
   int last_edge_ = -1;      // most likely edge and offset at the previous step (eq. 5 misses)
   bool last_forward_ = true;
