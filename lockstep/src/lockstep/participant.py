@@ -41,6 +41,8 @@ class Participant(object):
         if not self.enabled:
             return
         self._ack_pub = rospy.Publisher(rospy.get_name() + '/lockstep_ack', LockstepAck, queue_size=100)
+        self._shutting_down = False  # set by the first shutdown hook: no acknowledgement after it
+        rospy.on_shutdown(self._on_shutdown)
         rospy.Subscriber('lockstep/step', LockstepStep, self._on_step, queue_size=100, tcp_nodelay=True)
         for node in self._upstream:
             rospy.Subscriber(node + '/lockstep_ack', LockstepAck, self._on_ack, queue_size=100, tcp_nodelay=True)
@@ -92,7 +94,7 @@ class Participant(object):
             self._last_step = stamp
             if self._observer:
                 if msg.start:  # connected: the run may start; no later step waits for an observer
-                    self._ack_pub.publish(LockstepAck(node=rospy.get_name(), stamp=msg.stamp))
+                    self._publish_ack(LockstepAck(node=rospy.get_name(), stamp=msg.stamp))
                 return
             self._steps.append((stamp, announced, msg.stamp, msg.start))
             self._advance()
@@ -103,6 +105,21 @@ class Participant(object):
             if old is None or msg.stamp.to_nsec() >= old[0]:
                 self._acks[msg.node] = (msg.stamp.to_nsec(), _counts(msg))
             self._advance()
+
+    def _on_shutdown(self):
+        self._shutting_down = True
+
+    def _publish_ack(self, ack):
+        """Publishes an acknowledgement; False once the node is shutting down. A step's callback can
+        run after rospy closed the publisher, even while the interpreter tears the process down
+        (when rospy's own is_shutdown() no longer answers): no step follows a shutdown."""
+        try:
+            self._ack_pub.publish(ack)
+            return True
+        except rospy.ROSException:
+            if self._shutting_down:
+                return False
+            raise
 
     def _covers(self, announced):
         return all(self._received[t] >= n * self._watched[t] for t, n in announced.items() if t in self._watched)
@@ -127,4 +144,5 @@ class Participant(object):
                     topics, counts = list(self._published), list(self._published.values())
                 ack = LockstepAck(node=rospy.get_name(), stamp=stamp, topics=topics, counts=counts)
                 ack.wake = self._wake if self._wake > stamp else rospy.Time()
-                self._ack_pub.publish(ack)
+                if not self._publish_ack(ack):
+                    return
