@@ -11,6 +11,7 @@ add_library(exploration_core
   ${EXPLORATION_CORE_DIR}/src/motion_controller.cpp
   ${EXPLORATION_CORE_DIR}/src/occupancy_grid.cpp
   ${EXPLORATION_CORE_DIR}/src/frontier_explorer.cpp
+  ${EXPLORATION_CORE_DIR}/src/grid_planner.cpp
   ${EXPLORATION_CORE_DIR}/src/frontier_goal.cpp
   ${EXPLORATION_CORE_DIR}/src/room_explorer.cpp
   ${EXPLORATION_CORE_DIR}/src/hallway_view.cpp

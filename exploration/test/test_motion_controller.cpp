@@ -2,7 +2,7 @@
 // a 360-beam laser at 10 Hz ray-cast against segments and circles, and a check of every command
 // against the speed and acceleration limits.
 #include "exploration/motion_controller.h"
-#include "exploration/frontier_explorer.h"
+#include "exploration/grid_planner.h"
 #include "exploration/occupancy_grid.h"
 #include "exploration/waypoint_follower.h"
 

@@ -11,7 +11,7 @@
 #pragma once
 
 #include "exploration/coordinator_io.h"
-#include "exploration/frontier_explorer.h"
+#include "exploration/grid_planner.h"
 #include "exploration/hallway_view.h"
 #include "laser_features/building_axes.h"
 #include "laser_features/building_rules.h"

@@ -15,7 +15,7 @@
 
 #include "exploration/coordinator_io.h"
 #include "exploration/door_entry.h"
-#include "exploration/frontier_explorer.h"
+#include "exploration/grid_planner.h"
 #include "exploration/hallway_doors.h"
 #include "exploration/hallway_follower.h"
 #include "exploration/hallway_view.h"

@@ -11,7 +11,7 @@
 #pragma once
 
 #include "exploration/coordinator_io.h"
-#include "exploration/frontier_explorer.h"
+#include "exploration/grid_planner.h"
 #include "exploration/hallway_doors.h"
 #include "exploration/room_explorer.h"
 #include "exploration/topo_route.h"

@@ -12,7 +12,7 @@
 // ROS-free.
 #pragma once
 
-#include "exploration/frontier_explorer.h"
+#include "exploration/grid_planner.h"
 
 #include <Eigen/Core>
 
