@@ -51,6 +51,9 @@ void GridPlanner::setMap(const OccupancyGrid& grid) {
   const std::size_t n = grid.cellCount();
   distances_valid_ = false;
   start_ = -1;
+  seen_.clear();
+  seen_first_.clear();
+  seen_near_.clear();
 
   std::vector<CellState> state(n);
   for (int y = 0; y < height_; ++y)
@@ -95,6 +98,59 @@ void GridPlanner::setMap(const OccupancyGrid& grid) {
   }
 }
 
+void GridPlanner::addObstacles(const std::vector<Eigen::Vector2d>& points) {
+  if (!hasMap()) return;
+  for (const Eigen::Vector2d& p : points) {
+    int index = 0;
+    if (cellOf(p, &index)) seen_.push_back(p);
+  }
+  if (seen_.empty()) return;
+  distances_valid_ = false;
+  // A cell is covered by a point when its centre lies within the inflation radius of the point
+  // itself (not of the point's cell: the controller measures its clearance from the point).
+  const double r2 = inflationRadius() * inflationRadius();
+  const int rc = static_cast<int>(std::ceil(inflationRadius() / resolution_)) + 1;
+  // Visits every (cell, point) pair of a point's inflation disk.
+  const auto forCovered = [&](const auto& visit) {
+    for (std::size_t k = 0; k < seen_.size(); ++k) {
+      int index = 0;
+      cellOf(seen_[k], &index);
+      const int x = index % width_, y = index / width_;
+      for (int dy = -rc; dy <= rc; ++dy)
+        for (int dx = -rc; dx <= rc; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < 0 || ny < 0 || nx >= width_ || ny >= height_) continue;
+          const int cell = ny * width_ + nx;
+          if ((center(cell) - seen_[k]).squaredNorm() <= r2) visit(cell, static_cast<std::int32_t>(k));
+        }
+    }
+  };
+  // Which points cover each cell (two passes: counts, then the indices).
+  seen_first_.assign(pass_.size() + 1, 0);
+  forCovered([&](int cell, std::int32_t) { ++seen_first_[static_cast<std::size_t>(cell) + 1]; });
+  for (std::size_t i = 1; i < seen_first_.size(); ++i) seen_first_[i] += seen_first_[i - 1];
+  seen_near_.assign(static_cast<std::size_t>(seen_first_.back()), 0);
+  std::vector<std::int32_t> fill(seen_first_.begin(), seen_first_.end() - 1);
+  forCovered([&](int cell, std::int32_t k) { seen_near_[static_cast<std::size_t>(fill[cell]++)] = k; });
+  for (std::size_t i = 0; i < pass_.size(); ++i)
+    if (seen_first_[i + 1] > seen_first_[i] && pass_[i] != kBlocked) pass_[i] = kNearSeen;
+  for (const Eigen::Vector2d& p : seen_) {
+    int index = 0;
+    cellOf(p, &index);
+    pass_[static_cast<std::size_t>(index)] = kBlocked;
+  }
+}
+
+bool GridPlanner::recedes(int from, int to) const {
+  if (seen_first_.empty()) return true;
+  const Eigen::Vector2d a = center(from), b = center(to);
+  for (std::int32_t j = seen_first_[to]; j < seen_first_[to + 1]; ++j) {
+    const Eigen::Vector2d& p = seen_[static_cast<std::size_t>(seen_near_[j])];
+    if ((b - p).squaredNorm() < (a - p).squaredNorm() - 1e-12) return false;
+  }
+  return true;
+}
+
 bool GridPlanner::traversable(int ix, int iy) const {
   const int x = ix - min_x_, y = iy - min_y_;
   if (x < 0 || y < 0 || x >= width_ || y >= height_) return false;
@@ -134,9 +190,13 @@ bool GridPlanner::search(int start, int goal) {
   };
   const float escape = static_cast<float>(params_.start_escape_distance);
   // A move into a cell: traversable, or (only while still leaving the inflation around the start)
-  // a free inflated cell within start_escape_distance.
+  // a free inflated cell within start_escape_distance, nearer to no seen point it is within the
+  // inflation of.
   const auto allowed = [&](int from, int to, float g) {
-    return pass_[to] == kOpen || (pass_[to] == kInflated && pass_[from] != kOpen && g <= escape);
+    const std::uint8_t p = pass_[to];
+    if (p == kOpen) return true;
+    if (pass_[from] == kOpen || g > escape) return false;
+    return p == kInflated || (p == kNearSeen && recedes(from, to));
   };
 
   struct Entry {

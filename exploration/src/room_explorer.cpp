@@ -296,18 +296,29 @@ bool RoomExplorer::select(const Eigen::Vector2d& robot, bool track) {
   return true;
 }
 
-std::optional<Path> RoomExplorer::pathToExit(const Eigen::Vector2d& robot) {
+std::optional<Path> RoomExplorer::pathToExit(const Eigen::Vector2d& robot, const std::vector<Eigen::Vector2d>& seen) {
   if (status_ == RoomStatus::Invalid || !finite(robot)) return std::nullopt;
   GridPlanner& planner = explorer_.planner();
   planner.setMap(grid_);
+  if (!seen.empty()) {
+    planner.addObstacles(seen);
+    if (std::optional<Path> path = exitPathOn(&planner, robot)) return path;
+    // None among what the scan sees: the robot stands among legs it drove in between (under a
+    // table), which the controller lets it leave as it came; the grid alone then.
+    planner.setMap(grid_);
+  }
+  return exitPathOn(&planner, robot);
+}
+
+std::optional<Path> RoomExplorer::exitPathOn(GridPlanner* planner, const Eigen::Vector2d& robot) const {
   Eigen::Vector2d target = exitPoint();
   const CellIndex ec = grid_.worldToCell(target);
-  if (!planner.traversable(ec.x, ec.y)) {
+  if (!planner->traversable(ec.x, ec.y)) {
     const int reach = static_cast<int>(std::ceil(kExitSearchRadius / grid_.resolution()));
     double best = std::numeric_limits<double>::infinity();
     for (int dy = -reach; dy <= reach; ++dy) {
       for (int dx = -reach; dx <= reach; ++dx) {
-        if (!planner.traversable(ec.x + dx, ec.y + dy)) continue;
+        if (!planner->traversable(ec.x + dx, ec.y + dy)) continue;
         const Eigen::Vector2d c = grid_.cellCenter(ec.x + dx, ec.y + dy);
         const double d = (c - exitPoint()).norm();
         if (d <= kExitSearchRadius && d < best && inRoom(c)) {
@@ -318,7 +329,7 @@ std::optional<Path> RoomExplorer::pathToExit(const Eigen::Vector2d& robot) {
     }
     if (!std::isfinite(best)) return std::nullopt;
   }
-  return planner.plan(robot, target);
+  return planner->plan(robot, target);
 }
 
 std::optional<Path> RoomExplorer::pathTo(const Eigen::Vector2d& robot, const Eigen::Vector2d& goal) {

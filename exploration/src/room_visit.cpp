@@ -91,7 +91,11 @@ void RoomVisit::observe(const Perception& q, bool approaching, Decision* d) {
   // Near its door the robot passes it (the door's steps lie 0.6-0.7 m either side of it): the
   // controller keeps a clearance that fits the door.
   if ((robot - Eigen::Vector2d(door_in_place_.x, door_in_place_.y)).norm() < kDoorPassage) d->passage_width = door_width_;
-  if (!approaching) last_position_ = robot;
+  if (!approaching) {
+    last_position_ = robot;
+    scan_in_place_.clear();
+    for (const Eigen::Vector2d& p : q.points) scan_in_place_.push_back(transformPoint(q.room_pose, p));
+  }
 }
 
 std::optional<RoomVisit::DoorSighting> RoomVisit::seeDoor(const Perception& q, const Eigen::Vector2d& near,
@@ -228,13 +232,21 @@ void RoomVisit::beginExit() {
 
 void RoomVisit::planExit() {
   exit_path_.clear();
-  std::optional<Path> path = explorer_.pathToExit(last_position_);
+  // The first way out is the grid's: the robot came in through the grid's free space. The grid
+  // can lose thin obstacles (a table's or chair's legs, 2-5 cm: the beams passing beside a leg
+  // through its cell mark it free) that the scan sees and the controller keeps its clearance from;
+  // a path between two such legs leaves the robot turning to and fro before them. Once a way out
+  // has failed, the next ones keep clear of the latest scan's returns too (where none does, as
+  // among table legs the robot drove in between, the grid's again: RoomExplorer::pathToExit).
+  static const std::vector<Eigen::Vector2d> kNone;
+  const std::vector<Eigen::Vector2d>& seen = exit_attempts_ > 0 ? scan_in_place_ : kNone;
+  std::optional<Path> path = explorer_.pathToExit(last_position_, seen);
   // The way out has the virtual walls across furniture gaps (openings never seen as a gap in a
   // wall) that the coverage had. Where they cut the robot off from the door it came in by, they are
   // no walls between it and that door (it came from there). Without a path the steps through the
   // door start from where the robot is, which mostly gets it out (the exit point a metre or two
   // away); once that has failed, the next attempt plans with the gaps' walls taken away.
-  if (!path && exit_attempts_ > 0 && explorer_.openFurnitureGaps() > 0) path = explorer_.pathToExit(last_position_);
+  if (!path && exit_attempts_ > 0 && explorer_.openFurnitureGaps() > 0) path = explorer_.pathToExit(last_position_, seen);
   if (path) exit_path_.set(path->waypoints);
 }
 

@@ -480,6 +480,108 @@ TEST(GridPlanner, PathsKeepClearOfInflatedObstacles) {
   EXPECT_EQ(same_side_refused, 0);
 }
 
+// A table's legs (2-5 cm) are lost by a log-odds grid (the beams passing beside a leg through its
+// cell mark it free) but seen in every scan, and the motion controller keeps its clearance from
+// them: the latest scan's returns block the plan's snapshot, so that no path runs between two legs
+// the robot will not drive between.
+TEST(GridPlanner, ObstaclesOfTheScanTheGridLostAreKeptClearOf) {
+  World world;
+  world.box(kOff, kOff, 6.0 + kOff, 4.0 + kOff);
+  OccupancyGrid grid;
+  const Laser laser;
+  for (const Pose2D& p : {Pose2D{1.0, 2.0, 0.0}, Pose2D{5.0, 2.0, 0.0}}) insert(&grid, world, laser, p);
+  // Two legs 0.65 m apart across the straight way from (1, 2) to (5, 2), not in the grid.
+  const std::vector<Vector2d> legs = {{3.0, 1.675}, {3.0, 2.325}};
+  GridPlanner planner;
+  planner.setMap(grid);
+  const auto nearest = [&](const Path& path) {
+    double d = 1e9;
+    for (std::size_t i = 1; i < path.waypoints.size(); ++i) {
+      const Vector2d a = path.waypoints[i - 1], b = path.waypoints[i];
+      for (double t = 0.0; t <= 1.0; t += 0.01)
+        for (const Vector2d& l : legs) d = std::min(d, (a + t * (b - a) - l).norm());
+    }
+    return d;
+  };
+  const auto blind = planner.plan({1.0, 2.0}, {5.0, 2.0});
+  ASSERT_TRUE(blind);
+  EXPECT_LT(nearest(*blind), planner.inflationRadius()) << "the grid alone leads between the legs";
+  planner.addObstacles(legs);
+  const auto seen = planner.plan({1.0, 2.0}, {5.0, 2.0});
+  ASSERT_TRUE(seen);
+  EXPECT_GE(nearest(*seen), planner.inflationRadius() - 0.71 * grid.resolution());
+  EXPECT_FALSE(planner.clearLine({1.0, 2.0}, {5.0, 2.0}));
+}
+
+// A seen point covers every cell whose centre lies within the inflation radius of the point itself:
+// two legs 0.652 m apart (less than twice the radius) whose cells' centres are 0.70 m apart leave no
+// way between them, as the controller, which measures its clearance from the points, leaves none.
+TEST(GridPlanner, ASeenPointInflatesFromWhereItIsNotFromItsCell) {
+  World world;
+  world.box(kOff, kOff, 6.0 + kOff, 4.0 + kOff);
+  OccupancyGrid grid;
+  const Laser laser;
+  for (const Pose2D& p : {Pose2D{1.0, 2.0, 0.0}, Pose2D{5.0, 2.0, 0.0}}) insert(&grid, world, laser, p);
+  const std::vector<Vector2d> legs = {{3.0, 1.699}, {3.0, 2.351}};  // each at its cell's edge facing the other
+  ASSERT_LT((legs[1] - legs[0]).norm(), 2.0 * GridPlanner().inflationRadius());
+  GridPlanner planner;
+  planner.setMap(grid);
+  planner.addObstacles(legs);
+  const auto path = planner.plan({1.0, 2.025}, {5.0, 2.025});
+  ASSERT_TRUE(path);
+  for (std::size_t i = 1; i < path->waypoints.size(); ++i) {
+    const Vector2d a = path->waypoints[i - 1], b = path->waypoints[i];
+    if ((a.x() - 3.0) * (b.x() - 3.0) >= 0.0) continue;  // does not cross x = 3
+    const double y = a.y() + (b.y() - a.y()) * (3.0 - a.x()) / (b.x() - a.x());
+    EXPECT_FALSE(y > legs[0].y() && y < legs[1].y()) << "between the legs at y = " << y;
+  }
+}
+
+// The motion controller lets a robot within its clearance of a scan point move only away from it
+// (its free distance towards the point is zero): a start within a leg's inflation leaves it that
+// way, never nearer to that leg nor into another leg's inflation, and then keeps clear of both.
+TEST(GridPlanner, AStartNearASeenPointLeavesItOnlyMovingAway) {
+  World world;
+  world.box(kOff, kOff, 6.0 + kOff, 4.0 + kOff);
+  OccupancyGrid grid;
+  const Laser laser;
+  for (const Pose2D& p : {Pose2D{1.0, 2.0, 0.0}, Pose2D{5.0, 2.0, 0.0}}) insert(&grid, world, laser, p);
+  const std::vector<Vector2d> legs = {{3.0, 1.675}, {3.0, 2.325}};
+  GridPlanner planner;
+  planner.setMap(grid);
+  planner.addObstacles(legs);
+  const double r = planner.inflationRadius();
+  const Vector2d start(2.85, 1.85);  // 0.23 m from the first leg, 0.50 m from the second
+  ASSERT_LT((start - legs[0]).norm(), r);
+  ASSERT_GT((start - legs[1]).norm(), r);
+  const auto path = planner.plan(start, {5.0, 2.0});
+  ASSERT_TRUE(path);
+  std::vector<double> last = {(start - legs[0]).norm(), (start - legs[1]).norm()};
+  bool left = false;  // out of every leg's inflation
+  for (std::size_t i = 1; i < path->waypoints.size(); ++i) {
+    const Vector2d a = path->waypoints[i - 1], b = path->waypoints[i];
+    for (double t = 0.0; t <= 1.0; t += 0.01) {
+      const Vector2d q = a + t * (b - a);
+      for (std::size_t k = 0; k < legs.size(); ++k) {
+        const double d = (q - legs[k]).norm();
+        if (left) {
+          EXPECT_GE(d, r - 0.71 * grid.resolution()) << "back near leg " << k << " at " << q.transpose();
+        } else if (d < r) {
+          EXPECT_GE(d, last[k] - 1e-9) << "nearer to leg " << k << " at " << q.transpose();
+        }
+        last[k] = d;
+      }
+      left = left || (std::min(last[0], last[1]) >= r);
+    }
+  }
+  EXPECT_TRUE(left);
+  // Without the points, the straight way between the legs.
+  planner.setMap(grid);
+  const auto blind = planner.plan(start, {5.0, 2.0});
+  ASSERT_TRUE(blind);
+  EXPECT_LT(blind->length, path->length);
+}
+
 TEST(GridPlanner, NoPathToAnEnclosedGoal) {
   OccupancyGrid grid(OccupancyGridParams(), GridBounds{0.0, 0.0, 6.0, 6.0});
   const double res = grid.resolution();

@@ -463,6 +463,40 @@ TEST(RoomExplorer, AMissionGoalNotYetSeenRoundFurnitureHasAPath) {
   }
 }
 
+// The way out keeps clear of the scan's returns the grid lost (GridPlanner::addObstacles), unless
+// they leave no way out: under a table, among four legs 0.6 m apart that the robot drove in
+// between, every way out passes within the inflation of two legs; the grid's path is taken then.
+TEST(RoomExplorer, AWayOutFromAmongTableLegsIsTheGridsWhenTheScanLeavesNone) {
+  const World world = roomWorld();
+  const Laser laser;
+  RoomExplorer rx;
+  ASSERT_TRUE(rx.start(kDoor, kDoorWidth));
+  const Pose2D inside{kDoor.x, kDoor.y + 0.75, kDoor.theta};
+  ASSERT_TRUE(rx.addScan(inside, laser.scan(world, inside), laser.angle_min, laser.increment()));
+  const Vector2d robot = inside.translation() + Vector2d(0.0, 0.8);
+  const std::vector<Vector2d> legs = {robot + Vector2d(0.3, 0.3), robot + Vector2d(-0.3, 0.3),
+                                      robot + Vector2d(0.3, -0.3), robot + Vector2d(-0.3, -0.3)};
+  const auto grid_only = rx.pathToExit(robot);
+  ASSERT_TRUE(grid_only.has_value());
+  const auto among = rx.pathToExit(robot, legs);
+  ASSERT_TRUE(among.has_value()) << "no way out from under the table";
+  EXPECT_NEAR(among->length, grid_only->length, 1e-9);
+  // Two legs 0.66 m apart across the straight way out, not around the robot: kept clear of.
+  const Vector2d from = robot + Vector2d(0.0, 0.3);
+  const std::vector<Vector2d> across = {robot + Vector2d(0.33, -0.4), robot + Vector2d(-0.33, -0.4)};
+  const auto straight = rx.pathToExit(from);
+  ASSERT_TRUE(straight.has_value());
+  EXPECT_EQ(straight->waypoints.size(), 2u) << "the grid alone: straight out between the legs";
+  const auto around = rx.pathToExit(from, across);
+  ASSERT_TRUE(around.has_value());
+  for (std::size_t i = 1; i < around->waypoints.size(); ++i) {
+    const Vector2d a = around->waypoints[i - 1], b = around->waypoints[i];
+    for (double t = 0.0; t <= 1.0; t += 0.02)
+      for (const Vector2d& l : across)
+        EXPECT_GT((a + t * (b - a) - l).norm(), RoomExplorerParams().planner.robot_radius) << (a + t * (b - a)).transpose();
+  }
+}
+
 TEST(RoomExplorer, GoalIsHeldThenBlacklistedAfterTimeout) {
   const World world = roomWorld();
   const Laser laser;

@@ -55,6 +55,17 @@ class GridPlanner {
   void setMap(const OccupancyGrid& grid);
   bool hasMap() const { return width_ > 0 && height_ > 0; }
 
+  /// Blocks the snapshot's cells of `points` (grid frame, m) and stamps the inflation around them,
+  /// whatever the grid says there: the latest scan's returns, which the motion controller keeps its
+  /// clearance from. A log-odds grid loses thin obstacles (a chair's or a table's leg, 2-5 cm, is
+  /// one cell that the beams passing beside it through that cell mark free), and a path planned
+  /// between two legs that the controller will not drive between leaves the robot turning to and
+  /// fro before them. A start within a point's inflation leaves it as the controller lets the robot
+  /// move there: never nearer to any point it is within the inflation of (the controller's free
+  /// distance is zero towards such a point, MotionController::freeDistance). Points outside the
+  /// snapshot or non-finite are skipped; setMap() forgets them.
+  void addObstacles(const std::vector<Eigen::Vector2d>& points);
+
   /// A* from `start` to `goal` (map frame, m). None when a point is non-finite or outside the
   /// map, or the goal cannot be reached (its cell not traversable, or enclosed).
   std::optional<Path> plan(const Eigen::Vector2d& start, const Eigen::Vector2d& goal);
@@ -84,19 +95,27 @@ class GridPlanner {
   int height() const { return height_; }
 
  private:
-  enum Pass : std::uint8_t { kBlocked = 0, kInflated = 1, kOpen = 2 };
+  // kNearSeen: within the inflation of a point of addObstacles() (and not blocked).
+  enum Pass : std::uint8_t { kBlocked = 0, kInflated = 1, kOpen = 2, kNearSeen = 3 };
 
   bool cellOf(const Eigen::Vector2d& p, int* index) const;  // false: outside or non-finite
   bool search(int start, int goal);                          // goal < 0: Dijkstra to all
   std::optional<Path> extract(int goal, const Eigen::Vector2d& start_point,
                               const Eigen::Vector2d& goal_point) const;
   bool lineOfSight(int a, int b) const;
+  // A move from cell `from` to cell `to` gets nearer to no point of addObstacles() whose inflation
+  // covers `to` (cell centres).
+  bool recedes(int from, int to) const;
   Eigen::Vector2d center(int index) const;
 
   PlannerParams params_;
   double resolution_ = 0.0;
   int min_x_ = 0, min_y_ = 0, width_ = 0, height_ = 0;
   std::vector<std::uint8_t> pass_;
+  // The points of addObstacles(), and for each cell the ones whose inflation covers it: the indices
+  // seen_near_[seen_first_[i] .. seen_first_[i + 1]) (empty without points).
+  std::vector<Eigen::Vector2d> seen_;
+  std::vector<std::int32_t> seen_first_, seen_near_;
   std::vector<float> g_;           // m, path length from the start
   std::vector<std::int32_t> parent_;
   int start_ = -1;                 // cell of the last search's start

@@ -145,8 +145,10 @@ class RoomExplorer {
   /// The way out: a grid path from `robot` to the point exit_depth inside the entry door on its axis
   /// (or, when that point is not traversable, the traversable cell nearest to it within 0.5 m on the
   /// room's side). The entry's virtual wall stays: the caller drives straight out from there. None
-  /// when unreachable, before start() or for a non-finite position.
-  std::optional<Path> pathToExit(const Eigen::Vector2d& robot);
+  /// when unreachable, before start() or for a non-finite position. `seen`: the latest scan's
+  /// returns (pose frame), obstacles whatever the grid says (GridPlanner::addObstacles), unless no
+  /// path leaves them (the robot among table legs it drove in between): then the grid's path.
+  std::optional<Path> pathToExit(const Eigen::Vector2d& robot, const std::vector<Eigen::Vector2d>& seen = {});
   /// A grid path from `robot` to `goal` in the room as seen so far (a mission's goal), through its
   /// unseen part too (optimistic: the caller plans again as the room is seen; a goal behind
   /// furniture not yet seen round is otherwise unreachable). None when unreachable on the grid,
@@ -190,6 +192,9 @@ class RoomExplorer {
   /// The cells of a virtual wall across a-b set to `state` (Occupied: drawn; Free: taken away).
   void drawWall(const Eigen::Vector2d& a, const Eigen::Vector2d& b, CellState state = CellState::Occupied);
   bool inRoom(const Eigen::Vector2d& p) const { return depth(p) > 0.0; }
+  /// The path from `robot` to the exit point (or the traversable cell nearest to it within
+  /// kExitSearchRadius in the room) on `planner`'s snapshot.
+  std::optional<Path> exitPathOn(GridPlanner* planner, const Eigen::Vector2d& robot) const;
   /// Chooses the goal among the explorer's frontiers (after its nextGoal()): when `track`, the one
   /// the held goal belongs to, else the cheapest usable one inside the room. False when none.
   bool select(const Eigen::Vector2d& robot, bool track);

@@ -182,6 +182,9 @@ class RoomVisit {
   Eigen::Vector2d hallway_in_place_ = Eigen::Vector2d::Zero();  // where the robot left the hallway, place frame
   double exit_theta_place_ = 0.0;   // rad, the hallway heading in the place frame
   Eigen::Vector2d last_position_ = Eigen::Vector2d::Zero();  // the robot in the place when last seen inside
+  // The latest scan's returns there (place frame): obstacles for a way out planned after one has
+  // failed, whatever the grid has lost of them (planExit).
+  std::vector<Eigen::Vector2d> scan_in_place_;
   double last_plan_ = -1e9;         // s, when the frontier goal was last chosen
   std::optional<Eigen::Vector2d> goal_;  // the frontier goal
   WaypointFollower exit_path_;  // place frame
