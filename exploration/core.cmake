@@ -21,6 +21,7 @@ add_library(exploration_core
   ${EXPLORATION_CORE_DIR}/src/hallway_doors.cpp
   ${EXPLORATION_CORE_DIR}/src/door_entry.cpp
   ${EXPLORATION_CORE_DIR}/src/hallway_navigator.cpp
+  ${EXPLORATION_CORE_DIR}/src/path_driver.cpp
   ${EXPLORATION_CORE_DIR}/src/waypoint_follower.cpp
   ${EXPLORATION_CORE_DIR}/src/room_visit.cpp
   ${EXPLORATION_CORE_DIR}/src/suite_visit.cpp

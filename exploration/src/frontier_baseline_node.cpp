@@ -1,7 +1,7 @@
 // frontier_baseline_node: the baseline the topological-metric exploration is compared against
 // (issue 6): greedy frontier exploration on one occupancy grid of the whole building, in the spirit
 // of explore_lite (Hörner 2016) on top of a grid map. Thin: the ROS-free core does the work
-// (exploration/occupancy_grid.h, frontier_explorer.h, frontier_goal.h, motion_controller.h); this
+// (exploration/occupancy_grid.h, frontier_explorer.h, frontier_goal.h, path_driver.h); this
 // node converts messages and drives the goal's path.
 //
 // Localization: the robot's pose is tf map -> base_link. The simulator runs with
@@ -22,12 +22,9 @@
 //    the robot for the cheapest one. A frontier whose goal is where the robot already stands is
 //    unobservable from there (beyond range, glass): blacklisted, else it is "reached" forever;
 //  - no usable frontier left: exploration is complete.
-// The goal is driven to along the planner's path (move_base's global plan, in explore_lite): the
-// motion controller gets the path's waypoints one at a time (line-of-sight corners, at most
-// planner/max_segment_length apart), the next one when the robot is within waypoint_tolerance of
-// the current; its scan-based avoidance handles what the grid does not show. A replanned path only
-// replaces the controller's goal when its waypoint moved more than goal_refresh_distance (every
-// setGoal() restarts the controller's stuck detection).
+// The goal is driven to along the planner's path (move_base's global plan, in explore_lite) by
+// PathDriver (exploration/path_driver.h): the motion controller gets the path's waypoints one at a
+// time; its scan-based avoidance handles what the grid does not show.
 //
 // Control (its own callback queue and thread, as exploration_node: planning on a large grid must
 // never starve the watchdog or the velocity commands): scans for the avoidance, the bumper, and a
@@ -68,6 +65,7 @@
 #include "laser_features/tf_lookup.h"
 #include "lockstep/participant.h"
 #include "exploration/motion_controller.h"
+#include "exploration/path_driver.h"
 #include "ros_conversions.h"
 
 namespace exploration {
@@ -112,7 +110,11 @@ class FrontierBaselineNode {
     goal.blacklist_radius = p_.blacklist_radius;
     goal.track_radius = std::max(p_.frontier.goal_search_radius, p_.goal_reach_tolerance);
     goal_ = FrontierGoal(goal);
-    motion_ = std::make_unique<MotionController>(p_.motion);
+    PathDriverParams drive;
+    drive.waypoint_tolerance = p_.waypoint_tolerance;
+    drive.goal_reach_tolerance = p_.goal_reach_tolerance;
+    drive.goal_refresh_distance = p_.goal_refresh_distance;
+    driver_ = std::make_unique<PathDriver>(p_.motion, drive);
 
     cmd_pub_ = lockstep_.advertise<geometry_msgs::Twist>(nh_, "cmd_vel", 10);
     map_pub_ = nh_.advertise<nav_msgs::OccupancyGrid>("baseline_map", 1, true);
@@ -222,9 +224,7 @@ class FrontierBaselineNode {
   /// The controller's goal and the path's waypoints go with the goal.
   void stopDriving() {
     std::lock_guard<std::mutex> lock(mutex_);
-    waypoints_.clear();
-    waypoint_ = 0;
-    motion_->cancel();
+    driver_->stop();
   }
 
   /// The held goal reached or given up (FrontierGoal::review).
@@ -247,9 +247,7 @@ class FrontierBaselineNode {
     bool reached_flag = false, stopped_flag = false;
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      reached_flag = reached_flag_;
-      stopped_flag = stopped_flag_;
-      reached_flag_ = stopped_flag_ = false;
+      driver_->takeEnds(&reached_flag, &stopped_flag);
     }
     reviewGoal(robot, reached_flag, stopped_flag, now);
 
@@ -297,18 +295,7 @@ class FrontierBaselineNode {
     goal_.progress(path->length, grid_->resolution(), now.toNSec());
     publishPath(*path, now);
     std::lock_guard<std::mutex> lock(mutex_);
-    waypoints_.assign(path->waypoints.begin() + (path->waypoints.size() > 1 ? 1 : 0), path->waypoints.end());
-    waypoint_ = 0;
-    while (waypoint_ + 1 < waypoints_.size() && (waypoints_[waypoint_] - robot).norm() <= p_.waypoint_tolerance)
-      ++waypoint_;
-    const Eigen::Vector2d& target = waypoints_[waypoint_];
-    if (!motion_->hasGoal() || (target - target_).norm() > p_.goal_refresh_distance) sendGoal(target);
-  }
-
-  /// Under mutex_: the controller drives to `target`.
-  void sendGoal(const Eigen::Vector2d& target) {
-    motion_->setGoal(target.x(), target.y());
-    target_ = target;
+    driver_->follow(path->waypoints, robot);
   }
 
   void publishMap(const ros::Time& stamp) {
@@ -366,8 +353,7 @@ class FrontierBaselineNode {
     done_ = true;
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      motion_->cancel();
-      waypoints_.clear();
+      driver_->stop();
     }
     cmd_pub_.publish(geometry_msgs::Twist());
     const ros::Time stamp = ros::Time::now();
@@ -406,7 +392,7 @@ class FrontierBaselineNode {
     have_sensor_control_ = true;
     scanPoints(*msg, sensor_in_robot_control_, &points_);
     std::lock_guard<std::mutex> lock(mutex_);
-    motion_->setScan(points_, msg->header.stamp.toSec());
+    driver_->setScan(points_, msg->header.stamp.toSec());
   }
 
   void onBumper(const std_msgs::Bool::ConstPtr& msg) {
@@ -433,40 +419,11 @@ class FrontierBaselineNode {
       last_odom_ = odom;
       have_last_odom_ = true;
     }
-    const Eigen::Vector2d robot = pose.translation();
-    if (!waypoints_.empty()) {
-      // The next waypoint when near the current (the last one is the goal: driven to exactly).
-      bool advanced = false;
-      while (waypoint_ + 1 < waypoints_.size() && (waypoints_[waypoint_] - robot).norm() <= p_.waypoint_tolerance) {
-        ++waypoint_;
-        advanced = true;
-      }
-      if (advanced) sendGoal(waypoints_[waypoint_]);
-      if (waypoint_ + 1 == waypoints_.size() && (waypoints_.back() - robot).norm() <= p_.goal_reach_tolerance &&
-          !reached_flag_) {
-        reached_flag_ = true;
-        replan_requested_ = true;
-      }
-    }
-    const Command c = motion_->update(pose, now, dt, bumper_);
-    const MotionStatus s = motion_->status();
-    if (s != last_motion_) {
-      last_motion_ = s;
-      if (s == MotionStatus::Reached && !waypoints_.empty()) {
-        if (waypoint_ + 1 < waypoints_.size()) {
-          sendGoal(waypoints_[++waypoint_]);
-        } else {
-          reached_flag_ = true;
-          replan_requested_ = true;
-        }
-      } else if ((s == MotionStatus::Blocked || s == MotionStatus::Bumped) && !waypoints_.empty()) {
-        ROS_WARN("frontier_baseline: motion %s: %s", toString(s), motion_->statusText().c_str());
-        stopped_flag_ = true;
-        replan_requested_ = true;
-      } else if (s == MotionStatus::NoScan || s == MotionStatus::Invalid) {
-        ROS_WARN("frontier_baseline: motion %s: %s", toString(s), motion_->statusText().c_str());
-      }
-    }
+    const PathDriver::Step step = driver_->update(pose, now, dt, bumper_);
+    if (step.replan) replan_requested_ = true;
+    if (step.warn)
+      ROS_WARN("frontier_baseline: motion %s: %s", toString(step.status), driver_->statusText().c_str());
+    const Command& c = step.command;
     geometry_msgs::Twist t;
     t.linear.x = c.v;
     t.angular.z = c.w;
@@ -501,11 +458,8 @@ class FrontierBaselineNode {
 
   // Shared with the control thread: under mutex_.
   std::mutex mutex_;
-  std::unique_ptr<MotionController> motion_;
-  std::vector<Eigen::Vector2d> waypoints_;  // the path to the goal after the robot's position
-  size_t waypoint_ = 0;                     // the one the controller drives to
-  Eigen::Vector2d target_ = Eigen::Vector2d::Zero();
-  bool reached_flag_ = false, stopped_flag_ = false, bumper_ = false;
+  std::unique_ptr<PathDriver> driver_;  // the controller and the goal's path
+  bool bumper_ = false;
   double travel_ = 0.0;  // m, odometric
   Pose2D last_odom_;
   bool have_last_odom_ = false;
@@ -516,7 +470,6 @@ class FrontierBaselineNode {
   bool have_sensor_control_ = false;
   std::vector<Eigen::Vector2d> points_;
   double last_control_ = -1.0;
-  MotionStatus last_motion_ = MotionStatus::Idle;
 };
 
 }  // namespace exploration

@@ -4,6 +4,7 @@
 #include "exploration/motion_controller.h"
 #include "exploration/grid_planner.h"
 #include "exploration/occupancy_grid.h"
+#include "exploration/path_driver.h"
 #include "exploration/waypoint_follower.h"
 
 #include <gtest/gtest.h>
@@ -899,6 +900,76 @@ TEST(MotionController, SteadyStateCyclesDoNotAllocate) {
   }
   EXPECT_EQ(laser_features::testing::allocationCount() - before, 0);
   EXPECT_EQ(sim.mc.status(), MotionStatus::Moving) << sim.mc.statusText();
+}
+
+// PathDriver (the frontier baseline's goal along its planned path): each waypoint in turn, the
+// goal's end reported once, as reached.
+TEST(PathDriver, AGoalIsDrivenAlongItsPathAndEndsReachedOnce) {
+  Sim sim(room(8.0));
+  const PathDriverParams params;
+  PathDriver driver(sim.p, params);
+  const Vector2d corner(1.5, 0.0), goal(1.5, 1.5);
+  driver.follow({sim.pose.translation(), corner, goal}, sim.pose.translation());
+  int replans = 0, warnings = 0;
+  double nearest_corner = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 1200 && replans == 0; ++i) {
+    if (i % 2 == 0) {
+      sim.measure(&sim.scan);
+      driver.setScan(sim.scan, sim.t);
+    }
+    const PathDriver::Step step = driver.update(sim.pose, sim.t, sim.dt, false);
+    sim.cmd = step.command;
+    sim.integrate();
+    sim.t += sim.dt;
+    replans += step.replan;
+    warnings += step.warn;
+    nearest_corner = std::min(nearest_corner, (sim.pose.translation() - corner).norm());
+  }
+  EXPECT_EQ(replans, 1);
+  EXPECT_EQ(warnings, 0);
+  EXPECT_LE(nearest_corner, params.waypoint_tolerance + 0.05) << "the corner was cut";
+  EXPECT_LE((sim.pose.translation() - goal).norm(), params.goal_reach_tolerance + 0.05);
+  bool reached = false, stopped = true;
+  driver.takeEnds(&reached, &stopped);
+  EXPECT_TRUE(reached);
+  EXPECT_FALSE(stopped);
+  driver.takeEnds(&reached, &stopped);  // taken: cleared
+  EXPECT_FALSE(reached);
+}
+
+// A controller that gives up (no way through a wall across the room) ends the goal stopped, with a
+// warning; stop() leaves the controller idle, asking for nothing.
+TEST(PathDriver, AControllerThatGivesUpEndsTheGoalStopped) {
+  World w = room(8.0);
+  w.wall(1.0, -4.0, 1.0, 4.0);
+  Sim sim(w);
+  PathDriver driver(sim.p, PathDriverParams());
+  driver.follow({sim.pose.translation(), Vector2d(3.0, 0.0)}, sim.pose.translation());
+  PathDriver::Step step;
+  for (int i = 0; i < 1200 && !step.replan; ++i) {
+    if (i % 2 == 0) {
+      sim.measure(&sim.scan);
+      driver.setScan(sim.scan, sim.t);
+    }
+    step = driver.update(sim.pose, sim.t, sim.dt, false);
+    sim.cmd = step.command;
+    sim.integrate();
+    sim.t += sim.dt;
+  }
+  ASSERT_TRUE(step.replan);
+  EXPECT_EQ(step.status, MotionStatus::Blocked) << driver.statusText();
+  EXPECT_TRUE(step.warn);
+  bool reached = true, stopped = false;
+  driver.takeEnds(&reached, &stopped);
+  EXPECT_FALSE(reached);
+  EXPECT_TRUE(stopped);
+  driver.stop();
+  for (int i = 0; i < 40; ++i) {
+    step = driver.update(sim.pose, sim.t, sim.dt, false);
+    sim.t += sim.dt;
+    EXPECT_FALSE(step.replan);
+  }
+  EXPECT_EQ(step.status, MotionStatus::Idle);
 }
 
 }  // namespace
