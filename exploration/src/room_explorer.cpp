@@ -303,8 +303,9 @@ std::optional<Path> RoomExplorer::pathToExit(const Eigen::Vector2d& robot, const
   if (!seen.empty()) {
     planner.addObstacles(seen);
     if (std::optional<Path> path = exitPathOn(&planner, robot)) return path;
-    // None among what the scan sees: the robot stands among legs it drove in between (under a
-    // table), which the controller lets it leave as it came; the grid alone then.
+    // No way out keeps clear of what the scan sees (the robot among legs it drove in between,
+    // under a table, which the controller lets it leave as it came; or the way blocked by what the
+    // scan sees): the grid alone then.
     planner.setMap(grid_);
   }
   return exitPathOn(&planner, robot);

@@ -526,7 +526,11 @@ TEST(GridPlanner, ASeenPointInflatesFromWhereItIsNotFromItsCell) {
   ASSERT_LT((legs[1] - legs[0]).norm(), 2.0 * GridPlanner().inflationRadius());
   GridPlanner planner;
   planner.setMap(grid);
+  // The cell centred at (2.975, 2.025): 0.327 m from each leg, 0.354 m from each leg's cell centre.
+  const int ix = 59, iy = 40;
+  ASSERT_TRUE(planner.traversable(ix, iy));
   planner.addObstacles(legs);
+  EXPECT_FALSE(planner.traversable(ix, iy)) << "inflated from the legs' cells, not from the legs";
   const auto path = planner.plan({1.0, 2.025}, {5.0, 2.025});
   ASSERT_TRUE(path);
   for (std::size_t i = 1; i < path->waypoints.size(); ++i) {

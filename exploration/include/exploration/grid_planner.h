@@ -1,11 +1,14 @@
 // GridPlanner, the grid path planner of the room explorer, the hallway navigator and the
-// frontier-exploration baseline: A* / Dijkstra, 8-connected without corner cutting, on a snapshot of the grid where a
-// cell is traversable when it is Free (or Unknown, with allow_unknown) and no Occupied cell's centre
-// lies within robot_radius + safety_margin of its centre (the robot inflated into the obstacles;
-// by default the Unknown cells bordering Free ones too).
+// frontier-exploration baseline: A* / Dijkstra, 8-connected without corner cutting, on a snapshot
+// of the grid where a cell is traversable when it is Free (or Unknown, with allow_unknown) and no
+// Occupied cell's centre lies within robot_radius + safety_margin of its centre (the robot inflated
+// into the obstacles; by default the Unknown cells bordering Free ones too), nor within that of a
+// point given by addObstacles() (the scan's returns).
 // A start inside the inflation (the robot close to a wall, as the motion controller allows) leaves
-// it through free cells within start_escape_distance; no path ever enters the inflation after that.
-// Paths are simplified by line of sight (every cell a segment touches is traversable).
+// it through free cells within start_escape_distance (never nearer to a point of addObstacles()
+// whose inflation it is in); no path ever enters the inflation after that. The escape is one
+// straight leg to the first traversable cell of the path. Paths are simplified by line of sight
+// (every cell a segment touches is traversable).
 //
 // ROS-free: Eigen and the standard library only.
 #pragma once
@@ -79,8 +82,8 @@ class GridPlanner {
   /// The path to `goal` from the start of the last computeDistances(); none when unreachable.
   std::optional<Path> pathTo(const Eigen::Vector2d& goal) const;
 
-  /// In the snapshot: not blocked by an obstacle, its inflation or (without allow_unknown) the
-  /// unknown.
+  /// In the snapshot: not blocked by an obstacle, its inflation, a point of addObstacles() and its
+  /// inflation, or (without allow_unknown) the unknown.
   bool traversable(int ix, int iy) const;
   /// In the snapshot: every cell the segment between the cells of a and b touches is traversable
   /// (the line of sight paths are simplified by). False outside the snapshot.
