@@ -1,5 +1,7 @@
 #include "exploration/frontier_explorer.h"
 
+#include "core_checks.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -11,16 +13,11 @@ namespace exploration {
 
 namespace {
 
-bool fail(std::string* error, const char* why) {
-  if (error) *error = why;
-  return false;
-}
+using core::fail;
+using core::finite;
 
-bool finite(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std::isfinite(p.y()); }
-
-// The 8 neighbours: the 4 orthogonal ones first.
-constexpr int kDx[8] = {1, -1, 0, 0, 1, 1, -1, -1};
-constexpr int kDy[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+using core::kDx;
+using core::kDy;
 
 }  // namespace
 

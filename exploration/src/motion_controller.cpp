@@ -1,5 +1,7 @@
 #include "exploration/motion_controller.h"
 
+#include "core_checks.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdarg>
@@ -16,12 +18,8 @@ using laser_features::Pose2D;
 
 namespace {
 
-bool fail(std::string* error, const char* why) {
-  if (error) *error = why;
-  return false;
-}
-
-bool finite(const Pose2D& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta); }
+using core::fail;
+using core::finite;
 
 /// `want`, or as close to it as `max_step` away from `last` allows.
 double stepTowards(double last, double want, double max_step) {

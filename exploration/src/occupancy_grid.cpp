@@ -1,5 +1,7 @@
 #include "exploration/occupancy_grid.h"
 
+#include "core_checks.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -21,12 +23,8 @@ constexpr double kSurfaceClearance = 1.2;   // cells: free space stops this far 
 constexpr double kTangentSlope = 0.05;      // a return is on another's surface line within this much
                                             // of their distance (on top of breakpoint_margin)
 
-bool fail(std::string* error, const char* why) {
-  if (error) *error = why;
-  return false;
-}
-
-bool finite(const Pose2D& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.theta); }
+using core::fail;
+using core::finite;
 
 double logit(double p) { return std::log(p / (1.0 - p)); }
 

@@ -1,5 +1,7 @@
 #include "exploration/room_explorer.h"
 
+#include "core_checks.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -12,12 +14,8 @@ using laser_features::Pose2D;
 
 namespace {
 
-bool fail(std::string* error, const char* why) {
-  if (error) *error = why;
-  return false;
-}
-
-bool finite(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std::isfinite(p.y()); }
+using core::fail;
+using core::finite;
 
 bool finiteAtLeast(double v, double lo) { return std::isfinite(v) && v >= lo; }
 

@@ -480,16 +480,23 @@ TEST(GridPlanner, PathsKeepClearOfInflatedObstacles) {
   EXPECT_EQ(same_side_refused, 0);
 }
 
-// A table's legs (2-5 cm) are lost by a log-odds grid (the beams passing beside a leg through its
-// cell mark it free) but seen in every scan, and the motion controller keeps its clearance from
-// them: the latest scan's returns block the plan's snapshot, so that no path runs between two legs
-// the robot will not drive between.
-TEST(GridPlanner, ObstaclesOfTheScanTheGridLostAreKeptClearOf) {
+// A 6 x 4 m room mapped from (1, 2) and (5, 2): free all the way between them (the table legs'
+// tests: the legs are given to the planner, the grid has lost them).
+OccupancyGrid roomMappedFromTwoPoses() {
   World world;
   world.box(kOff, kOff, 6.0 + kOff, 4.0 + kOff);
   OccupancyGrid grid;
   const Laser laser;
   for (const Pose2D& p : {Pose2D{1.0, 2.0, 0.0}, Pose2D{5.0, 2.0, 0.0}}) insert(&grid, world, laser, p);
+  return grid;
+}
+
+// A table's legs (2-5 cm) are lost by a log-odds grid (the beams passing beside a leg through its
+// cell mark it free) but seen in every scan, and the motion controller keeps its clearance from
+// them: the latest scan's returns block the plan's snapshot, so that no path runs between two legs
+// the robot will not drive between.
+TEST(GridPlanner, ObstaclesOfTheScanTheGridLostAreKeptClearOf) {
+  const OccupancyGrid grid = roomMappedFromTwoPoses();
   // Two legs 0.65 m apart across the straight way from (1, 2) to (5, 2), not in the grid.
   const std::vector<Vector2d> legs = {{3.0, 1.675}, {3.0, 2.325}};
   GridPlanner planner;
@@ -517,11 +524,7 @@ TEST(GridPlanner, ObstaclesOfTheScanTheGridLostAreKeptClearOf) {
 // two legs 0.652 m apart (less than twice the radius) whose cells' centres are 0.70 m apart leave no
 // way between them, as the controller, which measures its clearance from the points, leaves none.
 TEST(GridPlanner, ASeenPointInflatesFromWhereItIsNotFromItsCell) {
-  World world;
-  world.box(kOff, kOff, 6.0 + kOff, 4.0 + kOff);
-  OccupancyGrid grid;
-  const Laser laser;
-  for (const Pose2D& p : {Pose2D{1.0, 2.0, 0.0}, Pose2D{5.0, 2.0, 0.0}}) insert(&grid, world, laser, p);
+  const OccupancyGrid grid = roomMappedFromTwoPoses();
   const std::vector<Vector2d> legs = {{3.0, 1.699}, {3.0, 2.351}};  // each at its cell's edge facing the other
   ASSERT_LT((legs[1] - legs[0]).norm(), 2.0 * GridPlanner().inflationRadius());
   GridPlanner planner;
@@ -545,11 +548,7 @@ TEST(GridPlanner, ASeenPointInflatesFromWhereItIsNotFromItsCell) {
 // (its free distance towards the point is zero): a start within a leg's inflation leaves it that
 // way, never nearer to that leg nor into another leg's inflation, and then keeps clear of both.
 TEST(GridPlanner, AStartNearASeenPointLeavesItOnlyMovingAway) {
-  World world;
-  world.box(kOff, kOff, 6.0 + kOff, 4.0 + kOff);
-  OccupancyGrid grid;
-  const Laser laser;
-  for (const Pose2D& p : {Pose2D{1.0, 2.0, 0.0}, Pose2D{5.0, 2.0, 0.0}}) insert(&grid, world, laser, p);
+  const OccupancyGrid grid = roomMappedFromTwoPoses();
   const std::vector<Vector2d> legs = {{3.0, 1.675}, {3.0, 2.325}};
   GridPlanner planner;
   planner.setMap(grid);

@@ -439,15 +439,21 @@ TEST(RoomExplorer, EntersBeforeClosingTheDoor) {
   EXPECT_TRUE(rx.goalPath().waypoints.back().isApprox(*goal));
 }
 
+// The room explorer started at kDoor with one scan from 0.75 m inside it (returned).
+Pose2D startedWithAScanFromJustInside(RoomExplorer* rx, const World& world) {
+  const Laser laser;
+  const Pose2D inside{kDoor.x, kDoor.y + 0.75, kDoor.theta};
+  EXPECT_TRUE(rx->start(kDoor, kDoorWidth));
+  EXPECT_TRUE(rx->addScan(inside, laser.scan(world, inside), laser.angle_min, laser.increment()));
+  return inside;
+}
+
 TEST(RoomExplorer, AMissionGoalNotYetSeenRoundFurnitureHasAPath) {
   // From just inside the door the nook behind the partition (y > 2.6, x < 2.8) is unseen: the path
   // to a goal there goes round the partition's free end through the unseen part, not through it.
   const World world = roomWorld();
-  const Laser laser;
   RoomExplorer rx;
-  ASSERT_TRUE(rx.start(kDoor, kDoorWidth));
-  const Pose2D inside{kDoor.x, kDoor.y + 0.75, kDoor.theta};
-  ASSERT_TRUE(rx.addScan(inside, laser.scan(world, inside), laser.angle_min, laser.increment()));
+  const Pose2D inside = startedWithAScanFromJustInside(&rx, world);
   const Vector2d goal(1.0, 3.3);
   ASSERT_EQ(rx.grid().stateAt(goal), CellState::Unknown);
   const auto path = rx.pathTo(inside.translation(), goal);
@@ -468,11 +474,8 @@ TEST(RoomExplorer, AMissionGoalNotYetSeenRoundFurnitureHasAPath) {
 // between, every way out passes within the inflation of two legs; the grid's path is taken then.
 TEST(RoomExplorer, AWayOutFromAmongTableLegsIsTheGridsWhenTheScanLeavesNone) {
   const World world = roomWorld();
-  const Laser laser;
   RoomExplorer rx;
-  ASSERT_TRUE(rx.start(kDoor, kDoorWidth));
-  const Pose2D inside{kDoor.x, kDoor.y + 0.75, kDoor.theta};
-  ASSERT_TRUE(rx.addScan(inside, laser.scan(world, inside), laser.angle_min, laser.increment()));
+  const Pose2D inside = startedWithAScanFromJustInside(&rx, world);
   const Vector2d robot = inside.translation() + Vector2d(0.0, 0.8);
   const std::vector<Vector2d> legs = {robot + Vector2d(0.3, 0.3), robot + Vector2d(-0.3, 0.3),
                                       robot + Vector2d(0.3, -0.3), robot + Vector2d(-0.3, -0.3)};
