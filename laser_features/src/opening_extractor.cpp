@@ -159,7 +159,7 @@ bool OpeningExtractor::makeOpening(const ScanPoints& points, const Eigen::Vector
                                    const Eigen::Vector2d& edge_b, OpeningSource source, double support,
                                    Opening* opening) const {
   const double width = (edge_a - edge_b).norm();
-  if (!(width >= minWidth() && width <= params_.max_width)) return false;
+  if (!(width >= minWidth() && width <= maxWidth())) return false;
   const Line opening_line = lineThroughPoints(edge_a, edge_b);
   // With the sensor on (or next to) the opening line we cannot tell which side is beyond it.
   if (!(opening_line.r >= params_.min_line_distance)) return false;
@@ -266,7 +266,7 @@ void OpeningExtractor::searchFarSide(const ScanPoints& points, const std::vector
   const double near_range = points[near].range;
   // Near the end of the scanner's reach a wall fades into no-return beams without ending there.
   if (near_range > params_.max_range_fraction * points.rangeMax()) return;
-  double best_squared = params_.max_width * params_.max_width;
+  double best_squared = maxWidth() * maxWidth();
   size_t best = points.size();
   size_t beam = near;
   for (size_t k = 1; k < points.size(); ++k) {

@@ -48,8 +48,8 @@ struct Opening {
 struct OpeningExtractorParams {
   double robot_radius = 0.25;       // m, openings narrower than 2 robot_radius are never reported
   BuildingRules rules;              // door widths: the narrowest opening reported is the narrowest
-                                    // door; which are doors (BuildingRules::isDoor)
-  double max_width = 3.0;           // m, widest opening reported
+                                    // door, the widest the widest hallway's mouth (a branch off the
+                                    // hallway); which are doors (BuildingRules::isDoor)
   double min_depth = 0.5;           // m, free space needed behind the opening line
   double jump_min = 0.5;            // m, range jump between neighbouring beams that starts cue (a)
   double collinear_chi2 = 13.82;    // -, (b): same line if chi^2 (2 dof) below this (99.9 %) ...
@@ -88,6 +88,8 @@ class OpeningExtractor {
   static constexpr int kRoomBeams = 2;  // one stray return is no room
 
   double minWidth() const;
+  /// The widest opening reported: a branch as wide as the widest hallway, with its width error.
+  double maxWidth() const { return params_.rules.widestHallway(); }
   void labelBeams(const ScanPoints& points, const std::vector<LineSegment>& lines);
   Eigen::Vector2d segmentEdge(const ScanPoints& points, const LineSegment& segment, bool at_end) const;
   Eigen::Vector2d beamEdge(const ScanPoints& points, const std::vector<LineSegment>& lines,
