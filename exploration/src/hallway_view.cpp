@@ -36,7 +36,7 @@ bool endWallRunsInto(const std::vector<laser_features::LineSegment>& lines, doub
 constexpr double kLaneStep = 0.1;
 // A wall of the hallway along `direction` (unit `u`, left normal `n`): a line at least
 // wall_min_length long, parallel to the direction within wall_parallel_tolerance (modulo pi: a wall
-// has no orientation), running beside the robot (not only far ahead or behind), between 0.2 m and
+// has no orientation), running beside the robot (not only far ahead or behind), between wall_min_lateral and
 // `max_lateral` to a side. Its direction difference (rad, robot frame) and lateral offset (m, + left).
 struct WallBeside {
   double diff, lateral;
@@ -51,9 +51,9 @@ std::optional<WallBeside> wallBeside(const laser_features::LineSegment& l, doubl
   if (diff < -0.5 * kPi) diff += kPi;
   if (std::abs(diff) > params.wall_parallel_tolerance) return std::nullopt;
   const double a0 = l.start.dot(u), a1 = l.end.dot(u);
-  if (std::max(a0, a1) < -1.0 || std::min(a0, a1) > 2.5) return std::nullopt;
+  if (std::max(a0, a1) < -params.wall_behind || std::min(a0, a1) > params.wall_ahead) return std::nullopt;
   const double lateral = 0.5 * (l.start + l.end).dot(n);
-  if (std::abs(lateral) > max_lateral || std::abs(lateral) < 0.2) return std::nullopt;
+  if (std::abs(lateral) > max_lateral || std::abs(lateral) < params.wall_min_lateral) return std::nullopt;
   return WallBeside{diff, lateral};
 }
 

@@ -26,6 +26,11 @@ struct HallwayViewParams {
   // (the defaults are laser_features::HallwayWallsParams', whose rule finds a wing's walls)
   double wall_parallel_tolerance = laser_features::HallwayWallsParams().parallel_tolerance;
   double wall_min_length = laser_features::HallwayWallsParams().min_length;
+  // m, a wall beside the robot reaches from this far behind it to this far ahead, and lies at least
+  // this far to a side (nearer lines are the robot's own clutter): laser_features' window, not configured
+  double wall_behind = laser_features::HallwayWallsParams().behind;
+  double wall_ahead = laser_features::HallwayWallsParams().ahead;
+  double wall_min_lateral = laser_features::HallwayWallsParams().min_lateral;
   double min_wall_clearance = 0.8;     // m, with one wall only the mid-line keeps at least this far from
                                        // it; along an open area's wall exactly this far
   double wall_same_lateral = 0.3;      // m, lines this close to a wall's lateral offset are that wall
