@@ -108,6 +108,41 @@ TEST(OpeningExtractor, SideBranchIsAJunction) {
   expectOpening(features, sensor, {10.0, 2.0}, 2.0, kPi / 2, OpeningKind::kJunction);
 }
 
+// A branch off the hallway is an opening up to the widest hallway (BuildingRules::widestHallway:
+// hallway_max_width plus the width tolerance), its width within that tolerance (an edge is the last
+// beam on its wall); a gap wider than that is no opening. Seen abeam from the mid-line of a 2.5 m
+// hallway (seen from before it, the wall beyond a 4 m branch is so oblique that one beam spacing
+// along it exceeds the tolerance: the branch is reported once the robot comes abeam).
+TEST(OpeningExtractor, ABranchAsWideAsTheWidestHallwayIsAJunctionAWiderGapIsNoOpening) {
+  const BuildingRules rules;
+  const double widest = rules.widestHallway();
+  for (const double branch : {3.2, 3.6, 4.0, widest + 0.6}) {
+    SCOPED_TRACE(branch);
+    World world;  // a 2.5 m hallway along x, a branch `branch` wide going up from x = 9
+    const double x1 = 9.0 + branch;
+    world.addWall(0, 0, 30, 0);
+    world.addWall(0, 2.5, 9, 2.5);
+    world.addWall(x1, 2.5, 30, 2.5);
+    world.addWall(9, 2.5, 9, 14);
+    world.addWall(x1, 2.5, x1, 14);
+    world.addWall(0, 0, 0, 2.5);
+    world.addWall(30, 0, 30, 2.5);
+    std::mt19937 rng(11);
+    const Pose2D sensor{9.0 + 0.5 * branch, 1.25, 0.0};
+    const Features features = extractFeatures(world, sensor, ScanSpec::full(720), &rng);
+    const Eigen::Vector2d mouth = pointInSensorFrame({9.0 + 0.5 * branch, 2.5}, sensor);
+    const std::vector<Opening> near = openingsNear(features, mouth, 0.6);
+    if (branch > widest) {
+      EXPECT_TRUE(near.empty());
+      continue;
+    }
+    ASSERT_EQ(near.size(), 1u);
+    EXPECT_NEAR(near[0].width, branch, rules.width_tolerance);
+    EXPECT_EQ(near[0].kind, OpeningKind::kJunction);
+    EXPECT_NEAR(normalizeAngle(near[0].theta - 0.5 * kPi), 0.0, 0.1);
+  }
+}
+
 // Width cannot tell a double door from a narrow hallway's mouth (BuildingRules); the room behind
 // does: seen from along the hallway, the free space behind a door reaches past its edges.
 TEST(OpeningExtractor, ADoubleDoorIntoARoomIsADoorSeenFromAlongTheHallway) {
