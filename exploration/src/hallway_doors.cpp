@@ -193,7 +193,7 @@ std::optional<DoorTrack> HallwayDoors::inEndWall(const Pose2D& odom, const std::
     // A gap in the end wall itself (both walls seen, the end wall where the view ends) is a gap in a
     // wall whatever line support its edges have: the wall beside a door near a side wall may be
     // shorter than any line (door_jamb_min, 0.2 m), which halves laser_features' confidence. The
-    // extractor's passage test (free space min_depth behind it) stands. Elsewhere ahead, a gap
+    // extractor's passage test (free space the robot's diameter deep behind it) stands. Elsewhere ahead, a gap
     // between unrelated surfaces is told from a door by its edges' support.
     const bool in_end_wall = walls_seen && std::abs(ahead - v.free_ahead) <= params_.wall_tolerance;
     if (o.confidence < params_.min_confidence && !in_end_wall) continue;

@@ -99,7 +99,7 @@ bool OpeningExtractor::isJumpEdge(const ScanPoints& points, size_t beam, int tow
 // Classifies the beams strictly between the bearings of the two edges against the opening line:
 // through (behind the line, or no return), on the line (a wall continues: no gap), in front (an
 // occluder: the gap is not seen). The passage is clear when at least half of the beams go through,
-// at most a few touch the line (jamb faces), and the free space reaches min_depth behind the line.
+// at most a few touch the line (jamb faces), and the free space reaches minDepth() behind the line.
 OpeningExtractor::Passage OpeningExtractor::checkPassage(const ScanPoints& points,
                                                          const Eigen::Vector2d& edge_a,
                                                          const Eigen::Vector2d& edge_b,
@@ -150,7 +150,7 @@ OpeningExtractor::Passage OpeningExtractor::checkPassage(const ScanPoints& point
   }
   const int total = through + on_line + in_front;
   passage.clear = through >= 1 && 2 * through >= total && on_line <= std::max(2, total / 10) &&
-                  passage.depth >= params_.min_depth;
+                  passage.depth >= minDepth();
   passage.room_behind = beyond >= kRoomBeams;
   return passage;
 }
@@ -175,7 +175,7 @@ bool OpeningExtractor::makeOpening(const ScanPoints& points, const Eigen::Vector
   opening->room_behind = passage.room_behind;
   opening->kind = params_.rules.isDoor(width, passage.room_behind) ? OpeningKind::kDoor : OpeningKind::kJunction;
   opening->source = source;
-  const double depth_score = std::min(1.0, passage.depth / (2.0 * params_.min_depth));
+  const double depth_score = std::min(1.0, passage.depth / (2.0 * minDepth()));
   opening->confidence = std::clamp(depth_score * support, 0.0, 1.0);
   return opening->center.allFinite() && opening->left.allFinite() && opening->right.allFinite() &&
          std::isfinite(opening->theta);

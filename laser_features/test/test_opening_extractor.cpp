@@ -143,6 +143,38 @@ TEST(OpeningExtractor, ABranchAsWideAsTheWidestHallwayIsAJunctionAWiderGapIsNoOp
   }
 }
 
+// An opening needs free space behind its line as deep as the robot is wide (it fits through): a
+// 1 m gap in a hallway's wall into a recess shallower than the robot's diameter is no opening, a
+// deeper one is; for a wider robot the same recess is not.
+TEST(OpeningExtractor, ARecessShallowerThanTheRobotsDiameterIsNoOpening) {
+  for (const double radius : {0.25, 0.4}) {
+    for (const double depth : {0.4, 0.7}) {
+      SCOPED_TRACE("robot radius " + std::to_string(radius) + " m, recess " + std::to_string(depth) + " m deep");
+      World world;  // a 2 m hallway along x, a 1 m gap at x in [9, 10] into a recess `depth` deep
+      world.addWall(0, 0, 20, 0);
+      world.addWall(0, 2, 9, 2);
+      world.addWall(10, 2, 20, 2);
+      world.addWall(9, 2, 9, 2 + depth);
+      world.addWall(10, 2, 10, 2 + depth);
+      world.addWall(9, 2 + depth, 10, 2 + depth);
+      world.addWall(0, 0, 0, 2);
+      world.addWall(20, 0, 20, 2);
+      std::mt19937 rng(12);
+      const Pose2D sensor{9.5, 1.0, 0.0};
+      const ScanSpec spec = ScanSpec::full(720);
+      const std::vector<float> ranges = simulateScan(world, sensor, spec, kSigma, &rng);
+      FeatureExtractor::Params params;
+      params.openings.robot_radius = radius;
+      FeatureExtractor extractor(params);
+      Features features;
+      std::string error;
+      ASSERT_TRUE(extractor.extract(makeView(spec, ranges), &features, &error)) << error;
+      const bool fits = depth >= 2.0 * radius;
+      EXPECT_EQ(openingsNear(features, pointInSensorFrame({9.5, 2.0}, sensor), 0.6).size(), fits ? 1u : 0u);
+    }
+  }
+}
+
 // Width cannot tell a double door from a narrow hallway's mouth (BuildingRules); the room behind
 // does: seen from along the hallway, the free space behind a door reaches past its edges.
 TEST(OpeningExtractor, ADoubleDoorIntoARoomIsADoorSeenFromAlongTheHallway) {

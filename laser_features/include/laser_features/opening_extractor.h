@@ -38,7 +38,7 @@ struct Opening {
   // Set in a wall: a wall piece (a line) runs on from one of its edges along its line (every (b);
   // OpeningExtractor::inWall). The gaps between furniture legs have no wall beside them.
   bool in_wall = false;
-  // [0, 1]: how deep the free space behind the opening is (saturating at 2 min_depth) times how well
+  // [0, 1]: how deep the free space behind the opening is (saturating at 2 minDepth()) times how well
   // its edges are supported (by wall segments for (a) and (b), 0.8 for (c)); halved for (a) when the
   // far edge is not a wall end.
   double confidence = 0.0;
@@ -46,11 +46,11 @@ struct Opening {
 
 /// Parameters of OpeningExtractor (each with its unit and default).
 struct OpeningExtractorParams {
-  double robot_radius = 0.25;       // m, openings narrower than 2 robot_radius are never reported
+  double robot_radius = 0.25;       // m, openings narrower than 2 robot_radius, or with less free space
+                                    // than that behind them, are never reported
   BuildingRules rules;              // door widths: the narrowest opening reported is the narrowest
                                     // door, the widest the widest hallway's mouth (a branch off the
                                     // hallway); which are doors (BuildingRules::isDoor)
-  double min_depth = 0.5;           // m, free space needed behind the opening line
   double jump_min = 0.5;            // m, range jump between neighbouring beams that starts cue (a)
   double collinear_chi2 = 13.82;    // -, (b): same line if chi^2 (2 dof) below this (99.9 %) ...
   double collinear_angle = 0.0524;  // rad (3 deg), ... or if |d alpha| and ...
@@ -88,6 +88,8 @@ class OpeningExtractor {
   static constexpr int kRoomBeams = 2;  // one stray return is no room
 
   double minWidth() const;
+  /// m, the free space needed behind an opening's line: the robot's diameter, so that it fits through.
+  double minDepth() const { return 2.0 * params_.robot_radius; }
   /// The widest opening reported: a branch as wide as the widest hallway, with its width error.
   double maxWidth() const { return params_.rules.widestHallway(); }
   void labelBeams(const ScanPoints& points, const std::vector<LineSegment>& lines);

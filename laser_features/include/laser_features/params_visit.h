@@ -29,7 +29,6 @@ void visitParams(FeatureExtractorParams* p, Visitor&& visit) {
   visit("corners/min_line_distance", &p->corners.min_line_distance);
   visit("corners/reference_length", &p->corners.reference_length);
   visit("corners/reference_points", &p->corners.reference_points);
-  visit("openings/min_depth", &p->openings.min_depth);
   visit("openings/jump_min", &p->openings.jump_min);
   visit("openings/collinear_chi2", &p->openings.collinear_chi2);
   visit("openings/collinear_angle", &p->openings.collinear_angle);
