@@ -9,12 +9,19 @@ void PathDriver::sendGoal(const Eigen::Vector2d& target) {
   target_ = target;
 }
 
+bool PathDriver::skipReached(const Eigen::Vector2d& robot) {
+  // The next waypoint when near the current (the last one is the goal: driven to exactly).
+  const std::size_t first = waypoint_;
+  while (waypoint_ + 1 < waypoints_.size() && (waypoints_[waypoint_] - robot).norm() <= params_.waypoint_tolerance)
+    ++waypoint_;
+  return waypoint_ != first;
+}
+
 void PathDriver::follow(const std::vector<Eigen::Vector2d>& path, const Eigen::Vector2d& robot) {
   if (path.empty()) return;
   waypoints_.assign(path.begin() + (path.size() > 1 ? 1 : 0), path.end());
   waypoint_ = 0;
-  while (waypoint_ + 1 < waypoints_.size() && (waypoints_[waypoint_] - robot).norm() <= params_.waypoint_tolerance)
-    ++waypoint_;
+  skipReached(robot);
   const Eigen::Vector2d& target = waypoints_[waypoint_];
   if (!motion_.hasGoal() || (target - target_).norm() > params_.goal_refresh_distance) sendGoal(target);
 }
@@ -33,13 +40,7 @@ PathDriver::Step PathDriver::update(const laser_features::Pose2D& pose, double n
   Step step;
   const Eigen::Vector2d robot = pose.translation();
   if (!waypoints_.empty()) {
-    // The next waypoint when near the current (the last one is the goal: driven to exactly).
-    bool advanced = false;
-    while (waypoint_ + 1 < waypoints_.size() && (waypoints_[waypoint_] - robot).norm() <= params_.waypoint_tolerance) {
-      ++waypoint_;
-      advanced = true;
-    }
-    if (advanced) sendGoal(waypoints_[waypoint_]);
+    if (skipReached(robot)) sendGoal(waypoints_[waypoint_]);
     if (waypoint_ + 1 == waypoints_.size() && (waypoints_.back() - robot).norm() <= params_.goal_reach_tolerance &&
         !reached_) {
       reached_ = true;

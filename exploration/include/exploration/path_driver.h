@@ -58,6 +58,9 @@ class PathDriver {
 
  private:
   void sendGoal(const Eigen::Vector2d& target);
+  /// Moves on past the waypoints within waypoint_tolerance of `robot` (never past the goal); true
+  /// when it moved.
+  bool skipReached(const Eigen::Vector2d& robot);
 
   PathDriverParams params_;
   MotionController motion_;
