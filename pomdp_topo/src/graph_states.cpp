@@ -57,6 +57,7 @@ void GraphStates::indexNodes(const TopologicalMap& map) {
   node_exit_back_.clear();
   node_openings_.clear();
   node_closed_.clear();
+  node_open_way_.clear();
   edge_landmarks_.clear();
   near_node_.clear();
   state_dir_edge_.clear();
@@ -151,6 +152,26 @@ void GraphStates::linkWays(const TopologicalMap& map, const std::vector<std::vec
     for (int b = 0; b < bins_; ++b) {
       node_exit_[n * bins_ + b] = wayOn(n, binHeading(b));
       node_exit_back_[n * bins_ + b] = wayOn(n, binHeading(b) + kPi);
+    }
+  }
+  markOpenWays(map);
+}
+
+// Where the known map ends at a node (mapEndsBeyond): an opening's way, the way straight on from an
+// edge that arrives there, or any way at a node without edges; never at a hallway end.
+void GraphStates::markOpenWays(const TopologicalMap& map) {
+  const int32_t num_nodes = int32_t(node_ids_.size());
+  node_open_way_.assign(size_t(num_nodes) * bins_, 0);
+  std::vector<char> has_edge(size_t(num_nodes), 0);
+  for (const DirEdge& d : dir_edges_) {
+    has_edge[size_t(d.end)] = 1;
+    if (!node_closed_[size_t(d.end)]) node_open_way_[size_t(d.end) * bins_ + d.bin] = 1;
+  }
+  for (int32_t n = 0; n < num_nodes; ++n) {
+    if (node_closed_[size_t(n)]) continue;
+    for (int b = 0; b < bins_; ++b) {
+      char& open = node_open_way_[size_t(n) * bins_ + b];
+      if (!has_edge[size_t(n)] || map.hasOpeningToward(node_ids_[size_t(n)], binHeading(b))) open = 1;
     }
   }
 }

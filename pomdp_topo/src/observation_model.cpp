@@ -150,8 +150,9 @@ void ObservationModel::expectStateLandmarks(const GraphStates& graph) {
       const int32_t n = graph.nodeIndex(states[s].id);
       const int b = int(states[s].cell);
       addNodeOpenings(graph, n, 0.0, h);
-      if (graph.nodeExit(n, b, false) < 0 && !graph.nodeClosed(n)) cur_unknown_ahead_ = 0.0f;
-      if (graph.nodeExit(n, b, true) < 0 && !graph.nodeClosed(n)) cur_unknown_behind_ = 0.0f;
+      if (graph.nodeExit(n, b, false) < 0 && graph.mapEndsBeyond(n, b)) cur_unknown_ahead_ = 0.0f;
+      if (graph.nodeExit(n, b, true) < 0 && graph.mapEndsBeyond(n, (b + graph.bins() / 2) % graph.bins()))
+        cur_unknown_behind_ = 0.0f;
       walkForward(graph, graph.nodeExit(n, b, false), 0.0, h);
       walkBackward(graph, graph.nodeExit(n, b, true), 0.0, h);
     }

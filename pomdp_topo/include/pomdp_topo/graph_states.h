@@ -73,6 +73,13 @@ class GraphStates {
   const std::vector<NodeOpening>& nodeOpenings(int32_t node_index) const { return node_openings_[node_index]; }
   /// A hallway end: nothing lies beyond it.
   bool nodeClosed(int32_t node_index) const { return node_closed_[node_index] != 0; }
+  /// Whether the known map ends at node `node_index` in heading bin `bin` where no edge leaves that
+  /// way: beyond an opening of the node (its room or an unexplored branch), or straight on past the
+  /// last node of a stretch (the hallway goes on, unmapped). Not at a hallway end, and not on a
+  /// side of the node that is neither an edge nor an opening nor an edge's continuation: that side
+  /// is the hallway's wall (a door node's side across from its door), and what is seen there the
+  /// map explains or not, as anywhere along the hallway.
+  bool mapEndsBeyond(int32_t node_index, int bin) const { return node_open_way_[size_t(node_index) * bins_ + bin] != 0; }
   /// The landmarks of the edge of directed edge `dir_edge` (in its source -> target frame).
   const std::vector<EdgeLandmark>& edgeLandmarks(int32_t dir_edge) const { return edge_landmarks_[dir_edge >> 1]; }
   /// An edge state's directed edge.
@@ -99,6 +106,7 @@ class GraphStates {
   void indexNodes(const TopologicalMap& map);
   std::vector<uint32_t> buildDirectedEdges(const TopologicalMap& map, std::vector<std::vector<int32_t>>* exits);
   void linkWays(const TopologicalMap& map, const std::vector<std::vector<int32_t>>& exits);
+  void markOpenWays(const TopologicalMap& map);
   void buildStates(const std::vector<uint32_t>& edge_ids);
 
   double resolution_, node_radius_, axis_angle_;
@@ -115,6 +123,7 @@ class GraphStates {
   std::vector<int32_t> node_exit_back_;  // [node * bins + b]: leaving with heading ~ bin b + pi
   std::vector<std::vector<NodeOpening>> node_openings_;
   std::vector<char> node_closed_;        // per node: a hallway end (nothing beyond it)
+  std::vector<char> node_open_way_;      // [node * bins + b]: mapEndsBeyond(node, b)
   std::vector<std::vector<EdgeLandmark>> edge_landmarks_;
   std::vector<int32_t> near_node_;       // per edge state: node index within node_radius, -1 if none
   std::vector<int32_t> state_dir_edge_;  // per edge state: its directed edge

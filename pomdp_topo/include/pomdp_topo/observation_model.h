@@ -109,7 +109,7 @@ class ObservationModel {
   std::vector<char> de_regular_;
   size_t max_edge_members_ = 0;  // largest sum over a directed edge's cells of their expected counts
   // Per state: along distances where the known map ends ahead / behind at a node with no way on
-  // that is not a hallway end (observed landmarks beyond are unexplored, not false).
+  // (GraphStates::mapEndsBeyond; observed landmarks beyond are unexplored, not false).
   std::vector<float> unknown_ahead_, unknown_behind_;
 
   // Build scratch.
