@@ -792,6 +792,60 @@ TEST(PomdpObservation, HeadingEstimateFavoursTheRightDirection) {
   EXPECT_GT(west / east_cell, std::pow(p.heading_floor, p.observation_weight));
 }
 
+// An observed landmark where the known map ends (beyond an opening, straight on past the last node
+// of a stretch) is unexplored; on a node's side that is neither an edge, an opening nor an edge's
+// continuation it is not: that side is the hallway's wall (across from a door node's door), and a
+// landmark seen there is a false one. (A door's state facing its door once explained everything
+// seen along the hallway, both ways, as unexplored, and took the belief from a robot driving on.)
+TEST(PomdpObservation, ADoorNodesSideAcrossFromItsDoorIsTheHallwaysWallNotUnexplored) {
+  // A stretch being mapped: the start, then a door node 4 m east with its door on the left (north).
+  TopologicalMap map;
+  TopoNode start;
+  start.type = NodeType::Start;
+  const uint32_t a = map.addNode(start);
+  TopoNode door_node;
+  door_node.type = NodeType::Door;
+  door_node.pose = {4.0, 0.0, 0.0};
+  door_node.openings.push_back({kPi / 2, 1.0, 0.9, false});
+  const uint32_t b = map.addNode(door_node);
+  map.addEdge(a, b, 0.0, 4.0, {});
+  const PomdpParams p;
+  PomdpLocalizer loc(p);
+  loc.setMap(map);
+  auto corner_at = [](double along) {
+    Observation o;
+    ObservedLandmark l;
+    l.type = LandmarkType::Corner;
+    l.along = along;
+    l.lateral = 0.3;
+    l.orientation = 0.5;
+    l.confidence = 1.0;
+    o.landmarks.push_back(l);
+    return o;
+  };
+  const double unexplored = std::log(p.unexplored_landmark_probability), false_one = std::log(p.false_landmark_probability);
+  // At the door facing it (north): beyond the door the map ends; behind the robot is the wall.
+  const size_t north = size_t(loc.nodeStateIndex(b, kPi / 2));
+  const double ahead = loc.stateLogLikelihood(north, corner_at(2.0));
+  const double behind = loc.stateLogLikelihood(north, corner_at(-2.0));
+  EXPECT_NEAR(ahead - behind, unexplored - false_one, 1e-5);
+  // Facing east, straight on past the stretch's last node: the hallway goes on unmapped.
+  const size_t east = size_t(loc.nodeStateIndex(b, 0.0));
+  const double beyond_end = loc.stateLogLikelihood(east, corner_at(2.0));
+  EXPECT_NEAR(beyond_end - ahead, 0.0, 1e-5);
+  // Facing south (the wall), and the wall's side seen from the edge's continuation: false.
+  const size_t south = size_t(loc.nodeStateIndex(b, -kPi / 2));
+  EXPECT_NEAR(loc.stateLogLikelihood(south, corner_at(2.0)) - ahead, false_one - unexplored, 1e-5);
+  EXPECT_NEAR(loc.stateLogLikelihood(south, corner_at(-2.0)) - ahead, 0.0, 1e-5);  // the door's way behind
+  // At a hallway's end nothing lies beyond, whatever the side.
+  TopologicalMap closed = map;
+  closed.node(b)->type = NodeType::HallwayEnd;
+  PomdpLocalizer at_end(p);
+  at_end.setMap(closed);
+  EXPECT_NEAR(at_end.stateLogLikelihood(size_t(at_end.nodeStateIndex(b, 0.0)), corner_at(2.0)) - ahead,
+              false_one - unexplored, 1e-5);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Localization
 
