@@ -187,6 +187,11 @@ void FrontEnd::followWalls(const std::vector<laser_features::LineSegment>& lines
   const laser_features::BinnedDirection d = laser_features::followWalls(
       bins, {bin_, wing_offset_}, normalizeAngle(heading_.theta() + *along), walls.parallel_tolerance);
   wing_offset_ = d.offset;
+  // The wing's direction is a wall family of the heading filter once the heading is known to better
+  // than the walls' parallel tolerance (2 sigma): its walls then correct the heading, as the axes' do.
+  if (d.offset != 0.0 && 2.0 * std::sqrt(heading_.variance()) <= walls.parallel_tolerance) {
+    heading_.addWallFamily(d.offset, walls.parallel_tolerance);
+  }
   const int k = int(std::lround(normalizeAngle(bins.heading(d.bin) - bins.heading(bin_)) / bins.width()));
   if (k != 0) {
     actions->push_back({Action::Turn, 0.0, k});

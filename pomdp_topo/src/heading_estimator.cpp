@@ -37,11 +37,32 @@ bool HeadingEstimator::predict(double dtheta, double distance, std::string* erro
   return true;
 }
 
-double HeadingEstimator::innovation(double alpha) const {
-  // axis + k pi/2 - (theta + alpha) for the k that makes it smallest: wrap to (-pi, pi], then remove
-  // the nearest multiple of a quarter turn.
-  const double d = normalizeAngle(params_.axis_angle - theta_ - alpha);
+namespace {
+/// `angle` less the nearest multiple of a quarter turn: in [-pi/4, pi/4].
+double offQuarterTurns(double angle) {
+  const double d = normalizeAngle(angle);
   return d - std::round(d / kQuarterTurn) * kQuarterTurn;
+}
+}  // namespace
+
+double HeadingEstimator::innovation(double alpha) const {
+  // axis + family + k pi/2 - (theta + alpha) for the family and k that make it smallest.
+  double best = offQuarterTurns(params_.axis_angle - theta_ - alpha);
+  for (size_t f = 1; f < families_.size(); ++f) {
+    const double nu = offQuarterTurns(params_.axis_angle + families_[f] - theta_ - alpha);
+    if (std::abs(nu) < std::abs(best)) best = nu;
+  }
+  return best;
+}
+
+bool HeadingEstimator::addWallFamily(double offset, double tolerance) {
+  if (!std::isfinite(offset) || !std::isfinite(tolerance)) return false;
+  const double f = offQuarterTurns(offset);
+  for (double known : families_) {
+    if (std::abs(offQuarterTurns(f - known)) <= tolerance) return false;
+  }
+  families_.push_back(f);
+  return true;
 }
 
 HeadingEstimator::Result HeadingEstimator::update(const std::vector<LineObs>& lines) {

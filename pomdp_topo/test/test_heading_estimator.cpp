@@ -187,6 +187,35 @@ TEST(HeadingEstimator, FurnitureAt45DegreesIsRejectedByTheGate) {
   EXPECT_NEAR(estimator.variance(), 0.5e-4, 1e-15);
 }
 
+// A wing at 35 deg to the axes: once its direction is a wall family, its walls correct the heading
+// and are never taken for the axes' walls; without it, a variance grown by the turns in the wing's
+// rooms lets the gate take a wing wall for an axis wall and turn the heading by 24 degrees
+// (generated building 4: the belief then left the known graph on every pass along the wing).
+TEST(HeadingEstimator, AWingsWallsCorrectTheHeadingOnceItsDirectionIsAFamilyAndAreNeverTakenForTheAxes) {
+  const double wing = 0.61;   // rad (35 deg), the wing's walls' offset to the axes
+  const double truth = 0.2;   // rad, the robot's true heading
+  const double error = 0.19;  // rad, the estimate's error: the wing's wall is 24 deg off the axes' nearest
+  const LineObs wing_wall{normalizeAngle(wing + kPi / 2 - truth), 0.01 * 0.01, 3.6};
+  HeadingEstimator without;
+  ASSERT_TRUE(without.reset(truth - error, 0.0475));
+  EXPECT_EQ(without.update({wing_wall}).used, 1);  // the failure: taken for an axis wall
+  EXPECT_GT(std::abs(normalizeAngle(without.theta() - truth)), 0.3);
+
+  HeadingEstimator with;
+  EXPECT_TRUE(with.addWallFamily(wing - kPi / 2, 0.26));  // taken modulo a quarter turn
+  EXPECT_FALSE(with.addWallFamily(wing + 0.1, 0.26));     // the same family, within the tolerance
+  EXPECT_FALSE(with.addWallFamily(0.2, 0.26));            // the axes' own
+  ASSERT_EQ(with.wallFamilies().size(), 2u);
+  EXPECT_NEAR(with.wallFamilies()[1], wing, 1e-12);
+  ASSERT_TRUE(with.reset(truth - error, 0.0475));
+  const HeadingEstimator::Result r = with.update({wing_wall});
+  EXPECT_EQ(r.used, 1);  // compared with the wing's direction: the heading moves back to the truth
+  EXPECT_LT(std::abs(normalizeAngle(with.theta() - truth)), 0.01);
+  // An axis wall and a wing wall seen with the right heading: innovations ~0, each to its family.
+  EXPECT_NEAR(with.innovation(normalizeAngle(kPi / 2 - with.theta())), 0.0, 1e-12);
+  EXPECT_NEAR(with.innovation(normalizeAngle(wing - with.theta())), 0.0, 1e-12);
+}
+
 TEST(HeadingEstimator, OdometryDriftGrowsTheVarianceAsConfigured) {
   HeadingEstimatorParams params;
   params.odometry_variance_per_rad = 0.004;

@@ -16,6 +16,13 @@
 // unchanged, so on clean data the filter is somewhat overconfident (mean NEES 1.1-1.4 measured);
 // a gate_probability of 0.999 restores consistency at the price of accepting lines nearer the axes.
 //
+// Wings: a wing's walls run 30-60 deg off the building's axes. Its direction, learnt while its
+// hallway is followed with a heading known to better than the walls' parallel tolerance
+// (addWallFamily, from the front end), is a wall family of its own, and a line is compared with the
+// nearest family. Without it the wing's walls are only rejected, the variance grows with every turn
+// in the wing's rooms, and once it covers the wing's angle the gate takes a wing wall for an axis
+// wall and turns the heading by that angle.
+//
 // The gate needs the prior variance to cover the actual error: after a kidnapping, reset() with a
 // variance that covers it (or shift() by quarter turns once the topological belief knows better).
 //
@@ -86,13 +93,21 @@ class HeadingEstimator {
   /// The building's axis (rad, map frame) the walls are expected along, once it is known.
   void setAxis(double axis_angle) { params_.axis_angle = axis_angle; }
 
-  /// The innovation of a line against the nearest axis for the current theta, in [-pi/4, pi/4].
+  /// The innovation of a line against the nearest wall direction (the axes, or a wing's) for the
+  /// current theta, in [-pi/4, pi/4].
   double innovation(double alpha) const;
+
+  /// A wing's walls run at `offset` (rad, taken modulo pi/2) to the axes: walls along it are
+  /// expected from now on. Not added (false) within `tolerance` (rad) of a known family.
+  bool addWallFamily(double offset, double tolerance);
+  /// rad, the wall directions' offsets to the axes, in (-pi/4, pi/4]; 0 (the axes) first.
+  const std::vector<double>& wallFamilies() const { return families_; }
 
  private:
   HeadingEstimatorParams params_;
   double theta_ = 0.0;
   double variance_ = 0.0;
+  std::vector<double> families_{0.0};
 };
 
 /// When the front end's heading is turned by whole bins to the topological belief's (after a
