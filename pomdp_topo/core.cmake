@@ -17,6 +17,9 @@ add_library(pomdp_topo_core
   ${POMDP_TOPO_CORE_DIR}/src/dead_reckoning_gate.cpp
   ${POMDP_TOPO_CORE_DIR}/src/loop_hypotheses.cpp
   ${POMDP_TOPO_CORE_DIR}/src/map_builder.cpp
+  ${POMDP_TOPO_CORE_DIR}/src/map_builder_frontier.cpp
+  ${POMDP_TOPO_CORE_DIR}/src/map_builder_localized.cpp
+  ${POMDP_TOPO_CORE_DIR}/src/map_builder_loop_check.cpp
   ${POMDP_TOPO_CORE_DIR}/src/map_updater.cpp
   ${POMDP_TOPO_CORE_DIR}/src/params_check.cpp
 )
