@@ -13,6 +13,8 @@ add_library(ekf_local_map_core
   ${EKF_LOCAL_MAP_CORE_DIR}/src/measurement_model.cpp
   ${EKF_LOCAL_MAP_CORE_DIR}/src/odometry_noise.cpp
   ${EKF_LOCAL_MAP_CORE_DIR}/src/stochastic_map.cpp
+  ${EKF_LOCAL_MAP_CORE_DIR}/src/stochastic_map_association.cpp
+  ${EKF_LOCAL_MAP_CORE_DIR}/src/stochastic_map_fusion.cpp
   ${EKF_LOCAL_MAP_CORE_DIR}/src/update_kernels.cpp
   ${EKF_LOCAL_MAP_CORE_DIR}/src/place_maps.cpp
   ${EKF_LOCAL_MAP_CORE_DIR}/src/persistence.cpp
