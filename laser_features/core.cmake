@@ -15,6 +15,9 @@ add_library(laser_features_core
   ${LASER_FEATURES_CORE_DIR}/src/file_io.cpp
   ${LASER_FEATURES_CORE_DIR}/src/scan.cpp
   ${LASER_FEATURES_CORE_DIR}/src/line_extractor.cpp
+  ${LASER_FEATURES_CORE_DIR}/src/line_extractor_split.cpp
+  ${LASER_FEATURES_CORE_DIR}/src/line_extractor_merge.cpp
+  ${LASER_FEATURES_CORE_DIR}/src/line_extractor_boundaries.cpp
   ${LASER_FEATURES_CORE_DIR}/src/line_fit.cpp
   ${LASER_FEATURES_CORE_DIR}/src/corner_extractor.cpp
   ${LASER_FEATURES_CORE_DIR}/src/place_classifier.cpp
