@@ -18,6 +18,7 @@ add_library(ekf_local_map_core
   ${EKF_LOCAL_MAP_CORE_DIR}/src/update_kernels.cpp
   ${EKF_LOCAL_MAP_CORE_DIR}/src/place_maps.cpp
   ${EKF_LOCAL_MAP_CORE_DIR}/src/persistence.cpp
+  ${EKF_LOCAL_MAP_CORE_DIR}/src/persistence_encode.cpp
 )
 target_include_directories(ekf_local_map_core PUBLIC
   $<BUILD_INTERFACE:${EKF_LOCAL_MAP_CORE_DIR}/include>

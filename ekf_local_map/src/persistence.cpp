@@ -1,4 +1,7 @@
+// Loading places: each place's record decoded and checked, decodePlaces and loadPlaces. Saving them:
+// persistence_encode.cpp. The format: persistence.h.
 #include "ekf_local_map/persistence.h"
+#include "persistence_format.h"
 
 #include "laser_features/file_io.h"
 
@@ -20,129 +23,16 @@ namespace ekf_local_map {
 
 namespace {
 
-// Record sizes (see persistence.h).
-constexpr size_t kLineRecordBytes = 6 * 8;
-constexpr size_t kDoorRecordBytes = 4 + 9 * 8;
-constexpr size_t kCompactRobotCovBytes = 6 * 4;
-constexpr size_t kCompactLineBytes = 7 * 4;       // version 3: the extent as two positions on the line
-constexpr size_t kCompactLineBytesV2 = 9 * 4;     // version 2: the extent as two points
-constexpr size_t kCompactDoorBytes = 4 + 9 * 4;
-
-constexpr uint32_t kFlagRelocationPending = 1u;
-constexpr uint32_t kFlagCompact = 2u;  // version 2 on
-
 // Tolerances of the positive semi-definite check, relative to the largest eigenvalue: rounding of
 // f64 numbers, and of f32 ones (float32's epsilon is 1.2e-7).
 constexpr double kPsdToleranceF64 = 1e-9;
 constexpr double kPsdToleranceF32 = 1e-6;
 
-std::string headerText(uint32_t version) {
-  return std::string(kPlacesMagic) + "\nversion " + std::to_string(version) + "\n";
-}
-
-// ---- encoding --------------------------------------------------------------------------------
-
-class Writer : public laser_features::BinaryWriter {
- public:
-  using BinaryWriter::BinaryWriter;
-  void pose(const Pose2D& p) {
-    f64(p.x);
-    f64(p.y);
-    f64(p.theta);
-  }
-  void poseF32(const Pose2D& p) {
-    f32(static_cast<float>(p.x));
-    f32(static_cast<float>(p.y));
-    f32(laser_features::angleToFloat(p.theta));
-  }
-  /// The upper triangle of a symmetric matrix, row by row, as float32.
-  template <typename Matrix>
-  void upperTriangleF32(const Matrix& M) {
-    for (Eigen::Index r = 0; r < M.rows(); ++r)
-      for (Eigen::Index c = r; c < M.cols(); ++c) f32(static_cast<float>(M(r, c)));
-  }
-};
-
-/// The full record (version 1's): f64 lines with extents, doors and the joint covariance P.
-void encodeFullBody(const Place& place, Writer* out) {
-  Writer& w = *out;
-  const StochasticMap& map = place.map;
-  for (size_t i = 0; i < map.numLines(); ++i) {
-    const MapLine line = map.line(i);
-    w.f64(line.line.alpha);
-    w.f64(line.line.r);
-    w.f64(line.extent_start.x());
-    w.f64(line.extent_start.y());
-    w.f64(line.extent_end.x());
-    w.f64(line.extent_end.y());
-  }
-  for (const auto& entry : place.doors) {
-    const Door& door = entry.second;
-    w.u32(door.id);
-    w.pose(door.pose);
-    for (int r = 0; r < 3; ++r)
-      for (int c = r; c < 3; ++c) w.f64(door.cov(r, c));
-  }
-  const Eigen::MatrixXd P = map.covariance();
-  for (Eigen::Index r = 0; r < P.rows(); ++r)
-    for (Eigen::Index c = 0; c <= r; ++c) w.f64(P(r, c));
-}
+// ---- decoding --------------------------------------------------------------------------------
 
 /// The point at signed position `s` along `line` (direction t = (-sin alpha, cos alpha)) from the
 /// foot of its normal: r n + s t. The compact record's extents are rebuilt with it.
 Eigen::Vector2d pointOnLine(const Line& line, double s) { return line.r * line.normal() + s * line.direction(); }
-
-/// The compact record: what relocation and missions use, in float32, marginals only.
-void encodeCompactBody(const Place& place, Writer* out) {
-  Writer& w = *out;
-  const StochasticMap& map = place.map;
-  w.poseF32(place.display_pose);
-  w.poseF32(map.robotPose());
-  w.upperTriangleF32(map.robotCovariance());
-  for (size_t i = 0; i < map.numLines(); ++i) {
-    const MapLine line = map.line(i);
-    // The line as it will be read back; the extent's end points as positions along it, so that
-    // the reader rebuilds each as the original's projection onto the stored line.
-    Line stored;
-    stored.alpha = laser_features::angleToFloat(line.line.alpha);
-    stored.r = static_cast<float>(line.line.r);
-    w.f32(static_cast<float>(stored.alpha));
-    w.f32(static_cast<float>(stored.r));
-    w.f32(static_cast<float>(stored.direction().dot(line.extent_start)));
-    w.f32(static_cast<float>(stored.direction().dot(line.extent_end)));
-    w.upperTriangleF32(line.line.cov);  // the marginal: the 2x2 block of P
-  }
-  for (const auto& entry : place.doors) {
-    const Door& door = entry.second;
-    w.u32(door.id);
-    w.poseF32(door.pose);
-    w.upperTriangleF32(door.cov);
-  }
-}
-
-void encodePlace(const Place& place, bool compact, std::string* out) {
-  Writer w(out);
-  const StochasticMap& map = place.map;
-  w.u32(place.id);
-  w.u32((map.relocationPending() ? kFlagRelocationPending : 0u) | (compact ? kFlagCompact : 0u));
-  w.u32(uint32_t(map.numLines()));
-  w.u32(uint32_t(place.doors.size()));
-  if (compact) {
-    encodeCompactBody(place, &w);
-  } else {
-    w.pose(place.display_pose);
-    w.pose(map.robotPose());
-    encodeFullBody(place, &w);
-  }
-}
-
-/// The active place keeps its joint covariance (a filter in progress); closed places are compact
-/// unless the options ask for the joint covariance.
-bool writeCompact(const PlaceMaps& maps, uint32_t id, const PlacesSaveOptions& options) {
-  return !options.store_joint_covariance && maps.activeId() != id;
-}
-
-// ---- decoding --------------------------------------------------------------------------------
 
 class Reader : public laser_features::BinaryReader {
  public:
@@ -376,16 +266,6 @@ IoResult failure(const std::string& name, const std::string& what) {
 
 }  // namespace
 
-std::string encodePlaces(const PlaceMaps& maps, const PlacesSaveOptions& options) {
-  std::string out = headerText(kPlacesFormatVersion);
-  Writer w(&out);
-  w.u32(uint32_t(maps.size()));
-  w.u32(maps.nextId());
-  for (const auto& entry : maps.places()) encodePlace(entry.second, writeCompact(maps, entry.first, options), &out);
-  w.u32(laser_features::crc32(out.data(), out.size()));
-  return out;
-}
-
 IoResult decodePlaces(const std::string& bytes, const std::string& name, PlaceMaps* maps) {
   // Magic line, then the version line (checked before the checksum: a newer format may differ).
   const std::string magic = std::string(kPlacesMagic) + "\n";
@@ -450,52 +330,10 @@ IoResult decodePlaces(const std::string& bytes, const std::string& name, PlaceMa
   return {};
 }
 
-IoResult savePlaces(const PlaceMaps& maps, const std::string& path, const PlacesSaveOptions& options) {
-  std::string error;
-  if (!laser_features::writeFileAtomically(path, encodePlaces(maps, options), &error)) {
-    return {false, "cannot save places to '" + path + "': " + error};
-  }
-  return {};
-}
-
 IoResult loadPlaces(const std::string& path, PlaceMaps* maps) {
   std::string bytes, error;
   if (!laser_features::readWholeFile(path, &bytes, &error)) return failure(path, error);
   return decodePlaces(bytes, path, maps);
-}
-
-std::vector<PlaceStorage> storageStats(const PlaceMaps& maps, const PlacesSaveOptions& options) {
-  std::vector<PlaceStorage> stats;
-  for (const auto& entry : maps.places()) {
-    const StochasticMap& map = entry.second.map;
-    PlaceStorage s;
-    s.id = entry.first;
-    s.lines = map.numLines();
-    s.doors = entry.second.doors.size();
-    s.compact = writeCompact(maps, entry.first, options);
-    std::string compact, full;
-    encodePlace(entry.second, true, &compact);
-    encodePlace(entry.second, false, &full);
-    s.compact_bytes = compact.size();
-    s.full_bytes = full.size();
-    s.bytes = s.compact ? s.compact_bytes : s.full_bytes;
-    s.line_bytes = map.numLines() * (s.compact ? kCompactLineBytes : kLineRecordBytes);
-    if (map.numLines() > 0) {
-      Eigen::Vector2d lo = map.line(0).extent_start, hi = lo;
-      for (size_t i = 0; i < map.numLines(); ++i) {
-        const MapLine line = map.line(i);
-        lo = lo.cwiseMin(line.extent_start).cwiseMin(line.extent_end);
-        hi = hi.cwiseMax(line.extent_start).cwiseMax(line.extent_end);
-      }
-      s.area_m2 = (hi - lo).prod();
-    }
-    if (s.area_m2 > 0.0) {
-      s.bytes_per_m2 = double(s.bytes) / s.area_m2;
-      s.line_bytes_per_m2 = double(s.line_bytes) / s.area_m2;
-    }
-    stats.push_back(s);
-  }
-  return stats;
 }
 
 }  // namespace ekf_local_map
