@@ -270,7 +270,8 @@ class TopoNodeRos {
       belief_pub_.publish(belief);
     }
     hybrid_slam_msgs::TopologicalState state;
-    toMsg(builder_.mode(), builder_.confident(), front_end_.heading().theta(), header, &state);
+    const Pose2D pose = front_end_.pose();
+    toMsg(builder_.mode(), builder_.confident(), Pose2D{pose.x, pose.y, front_end_.heading().theta()}, header, &state);
     state_pub_.publish(state);
     if ((msg->header.stamp - last_markers_).toSec() >= markers_period_) {
       last_markers_ = msg->header.stamp;

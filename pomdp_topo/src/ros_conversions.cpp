@@ -160,7 +160,7 @@ void toMsg(const TopologicalMap& map, const std_msgs::Header& header, hybrid_sla
   }
 }
 
-void toMsg(MapBuilder::Mode mode, bool confident, double heading, const std_msgs::Header& header,
+void toMsg(MapBuilder::Mode mode, bool confident, const Pose2D& pose, const std_msgs::Header& header,
            hybrid_slam_msgs::TopologicalState* msg) {
   using State = hybrid_slam_msgs::TopologicalState;
   msg->header = header;
@@ -170,7 +170,9 @@ void toMsg(MapBuilder::Mode mode, bool confident, double heading, const std_msgs
     case MapBuilder::Mode::LoopCheck: msg->mode = State::LOOP_CHECK; break;
   }
   msg->confident = confident;
-  msg->heading = heading;
+  msg->heading = pose.theta;
+  msg->x = pose.x;
+  msg->y = pose.y;
 }
 
 void toMsg(const TopoEvent& event, const std_msgs::Header& header, hybrid_slam_msgs::TopoEvent* msg) {

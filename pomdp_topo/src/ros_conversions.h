@@ -28,8 +28,8 @@ void fromMsg(const hybrid_slam_msgs::LaserFeatures& msg, const Pose2D& sensor_in
 void toMsg(const TopologicalMap& map, const std_msgs::Header& header, hybrid_slam_msgs::TopologicalMap* msg);
 void toMsg(const PomdpLocalizer& localizer, const std_msgs::Header& header, hybrid_slam_msgs::TopologicalBelief* msg);
 /// The map builder's mode, whether the robot's place is known (MapBuilder::confident) and the
-/// heading (rad, map frame) of one step.
-void toMsg(MapBuilder::Mode mode, bool confident, double heading, const std_msgs::Header& header,
+/// robot's pose in the map frame (FrontEnd::pose: the filtered heading, corrected dead reckoning) of one step.
+void toMsg(MapBuilder::Mode mode, bool confident, const Pose2D& pose, const std_msgs::Header& header,
            hybrid_slam_msgs::TopologicalState* msg);
 /// An event of the map builder, stamped with the step it happened at.
 void toMsg(const TopoEvent& event, const std_msgs::Header& header, hybrid_slam_msgs::TopoEvent* msg);

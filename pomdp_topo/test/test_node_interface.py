@@ -105,12 +105,15 @@ class NodeInterface(unittest.TestCase):
         self.assertEqual(self.axes[-1].heading_bins, 4)
         self.assertGreater(self.axes[-1].agreement, 0.99)
         # One state per features message, stamped with it: mapping a new stretch (FRONTIER), where
-        # the place is known; the heading along the hallway's axis.
+        # the place is known; the heading along the hallway's axis; the position where the last
+        # step put the robot (the map frame is the odometry's at the first scan).
         self.assertTrue(self.states, 'no topological_state published')
         s = self.states[-1]
         self.assertEqual(s.mode, TopologicalState.FRONTIER)
         self.assertTrue(s.confident)
         self.assertLess(abs(s.heading), 0.05)
+        self.assertLess(abs(s.x - (x - 0.05)), 0.05)
+        self.assertLess(abs(s.y), 0.05)
         self.assertEqual(len(set(m.header.stamp for m in self.states)), len(self.states))
 
         # NaN features: dropped, the node keeps working, no NaN in the belief.
