@@ -190,6 +190,9 @@ void Coordinator::enterRoom(const Perception& p, const TopoView& topo, Decision*
     return;
   }
   room_.beginNewRoom(p.odom, hallway_.door(), hallway_.odomHeading(entry_hallway_, topo), places_.place_id, now_);
+  // The place's origin is the robot's pose (it stands still since it stopped in the hallway).
+  place_origin_map_.reset();
+  if (topo.heading_valid) place_origin_map_ = laser_features::compose(topo.map_from_odom, p.odom);
   Request add;
   add.kind = Request::AddDoor;
   add.door_id = std::max(0, door_node_);
@@ -296,7 +299,13 @@ void Coordinator::backOnHallway(bool exact, Decision* d) {
     others = room_.host().otherDoorsOdom();
     const std::vector<DoorTrack>& inner = room_.suite().innerRoomDoorsOdom();
     others.insert(others.end(), inner.begin(), inner.end());
+    if (place_origin_map_ && places_.place_id >= 0) {
+      std::vector<Pose2D> doors = room_.host().otherDoorsInPlace();
+      doors.push_back(room_.host().doorInPlace());
+      hallway_.roomMapped(places_.place_id, *place_origin_map_, doors);
+    }
   }
+  place_origin_map_.reset();
   hallway_.backFromRoom(entry_hallway_, room_.host().doorOdom(), others, travel_);
   mode_ = CoordinatorMode::Topological;
   if (mission_.active()) {

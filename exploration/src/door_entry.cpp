@@ -6,6 +6,8 @@
 namespace exploration {
 
 using laser_features::normalizeAngle;
+using laser_features::Pose2D;
+using laser_features::transformPoint;
 
 void DoorEntry::observe(const TopoView& topo, double travel) {
   if (topo.mode != TopoMode::Frontier || !topo.position.valid || !topo.position.at_node) {
@@ -53,6 +55,31 @@ bool DoorEntry::otherDoorOfRoomLeft(const DoorTrack& door, double travel) const 
   // drifted by it. Its direction into the room is the same seen from either side.
   return seenWithin(other_doors_, door, travel, kLeftDoorsTravel,
                     [](const DoorTrack&) { return 0.5 * HallwayDoors::kSameDoorSpan; });
+}
+
+void DoorEntry::roomMapped(int place_id, const Pose2D& origin_map, const std::vector<Pose2D>& doors_in_place) {
+  for (const Pose2D& d : doors_in_place) {
+    const Pose2D m = laser_features::compose(origin_map, d);
+    mapped_doors_.push_back(MappedDoor{place_id, Eigen::Vector2d(m.x, m.y), normalizeAngle(m.theta)});
+  }
+}
+
+std::optional<int> DoorEntry::mappedRoomOf(const DoorTrack& door, const Pose2D& map_from_odom) const {
+  // The map frame's drift between two passes is its heading filter's residual and the wheels'
+  // along-track noise: a few decimetres over a floor, well within half the span that tells two
+  // doors apart (doors 1.2 m apart on one wall, where two share a divider, stay two).
+  const Eigen::Vector2d centre = transformPoint(map_from_odom, door.centre_odom);
+  const double into = normalizeAngle(door.into_odom + map_from_odom.theta);
+  const MappedDoor* best = nullptr;
+  double best_distance = 0.5 * HallwayDoors::kSameDoorSpan;
+  for (const MappedDoor& m : mapped_doors_) {
+    const double distance = (m.centre_map - centre).norm();
+    if (distance >= best_distance || std::abs(normalizeAngle(into - m.into_map)) >= 0.5) continue;
+    best = &m;
+    best_distance = distance;
+  }
+  if (best == nullptr) return std::nullopt;
+  return best->place_id;
 }
 
 std::optional<EntryOpening> DoorEntry::mayEnter(const TopoView& topo, const TopoGraph& graph, const DoorTrack& door,

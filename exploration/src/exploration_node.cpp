@@ -196,10 +196,10 @@ class ExplorationNode {
     size_t dropped = 0;
     featuresInRobot(msg, sensor_in_robot_, &p->lines, &p->openings, &dropped);
     if (dropped > 0) ROS_WARN_THROTTLE(10.0, "exploration: %zu non-finite features dropped", dropped);
-    odom_theta_at_features_ = p->odom.theta;
+    odom_at_features_ = p->odom;
     // In lockstep pomdp_topo's heading of these very features has arrived (the step waited for it):
     // pair it with their odometry.
-    if (lockstep_.enabled() && topo_.heading_valid) topo_.heading_offset = laser_features::normalizeAngle(topo_heading_ - p->odom.theta);
+    if (lockstep_.enabled() && topo_.heading_valid) pairWithOdometry(p->odom);
     const auto odom_at = [&](const ros::Time& t, Pose2D* out) { return lookup(odom_frame_, base_frame_, t, out); };
     p->room_pose_valid =
         local_poses_.at(coordinator_->currentPlace(), msg.header.stamp, p->odom, odom_at, &p->room_pose, &p->room_pose_cov);
@@ -348,9 +348,16 @@ class ExplorationNode {
     if (!std::isfinite(msg->heading)) return;
     // pomdp_topo publishes its state right after the features it came from: pair the heading
     // with the odometry of the latest features seen here.
-    topo_heading_ = msg->heading;
-    topo_.heading_offset = laser_features::normalizeAngle(msg->heading - odom_theta_at_features_);
+    topo_pose_ = Pose2D{std::isfinite(msg->x) ? msg->x : topo_pose_.x, std::isfinite(msg->y) ? msg->y : topo_pose_.y,
+                        msg->heading};
+    pairWithOdometry(odom_at_features_);
     topo_.heading_valid = true;
+  }
+  /// pomdp_topo's pose of a step paired with the odometry of the same features: map <- odom.
+  void pairWithOdometry(const Pose2D& odom) {
+    topo_.map_from_odom = laser_features::compose(topo_pose_, laser_features::inverse(odom));
+    topo_.map_from_odom.theta = laser_features::normalizeAngle(topo_.map_from_odom.theta);
+    topo_.heading_offset = topo_.map_from_odom.theta;
   }
   void onLocalPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg) { local_poses_.add(*msg); }
   /// ~pause (SetBool): true stops the robot and the coordinator's decisions where they are (the
@@ -438,8 +445,8 @@ class ExplorationNode {
   std::vector<Eigen::Vector2d> points_;
   Pose2D sensor_in_robot_;
   bool have_sensor_ = false;
-  double odom_theta_at_features_ = 0.0;
-  double topo_heading_ = 0.0;  // pomdp_topo's latest heading (rad, map frame)
+  Pose2D odom_at_features_;  // the odometry of the latest features seen here
+  Pose2D topo_pose_;  // pomdp_topo's latest pose of the robot (map frame)
   LocalPoses local_poses_;
   bool bumper_ = false;
   bool has_goal_ = false;

@@ -8,6 +8,7 @@
 
 namespace exploration {
 
+using laser_features::Pose2D;
 using laser_features::inverse;
 using laser_features::kPi;
 using laser_features::normalizeAngle;
@@ -189,11 +190,14 @@ bool HallwayNavigator::enterDoorAfterTurn(const Perception& p, const TopoView& t
 
 bool HallwayNavigator::stopAtDoor(const DoorTrack& door, const char* what, const Perception& p, const TopoView& topo,
                                   const HallwayContext& at, HallwayStep* step, Decision* d) {
+  std::optional<int> mapped_room;
   if (door_entry_.justLeft(door, at.travel)) {
     step->text = "door passed: the one just left";
-  } else if (!at.mission_door && door_entry_.otherDoorOfRoomLeft(door, at.travel)) {
-    // The room's other door is an explored way into it: recorded so (on a new stretch's node, or
-    // the node a trusted belief gives, as every record), not entered as a new room.
+  } else if (!at.mission_door && (door_entry_.otherDoorOfRoomLeft(door, at.travel) ||
+                                  (mapped_room = door_entry_.mappedRoomOf(door, topo.map_from_odom)))) {
+    // A door of a room mapped already (the room just left, or any other) is an explored way into it:
+    // recorded so (on a new stretch's node, or the node a trusted belief gives, as every record),
+    // not entered as a new room.
     if (topo.mode == TopoMode::Frontier || beliefTrusted(topo, at.travel)) {
       Request rec;
       rec.kind = Request::RecordOpening;
@@ -203,7 +207,8 @@ bool HallwayNavigator::stopAtDoor(const DoorTrack& door, const char* what, const
       rec.beside_robot = true;
       d->requests.push_back(rec);
     }
-    step->text = "door passed: another door of the room just left";
+    step->text = mapped_room ? "door passed: a door of the room of place " + std::to_string(*mapped_room) + ", mapped already"
+                             : "door passed: another door of the room just left";
   } else if (const std::optional<EntryOpening> entry = mayEnter(topo, at, door)) {
     entering_ = *entry;
     door_ = door;
@@ -231,7 +236,9 @@ bool HallwayNavigator::enterEndWallDoor(const Perception& p, const TopoView& top
   // it) the door ahead is entered as a door passed would be, unless the robot came out of it.
   if (v.end_open_left || v.end_open_right || at.mission_door) return false;
   const std::optional<DoorTrack> door = doors_.inEndWall(p.odom, p.openings, dir_robot, v);
-  if (!door || door_entry_.justLeft(*door, at.travel) || door_entry_.otherDoorOfRoomLeft(*door, at.travel)) return false;
+  if (!door || door_entry_.justLeft(*door, at.travel) || door_entry_.otherDoorOfRoomLeft(*door, at.travel) ||
+      door_entry_.mappedRoomOf(*door, topo.map_from_odom))
+    return false;
   const std::optional<EntryOpening> entry = mayEnter(topo, at, *door);
   if (!entry) return false;
   entering_ = *entry;
@@ -447,6 +454,10 @@ std::optional<EntryOpening> HallwayNavigator::enterAfterStop(const TopoView& top
     return std::nullopt;
   }
   return entering_;
+}
+
+void HallwayNavigator::roomMapped(int place_id, const Pose2D& origin_map, const std::vector<Pose2D>& doors_in_place) {
+  door_entry_.roomMapped(place_id, origin_map, doors_in_place);
 }
 
 void HallwayNavigator::backFromRoom(const HallwayDirection& direction, const DoorTrack& door_left,

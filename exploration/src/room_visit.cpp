@@ -198,6 +198,15 @@ std::vector<DoorTrack> RoomVisit::otherDoorsOdom() const {
   return doors;
 }
 
+std::vector<Pose2D> RoomVisit::otherDoorsInPlace() const {
+  std::vector<Pose2D> doors;
+  for (const SeenDoor& s : other_doors_) {
+    const Eigen::Vector2d c = s.centre();
+    doors.push_back(Pose2D{c.x(), c.y(), std::atan2(s.into_sum.y(), s.into_sum.x())});
+  }
+  return doors;
+}
+
 std::vector<RoomVisit::DoorInPlace> RoomVisit::innerDoors() const {
   const double min_depth = rules_.doorFromCorner();
   std::vector<DoorInPlace> doors;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 
 #include "exploration/door_entry.h"
 #include "exploration/hallway_doors.h"
@@ -62,6 +63,39 @@ TEST(DoorEntry, AnotherDoorOfTheRoomJustLeftIsNotANewRoom) {
   EXPECT_FALSE(entry.otherDoorOfRoomLeft(door(3.0, 1.0, -0.5 * kPi), 103.0));
   // Beyond kLeftDoorsTravel of travel the odometry may have drifted by a door's spacing.
   EXPECT_FALSE(entry.otherDoorOfRoomLeft(second, 111.0));
+}
+
+// A corner room with a door on each of two hallways: the second door is reached from the other
+// hallway long after (past kLeftDoorsTravel), when the odometry's heading has drifted by 0.2 rad.
+// In the map frame of pomdp_topo's corrected dead reckoning (map_from_odom, here undoing that drift)
+// it is the mapped room's door: not a new room. So is the door the room was entered by. A door
+// 1.3 m beside it (the closest two doors the hallway's tracker tells apart) and a door facing the
+// other way (the room across the hallway) are not.
+TEST(DoorEntry, ADoorOfARoomMappedLongAgoIsThatRoomsWhereverItIsReachedFrom) {
+  DoorEntry entry{HallwayDoorParams(), BuildingRules()};
+  // The place's origin in the map frame: the robot stood in the hallway at (0, 0) facing +y, the
+  // entry door 1 m ahead; the second door is in the room's right wall, 4 m into the room, facing -x
+  // from the second hallway (x = 3) into the room.
+  const laser_features::Pose2D origin_map{0.0, 0.0, 0.5 * kPi};
+  const laser_features::Pose2D entry_in_place{1.0, 0.0, 0.0}, second_in_place{4.0, -2.5, 0.5 * kPi};
+  entry.roomMapped(7, origin_map, {second_in_place, entry_in_place});
+  // 300 m later the odometry frame is turned by 0.2 rad and shifted against the map frame.
+  const laser_features::Pose2D map_from_odom{5.0, -3.0, 0.2};
+  const laser_features::Pose2D odom_from_map = laser_features::inverse(map_from_odom);
+  auto seen = [&](double x_map, double y_map, double into_map) {
+    const Eigen::Vector2d c = laser_features::transformPoint(odom_from_map, Eigen::Vector2d(x_map, y_map));
+    return door(c.x(), c.y(), into_map - map_from_odom.theta);
+  };
+  // The second door as the hallway's tracker sees it: 0.3 m off along its wall, 0.1 rad turned.
+  const std::optional<int> second = entry.mappedRoomOf(seen(2.5, 4.3, kPi + 0.1), map_from_odom);
+  ASSERT_TRUE(second.has_value());
+  EXPECT_EQ(*second, 7);
+  EXPECT_EQ(entry.mappedRoomOf(seen(0.0, 1.0, 0.5 * kPi), map_from_odom), std::optional<int>(7));
+  EXPECT_FALSE(entry.mappedRoomOf(seen(2.5, 4.0 + HallwayDoors::kSameDoorSpan, kPi), map_from_odom))
+      << "the next room's door on the second hallway";
+  EXPECT_FALSE(entry.mappedRoomOf(seen(2.5, 4.0, 0.0), map_from_odom)) << "the door of the room across";
+  // Without the map frame (the odometry's own) the drift puts the door metres off: not recognized.
+  EXPECT_FALSE(entry.mappedRoomOf(seen(2.5, 4.0, kPi), laser_features::Pose2D{}));
 }
 
 // The next room left replaces nothing: the other doors of each room left within the travel window

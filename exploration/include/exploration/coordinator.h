@@ -173,6 +173,9 @@ class Coordinator {
 
   // The door being entered (hallway_.door()), the opening it is entered as, and the place of its room.
   double door_bearing_map_ = 0.0;  // rad, map frame, through the door into the room
+  // The new room's place origin in the map frame (TopoView::map_from_odom at its creation): its
+  // doors go to HallwayNavigator::roomMapped when the robot is out.
+  std::optional<laser_features::Pose2D> place_origin_map_;
   int door_node_ = -1;
   RoomSequence::Places places_;     // the active place (the host's, or a room's behind it) and its creation
   laser_features::Pose2D hallway_pose_odom_;  // where the robot left the hallway ...

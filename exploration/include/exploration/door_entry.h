@@ -3,6 +3,11 @@
 // confident), and as which opening of the topological map:
 //  - never a door the robot came out of a moment ago, nor another door of that room (seen from
 //    inside it): the room is one place, explored already;
+//  - never a door of a room mapped earlier, however long ago: each room's doors (the one entered by
+//    and those seen from inside) are kept in the map frame of pomdp_topo's corrected dead reckoning
+//    (TopoView::map_from_odom), whose heading the building's walls hold, so that a corner room's
+//    second door, reached from another hallway long after, is that room's (a room with two doors
+//    is one place);
 //  - on a new stretch (pomdp_topo's frontier) a door is new, unless the node pomdp_topo stands at
 //    has it already, explored;
 //  - on the known map, an unexplored opening of the node a trusted belief puts the robot at;
@@ -51,6 +56,15 @@ class DoorEntry {
   /// travel: within half HallwayDoors::kSameDoorSpan of one seen from inside, facing the same way.
   bool otherDoorOfRoomLeft(const DoorTrack& door, double travel) const;
 
+  /// The room of place `place_id` is mapped: its doors in the place (centre and direction into the
+  /// room: the one entered by and those seen from inside) and the place's origin in the map frame.
+  void roomMapped(int place_id, const laser_features::Pose2D& origin_map,
+                  const std::vector<laser_features::Pose2D>& doors_in_place);
+  /// The place whose room `door` (odometry frame; `map_from_odom` takes it into the map frame) is a
+  /// door of: within half HallwayDoors::kSameDoorSpan of one of its doors, facing the same way.
+  /// None if no mapped room has it.
+  std::optional<int> mappedRoomOf(const DoorTrack& door, const laser_features::Pose2D& map_from_odom) const;
+
   /// The opening `door` is entered as, if it is entered. `bearing`: the door's bearing into the room
   /// as the topological map has it (map frame); `belief_trusted`: the belief is localized and
   /// confident and not on hold after a jump; `mission_door`: the running mission's door, if any.
@@ -74,6 +88,12 @@ class DoorEntry {
   std::vector<std::pair<DoorTrack, double>> left_doors_;
   std::vector<std::pair<DoorTrack, double>> other_doors_;  // the other doors of the rooms left, and the travel then
   static constexpr double kLeftDoorsTravel = 10.0;  // m
+  struct MappedDoor {
+    int place_id = -1;
+    Eigen::Vector2d centre_map = Eigen::Vector2d::Zero();
+    double into_map = 0.0;  // rad
+  };
+  std::vector<MappedDoor> mapped_doors_;  // the doors of every room mapped (roomMapped)
   // The node pomdp_topo's frontier was last at, and the travel when it became so.
   int frontier_node_ = -1;
   double frontier_node_travel_ = 0.0;

@@ -110,6 +110,10 @@ class HallwayNavigator {
   /// from inside it) are entered again from the hallway; the route's turns count from here.
   void backFromRoom(const HallwayDirection& direction, const DoorTrack& door_left,
                     const std::vector<DoorTrack>& other_doors, double travel);
+  /// The room of place `place_id` is mapped (DoorEntry::roomMapped): none of its doors is entered
+  /// again from a hallway.
+  void roomMapped(int place_id, const laser_features::Pose2D& origin_map,
+                  const std::vector<laser_features::Pose2D>& doors_in_place);
   /// The next goal is a new one (the robot leaves the hallway's mid-line for a while).
   void forgetGoal() { follower_.forgetGoal(); }
   /// A mission sets off along the hallway at `travel` (m): a new goal, and the route may turn the

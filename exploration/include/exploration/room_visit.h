@@ -110,6 +110,8 @@ class RoomVisit {
   /// sightings), in the odometry frame as the EKF last placed the place: centre, direction into the
   /// room, width.
   std::vector<DoorTrack> otherDoorsOdom() const;
+  /// The same doors in the place: centre and direction into the room.
+  std::vector<laser_features::Pose2D> otherDoorsInPlace() const;
   /// A door of the room seen from inside it, in the place: centre, direction into the room, width.
   struct DoorInPlace {
     Eigen::Vector2d centre = Eigen::Vector2d::Zero();
