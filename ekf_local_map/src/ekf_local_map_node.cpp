@@ -296,6 +296,13 @@ class LocalMapNode {
   }
 
   bool onAddDoor(hybrid_slam_msgs::AddDoor::Request& req, hybrid_slam_msgs::AddDoor::Response& res) {
+    if (req.place_id >= 0) {
+      res.success = req.door_id >= 0 && maps_.addDoorInPlace(static_cast<uint32_t>(req.place_id),
+                                                             static_cast<uint32_t>(req.door_id), toPose(req.door_in_place));
+      res.message = res.success ? "door stored in place " + std::to_string(req.place_id)
+                                : "unknown place " + std::to_string(req.place_id) + ", or a bad door id or pose";
+      return true;
+    }
     res.success = req.door_id >= 0 && maps_.addDoorAtRobot(static_cast<uint32_t>(req.door_id), toPose(req.door_in_robot));
     res.message = res.success ? "door stored" : "no active place, or a bad door id or pose";
     return true;

@@ -72,6 +72,11 @@ bool PlaceMaps::addDoorAtRobot(uint32_t door_id, const Pose2D& door_in_robot) {
   return addDoor(*active_, door_id, door, J_robot * map->robotCovariance() * J_robot.transpose());
 }
 
+bool PlaceMaps::addDoorInPlace(uint32_t place_id, uint32_t door_id, const Pose2D& door_in_place) {
+  const Place* p = place(place_id);
+  return p != nullptr && addDoor(place_id, door_id, door_in_place, p->map.robotCovariance());
+}
+
 bool PlaceMaps::relocateAtDoor(uint32_t place_id, uint32_t door_id, const Pose2D& robot_offset_from_door,
                                const Eigen::Matrix3d& offset_cov) {
   Place* p = place(place_id);

@@ -122,6 +122,36 @@ TEST(Relocation, AtADoorOfTheRightRoomSucceeds) {
   EXPECT_EQ(report.matched, officeRoom().size());
 }
 
+// A room with two doors is one place: the second door, seen from inside and found from the hallway
+// after the place was closed, is stored in the closed place at its pose there (with the place's last
+// robot covariance), and the robot relocates at it as at the first.
+TEST(Relocation, AtASecondDoorStoredAfterThePlaceWasClosedSucceeds) {
+  std::mt19937 rng(4);
+  PlaceMaps places(testParams());
+  const uint32_t office = places.createPlace({});
+  const Pose2D end = mapOfficeRoom(places.active(), &rng);
+  const Eigen::Matrix3d last_cov = places.active()->robotCovariance();
+  places.close();
+  const Pose2D second_door = compose(end, Pose2D{0.5, 0.2, 0.3});
+  EXPECT_FALSE(places.addDoorInPlace(office + 1, 7, second_door)) << "no such place";
+  EXPECT_FALSE(places.addDoorInPlace(office, 7, {std::nan(""), 0.0, 0.0}));
+  ASSERT_TRUE(places.addDoorInPlace(office, 7, second_door));
+  EXPECT_FALSE(places.activeId().has_value()) << "storing a door activates nothing";
+  const Door& door = places.place(office)->doors.at(7);
+  EXPECT_EQ(door.pose.x, second_door.x);
+  EXPECT_TRUE(door.cov.isApprox(last_cov));
+
+  const Pose2D offset{-0.4, 0.1, 0.1};
+  const Eigen::Matrix3d offset_cov = Eigen::Vector3d(0.1 * 0.1, 0.1 * 0.1, 0.08 * 0.08).asDiagonal();
+  ASSERT_TRUE(places.relocateAtDoor(office, 7, {-0.35, 0.05, 0.13}, offset_cov));
+  const Pose2D truth = compose(second_door, offset);
+  UpdateReport report;
+  places.active()->update(observeAll(officeRoom(), truth, kSensorMount, &rng), kSensorMount, &report);
+  ASSERT_TRUE(report.relocation_attempted);
+  EXPECT_TRUE(report.relocation.success()) << toString(report.relocation.verdict);
+  EXPECT_LT(positionError(places.active()->robotPose(), truth), 0.02);
+}
+
 // The office mapped from its door and closed, with door 1 stored where the robot began; its id.
 uint32_t closedOfficeWithDoor(PlaceMaps* places, std::mt19937* rng) {
   const uint32_t office = places->createPlace({});

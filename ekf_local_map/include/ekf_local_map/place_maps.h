@@ -63,6 +63,9 @@ class PlaceMaps {
   /// Stores a door of the ACTIVE place at `door_in_robot` from the current robot estimate; the
   /// door's covariance is the robot's propagated through the compounding. False without an active place.
   bool addDoorAtRobot(uint32_t door_id, const Pose2D& door_in_robot);
+  /// Stores a door of `place` at `door_in_place`, seen by the EKF from inside it: its covariance is
+  /// the place's last robot pose's. False for an unknown place or a non-finite pose.
+  bool addDoorInPlace(uint32_t place, uint32_t door_id, const Pose2D& door_in_place);
 
   /// Entering `place` through `door_id`: activates the place and relocates its robot at
   /// door (+) robot_offset_from_door, with the door's and the offset's covariances compounded
