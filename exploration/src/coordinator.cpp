@@ -34,6 +34,7 @@ CoordinatorStats Coordinator::stats() const {
   CoordinatorStats s = stats_;
   const HallwayStats& hallway = hallway_.stats();
   s.doors_passed = hallway.doors_passed;
+  s.mapped_room_doors = hallway.mapped_room_doors;
   s.turns = hallway.turns;
   s.u_turns = hallway.u_turns;
   const RouteStats& route = hallway_.routeStats();

@@ -60,11 +60,11 @@ bool DoorEntry::otherDoorOfRoomLeft(const DoorTrack& door, double travel) const 
 void DoorEntry::roomMapped(int place_id, const Pose2D& origin_map, const std::vector<Pose2D>& doors_in_place) {
   for (const Pose2D& d : doors_in_place) {
     const Pose2D m = laser_features::compose(origin_map, d);
-    mapped_doors_.push_back(MappedDoor{place_id, Eigen::Vector2d(m.x, m.y), normalizeAngle(m.theta)});
+    mapped_doors_.push_back(MappedDoor{MappedRoomDoor{place_id, d}, Eigen::Vector2d(m.x, m.y), normalizeAngle(m.theta)});
   }
 }
 
-std::optional<int> DoorEntry::mappedRoomOf(const DoorTrack& door, const Pose2D& map_from_odom) const {
+std::optional<MappedRoomDoor> DoorEntry::mappedRoomOf(const DoorTrack& door, const Pose2D& map_from_odom) const {
   // The map frame's drift between two passes is its heading filter's residual and the wheels'
   // along-track noise: a few decimetres over a floor, well within half the span that tells two
   // doors apart (doors 1.2 m apart on one wall, where two share a divider, stay two).
@@ -79,7 +79,7 @@ std::optional<int> DoorEntry::mappedRoomOf(const DoorTrack& door, const Pose2D& 
     best_distance = distance;
   }
   if (best == nullptr) return std::nullopt;
-  return best->place_id;
+  return best->door;
 }
 
 std::optional<EntryOpening> DoorEntry::mayEnter(const TopoView& topo, const TopoGraph& graph, const DoorTrack& door,

@@ -190,42 +190,54 @@ bool HallwayNavigator::enterDoorAfterTurn(const Perception& p, const TopoView& t
 
 bool HallwayNavigator::stopAtDoor(const DoorTrack& door, const char* what, const Perception& p, const TopoView& topo,
                                   const HallwayContext& at, HallwayStep* step, Decision* d) {
-  std::optional<int> mapped_room;
-  if (door_entry_.justLeft(door, at.travel)) {
-    step->text = "door passed: the one just left";
-  } else if (!at.mission_door && (door_entry_.otherDoorOfRoomLeft(door, at.travel) ||
-                                  (mapped_room = door_entry_.mappedRoomOf(door, topo.map_from_odom)))) {
-    // A door of a room mapped already (the room just left, or any other) is an explored way into it:
-    // recorded so (on a new stretch's node, or the node a trusted belief gives, as every record),
-    // not entered as a new room.
-    if (topo.mode == TopoMode::Frontier || beliefTrusted(topo, at.travel)) {
+  const std::optional<EntryOpening> entry =
+      door_entry_.justLeft(door, at.travel) ? std::nullopt : mayEnter(topo, at, door);
+  if (!entry) {
+    if (door_entry_.justLeft(door, at.travel)) step->text = "door passed: the one just left";
+    ++stats_.doors_passed;
+    return false;
+  }
+  if (!at.mission_door) {
+    // A door that would be entered but is a door of a room mapped already (the room just left, or
+    // any other) is an explored way into that room: recorded so at the opening it would have been
+    // entered as, linked to the room's place and stored in it (a room with two doors is one place,
+    // reachable by either), not entered as a new room.
+    const std::optional<MappedRoomDoor> mapped = door_entry_.mappedRoomOf(door, topo.map_from_odom);
+    if (mapped || door_entry_.otherDoorOfRoomLeft(door, at.travel)) {
       Request rec;
       rec.kind = Request::RecordOpening;
-      rec.bearing = follower_.topoBearing(door.into_odom, topo);
+      rec.node = entry->node;
+      rec.bearing = entry->bearing;
       rec.width = door.width;
       rec.explored = true;
-      rec.beside_robot = true;
+      rec.beside_robot = entry->node < 0;
+      if (mapped) {
+        rec.place_id = mapped->place_id;
+        rec.pose = mapped->door_in_place;
+        rec.store_in_place = true;
+        ++stats_.mapped_room_doors;
+      }
       d->requests.push_back(rec);
+      step->text = mapped ? "door passed: a door of the room of place " + std::to_string(mapped->place_id) +
+                                ", mapped already"
+                          : "door passed: another door of the room just left";
+      ++stats_.doors_passed;
+      return false;
     }
-    step->text = mapped_room ? "door passed: a door of the room of place " + std::to_string(*mapped_room) + ", mapped already"
-                             : "door passed: another door of the room just left";
-  } else if (const std::optional<EntryOpening> entry = mayEnter(topo, at, door)) {
-    entering_ = *entry;
-    door_ = door;
-    // Where the door was taken to be (the log tells a door tracked wrongly from a real one).
-    const Eigen::Vector2d rel = transformPoint(inverse(p.odom), door.centre_odom);  // robot frame
-    char where[128];
-    char wall[40] = "no wall known";
-    if (door.wall_lateral >= 0.0) std::snprintf(wall, sizeof(wall), "its wall %.2f m aside", door.wall_lateral);
-    std::snprintf(where, sizeof(where), " (%.2f m wide, %d sightings, at %.2f m ahead, %.2f m left, %s)", door.width,
-                  door.sightings, rel.x(), rel.y(), wall);
-    step->kind = HallwayStep::StopForDoor;
-    step->text = what + std::string(where);
-    d->stop = true;
-    return true;
   }
-  ++stats_.doors_passed;
-  return false;
+  entering_ = *entry;
+  door_ = door;
+  // Where the door was taken to be (the log tells a door tracked wrongly from a real one).
+  const Eigen::Vector2d rel = transformPoint(inverse(p.odom), door.centre_odom);  // robot frame
+  char where[128];
+  char wall[40] = "no wall known";
+  if (door.wall_lateral >= 0.0) std::snprintf(wall, sizeof(wall), "its wall %.2f m aside", door.wall_lateral);
+  std::snprintf(where, sizeof(where), " (%.2f m wide, %d sightings, at %.2f m ahead, %.2f m left, %s)", door.width,
+                door.sightings, rel.x(), rel.y(), wall);
+  step->kind = HallwayStep::StopForDoor;
+  step->text = what + std::string(where);
+  d->stop = true;
+  return true;
 }
 
 bool HallwayNavigator::enterEndWallDoor(const Perception& p, const TopoView& topo, double dir_robot,

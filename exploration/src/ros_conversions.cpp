@@ -91,12 +91,29 @@ void fromMsg(const hybrid_slam_msgs::TopologicalMap& msg, TopoGraph* graph) {
   for (const auto& e : msg.edges) graph->addEdge(GraphEdge{e.id, e.source, e.target, e.heading, e.length});
 }
 
+namespace {
+geometry_msgs::Pose2D toPose2DMsg(const laser_features::Pose2D& p) {
+  geometry_msgs::Pose2D m;
+  m.x = p.x;
+  m.y = p.y;
+  m.theta = p.theta;
+  return m;
+}
+}  // namespace
+
 hybrid_slam_msgs::AddDoor::Request addDoorRequest(int door_id, const laser_features::Pose2D& door_in_robot) {
   hybrid_slam_msgs::AddDoor::Request r;
   r.door_id = door_id;
-  r.door_in_robot.x = door_in_robot.x;
-  r.door_in_robot.y = door_in_robot.y;
-  r.door_in_robot.theta = door_in_robot.theta;
+  r.door_in_robot = toPose2DMsg(door_in_robot);
+  r.place_id = -1;
+  return r;
+}
+
+hybrid_slam_msgs::AddDoor::Request addDoorInPlaceRequest(int place_id, int door_id, const laser_features::Pose2D& door_in_place) {
+  hybrid_slam_msgs::AddDoor::Request r;
+  r.door_id = door_id;
+  r.place_id = place_id;
+  r.door_in_place = toPose2DMsg(door_in_place);
   return r;
 }
 
@@ -111,9 +128,7 @@ hybrid_slam_msgs::RelocateAtDoor::Request relocateRequest(int place_id, int door
   hybrid_slam_msgs::RelocateAtDoor::Request r;
   r.place_id = place_id;
   r.door_id = door_id;
-  r.robot_from_door.x = robot_from_door.x;
-  r.robot_from_door.y = robot_from_door.y;
-  r.robot_from_door.theta = robot_from_door.theta;
+  r.robot_from_door = toPose2DMsg(robot_from_door);
   for (int k = 0; k < 9; ++k) r.covariance[size_t(k)] = covariance(k / 3, k % 3);  // row-major
   return r;
 }

@@ -34,6 +34,8 @@ TopoMode modeFromMsg(const hybrid_slam_msgs::TopologicalState& msg);
 
 /// ekf_local_map's add_door request: door `door_id` (a node id) at its pose in the robot's frame.
 hybrid_slam_msgs::AddDoor::Request addDoorRequest(int door_id, const laser_features::Pose2D& door_in_robot);
+/// A door of place `place_id` (closed or not) at its pose in the place.
+hybrid_slam_msgs::AddDoor::Request addDoorInPlaceRequest(int place_id, int door_id, const laser_features::Pose2D& door_in_place);
 /// ekf_local_map's relocate_at_door request: the robot's pose in the door's frame, with independent
 /// standard deviations of its position (m) and heading (rad).
 hybrid_slam_msgs::RelocateAtDoor::Request relocateRequest(int place_id, int door_id, const laser_features::Pose2D& robot_from_door,

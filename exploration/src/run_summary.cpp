@@ -39,7 +39,7 @@ std::string runSummaryJson(const Coordinator& c, bool complete, const std::strin
     << ", \"travel_m\": " << s.travel << ", \"sim_time_s\": " << sim_s << ", \"wall_time_s\": " << wall_s
     << ", \"real_time_factor\": " << sim_s / std::max(wall_s, 1e-3) << ", \"rooms_left_early\": " << s.rooms_left_early
     << ", \"openings_given_up\": " << s.openings_given_up << ", \"openings_set_aside\": " << s.openings_set_aside
-    << ", \"belief_jumps\": " << s.belief_jumps << ", \"branch_turns_refused\": " << s.branch_turns_refused
+    << ", \"doors_of_mapped_rooms\": " << s.mapped_room_doors << ", \"belief_jumps\": " << s.belief_jumps << ", \"branch_turns_refused\": " << s.branch_turns_refused
     << ", \"room_free_area_m2\": " << s.room_free_area << ", \"peak_room_grid_bytes\": " << s.peak_room_bytes
     << ", \"text\": \"" << jsonEscape(text) << "\"}\n";
   return f.str();

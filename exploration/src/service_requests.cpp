@@ -51,6 +51,12 @@ void ServiceRequests::execute(const Request& r, Coordinator* coordinator) {
       srv.request.door_in_place.theta = r.pose.theta;
       const bool ok = call(topo_node_ + "/update_opening", &srv) && srv.response.success;
       if (!ok) ROS_WARN("exploration: opening not recorded: %s", srv.response.message.c_str());
+      if (ok && r.store_in_place && r.place_id >= 0 && srv.response.node >= 0) {
+        hybrid_slam_msgs::AddDoor add;
+        add.request = addDoorInPlaceRequest(r.place_id, srv.response.node, r.pose);
+        if (call(local_map_node_ + "/add_door", &add) && !add.response.success)
+          ROS_WARN("exploration: door not stored in place %d: %s", r.place_id, add.response.message.c_str());
+      }
       coordinator->openingRecorded(ok, srv.response.node);
       break;
     }

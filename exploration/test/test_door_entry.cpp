@@ -87,10 +87,15 @@ TEST(DoorEntry, ADoorOfARoomMappedLongAgoIsThatRoomsWhereverItIsReachedFrom) {
     return door(c.x(), c.y(), into_map - map_from_odom.theta);
   };
   // The second door as the hallway's tracker sees it: 0.3 m off along its wall, 0.1 rad turned.
-  const std::optional<int> second = entry.mappedRoomOf(seen(2.5, 4.3, kPi + 0.1), map_from_odom);
+  const std::optional<exploration::MappedRoomDoor> second = entry.mappedRoomOf(seen(2.5, 4.3, kPi + 0.1), map_from_odom);
   ASSERT_TRUE(second.has_value());
-  EXPECT_EQ(*second, 7);
-  EXPECT_EQ(entry.mappedRoomOf(seen(0.0, 1.0, 0.5 * kPi), map_from_odom), std::optional<int>(7));
+  EXPECT_EQ(second->place_id, 7);
+  EXPECT_NEAR(second->door_in_place.x, second_in_place.x, 1e-9) << "linked at the door seen from inside";
+  EXPECT_NEAR(second->door_in_place.y, second_in_place.y, 1e-9);
+  const std::optional<exploration::MappedRoomDoor> first = entry.mappedRoomOf(seen(0.0, 1.0, 0.5 * kPi), map_from_odom);
+  ASSERT_TRUE(first.has_value());
+  EXPECT_EQ(first->place_id, 7);
+  EXPECT_NEAR(first->door_in_place.x, entry_in_place.x, 1e-9);
   EXPECT_FALSE(entry.mappedRoomOf(seen(2.5, 4.0 + HallwayDoors::kSameDoorSpan, kPi), map_from_odom))
       << "the next room's door on the second hallway";
   EXPECT_FALSE(entry.mappedRoomOf(seen(2.5, 4.0, 0.0), map_from_odom)) << "the door of the room across";

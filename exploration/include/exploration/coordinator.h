@@ -58,6 +58,7 @@ struct CoordinatorStats {
   int inner_doors_given_up = 0;  // inner doors no path reached, or not reached or looked through in time
   int doors_entered = 0;
   int doors_passed = 0;       // doors not entered (explored already, or the belief unconfident)
+  int mapped_room_doors = 0;  // among them, doors of rooms mapped earlier, linked to their places
   int openings_given_up = 0;  // openings the route kept missing (see max_route_attempts), also when tried once more
   int openings_set_aside = 0;  // openings the route missed the first time (tried again when the others are explored)
   int belief_jumps = 0;       // implausible jumps of the belief (see jump_tolerance)

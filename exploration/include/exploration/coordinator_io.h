@@ -80,6 +80,8 @@ struct Request {
   bool explored = false;     // RecordOpening
   bool beside_robot = false; // RecordOpening with node -1: a door beside the robot where it stopped
                              // (on a new stretch pomdp_topo makes its node there)
+  bool store_in_place = false;  // RecordOpening with place_id: the door is stored in that place too
+                                // (ekf_local_map, under its node's id), a way to relocate there
   int place_id = -1;         // RecordOpening (link), AddDoor, Relocate
   int door_id = -1;          // AddDoor, Relocate
   laser_features::Pose2D pose;  // AddDoor: door in the robot frame; RecordOpening: door in the place;

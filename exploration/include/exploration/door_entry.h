@@ -29,6 +29,12 @@
 
 namespace exploration {
 
+/// A door of a room mapped earlier: its place and its pose there (centre, direction into the room).
+struct MappedRoomDoor {
+  int place_id = -1;
+  laser_features::Pose2D door_in_place;
+};
+
 /// The opening of the topological map a door is entered as.
 struct EntryOpening {
   int node = -1;         // -1: a new door, at pomdp_topo's current node
@@ -60,10 +66,10 @@ class DoorEntry {
   /// room: the one entered by and those seen from inside) and the place's origin in the map frame.
   void roomMapped(int place_id, const laser_features::Pose2D& origin_map,
                   const std::vector<laser_features::Pose2D>& doors_in_place);
-  /// The place whose room `door` (odometry frame; `map_from_odom` takes it into the map frame) is a
-  /// door of: within half HallwayDoors::kSameDoorSpan of one of its doors, facing the same way.
+  /// The mapped room's door that `door` (odometry frame; `map_from_odom` takes it into the map frame)
+  /// is: within half HallwayDoors::kSameDoorSpan of it, facing the same way (the nearest such).
   /// None if no mapped room has it.
-  std::optional<int> mappedRoomOf(const DoorTrack& door, const laser_features::Pose2D& map_from_odom) const;
+  std::optional<MappedRoomDoor> mappedRoomOf(const DoorTrack& door, const laser_features::Pose2D& map_from_odom) const;
 
   /// The opening `door` is entered as, if it is entered. `bearing`: the door's bearing into the room
   /// as the topological map has it (map frame); `belief_trusted`: the belief is localized and
@@ -89,7 +95,7 @@ class DoorEntry {
   std::vector<std::pair<DoorTrack, double>> other_doors_;  // the other doors of the rooms left, and the travel then
   static constexpr double kLeftDoorsTravel = 10.0;  // m
   struct MappedDoor {
-    int place_id = -1;
+    MappedRoomDoor door;
     Eigen::Vector2d centre_map = Eigen::Vector2d::Zero();
     double into_map = 0.0;  // rad
   };

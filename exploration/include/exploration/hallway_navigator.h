@@ -55,6 +55,7 @@ struct HallwayStep {
 /// The counts of the hallway's navigation (in CoordinatorStats).
 struct HallwayStats {
   int doors_passed = 0;  // doors not entered (explored already, or the belief unconfident)
+  int mapped_room_doors = 0;  // among them, doors of rooms mapped earlier, linked to their places
   int turns = 0, u_turns = 0;
 };
 
