@@ -49,6 +49,13 @@ void MapBuilder::processLocalized(const Scan& scan) {
   if (sure && params_.mapping && beyond_ == 0.0) updater_.update(scan, params_, gate_, headingBins(), fe_params_.tracks.pass_lag, &events_);
 }
 
+MapBuilder::BeyondStep MapBuilder::resetBeyondGraph(const std::string& where, uint32_t node) {
+  event(TopoEvent::Kind::BeliefReset, where + ": it is wrong; reset to uniform", int(node));
+  localizer_->setUniform();
+  beyond_ = 0.0;
+  return BeyondStep::SkipObservation;
+}
+
 // Predicted to be at a node heading where no edge leads: an unexplored branch (the map cannot
 // predict what the robot sees, so the observation is not used; past leave_graph_distance a new
 // stretch starts there), or a hallway's end (a hallway-end node, a node the robot turned round just
@@ -75,13 +82,8 @@ MapBuilder::BeyondStep MapBuilder::stepBeyondGraph(const Action& a, const Scan& 
   const double limit = params_.leave_graph_distance + (end != end_beyond_.end() ? end->second : 0.0);
   if (closed) {
     if (beyond_ < limit) return BeyondStep::ObserveAtEnd;
-    event(TopoEvent::Kind::BeliefReset,
-          "the belief puts the robot past the end of the hallway at node " + std::to_string(st.id) +
-              ": it is wrong; reset to uniform",
-          int(st.id));
-    localizer_->setUniform();
-    beyond_ = 0.0;
-    return BeyondStep::SkipObservation;
+    return resetBeyondGraph("the belief puts the robot past the end of the hallway at node " + std::to_string(st.id),
+                            st.id);
   }
   if (beyond_ < limit) return BeyondStep::SkipObservation;
   if (mergeTwin(st)) return BeyondStep::SkipObservation;
@@ -92,13 +94,9 @@ MapBuilder::BeyondStep MapBuilder::stepBeyondGraph(const Action& a, const Scan& 
     return BeyondStep::SkipObservation;
   }
   if (where == Departure::Elsewhere) {
-    event(TopoEvent::Kind::BeliefReset,
-          "the belief would leave the known graph at node " + std::to_string(st.id) +
-              ", where the dead reckoning does not put the robot: it is wrong; reset to uniform",
-          int(st.id));
-    localizer_->setUniform();
-    beyond_ = 0.0;
-    return BeyondStep::SkipObservation;
+    return resetBeyondGraph("the belief would leave the known graph at node " + std::to_string(st.id) +
+                                ", where the dead reckoning does not put the robot",
+                            st.id);
   }
   event(TopoEvent::Kind::NewStretch, "leaving the known graph at node " + std::to_string(st.id) + ": new stretch", int(st.id));
   startFrontier(st.id, binOf(st.heading), s, scan.travel);

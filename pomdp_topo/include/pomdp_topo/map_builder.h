@@ -119,6 +119,9 @@ class MapBuilder {
   /// started (LeftGraph: the rest of the scan is the frontier's).
   enum class BeyondStep { OnGraph, SkipObservation, ObserveAtEnd, LeftGraph };
   BeyondStep stepBeyondGraph(const Action& a, const Scan& scan);
+  /// The belief beyond the graph at `node` is wrong (`where` it would put the robot): an event,
+  /// the belief uniform, the travel beyond forgotten.
+  BeyondStep resetBeyondGraph(const std::string& where, uint32_t node);
   /// The node `st` is at, recorded twice: merged into its twin, the belief on along the twin's way.
   bool mergeTwin(const PomdpLocalizer::State& st);
   void processLoopCheck(const Scan& scan, const FrontEnd& fe);
