@@ -18,6 +18,7 @@ add_library(exploration_core
   ${EXPLORATION_CORE_DIR}/src/hallway_follower.cpp
   ${EXPLORATION_CORE_DIR}/src/topo_route.cpp
   ${EXPLORATION_CORE_DIR}/src/route_policy.cpp
+  ${EXPLORATION_CORE_DIR}/src/progress_watch.cpp
   ${EXPLORATION_CORE_DIR}/src/hallway_doors.cpp
   ${EXPLORATION_CORE_DIR}/src/door_entry.cpp
   ${EXPLORATION_CORE_DIR}/src/hallway_navigator.cpp

@@ -24,7 +24,8 @@ Coordinator::Coordinator(const CoordinatorParams& params)
       hallway_(params.follow, params.hallway, params.rules, params.room.planner, params.doors, params.route,
                params.branch_record_distance),
       room_(params.room_visit, params.room, params.rules, params.doors),
-      mission_(params.mission) {
+      mission_(params.mission),
+      progress_(params.route.max_route_attempts) {
   std::string why;
   if (!params.valid(&why)) throw std::invalid_argument("exploration coordinator: " + why);
   params_.hallway = hallway_.viewParams();  // with its derived sizes
@@ -74,6 +75,7 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
   if (have_last_odom_) {
     const double step = std::hypot(p.odom.x - last_odom_.x, p.odom.y - last_odom_.y);
     if (step < 1.0) travel_ += step;  // a teleport is no travel
+    if (step < 1.0 && (state_ == State::Follow || state_ == State::Turn)) hallway_travel_ += step;
   }
   last_odom_ = p.odom;
   have_last_odom_ = true;
@@ -83,6 +85,7 @@ Decision Coordinator::update(const Perception& p, const TopoView& topo, bool mot
   if (!idle() && !mission_.active() && params_.max_time > 0.0 && now_ - start_time_ > params_.max_time) {
     finish(false, "time limit reached before the exploration was complete", &d);
   }
+  if (!idle() && !mission_.active()) stalled(topo, &d);
   if (mission_.active() && mission_.timedOut(now_)) {
     endMission(false, "the mission's time limit (" + std::to_string(int(params_.mission.time_limit)) + " s) was reached", &d);
   }
@@ -453,6 +456,15 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
   mode_ = CoordinatorMode::Topological;
   hallway_.forgetGoal();
   setState(State::Follow, step.text);
+}
+
+bool Coordinator::stalled(const TopoView& topo, Decision* d) {
+  if (state_ != State::Follow && state_ != State::Turn) return false;
+  const ProgressCounts counts{graph_.nodes().size(), graph_.placeCount(), graph_.exploredCount(),
+                              hallway_.routeStats().openings_given_up};
+  if (!progress_.stalled(hallway_travel_, topo.mode == TopoMode::Frontier, counts, graph_.edgeLength())) return false;
+  finish(false, progress_.why(), d);
+  return true;
 }
 
 void Coordinator::finish(bool success, const std::string& why, Decision* d) {

@@ -87,6 +87,12 @@ size_t TopoGraph::exploredCount() const {
   return count;
 }
 
+double TopoGraph::edgeLength() const {
+  double length = 0.0;
+  for (const auto& entry : edges_) length += entry.second.length;
+  return length;
+}
+
 bool TopoGraph::adjacent(uint32_t a, uint32_t b) const {
   for (const auto& entry : edges_) {
     const GraphEdge& e = entry.second;

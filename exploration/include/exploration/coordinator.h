@@ -38,6 +38,7 @@
 #include "exploration/hallway_follower.h"
 #include "exploration/hallway_navigator.h"
 #include "exploration/mission_runner.h"
+#include "exploration/progress_watch.h"
 #include "exploration/room_explorer.h"
 #include "exploration/room_sequence.h"
 #include "exploration/topo_route.h"
@@ -136,6 +137,8 @@ class Coordinator {
   /// On the known map no unexplored opening is left: the exploration ends, complete only if no
   /// opening was given up and no room left at its time limit.
   void noOpeningLeft(Decision* d);
+  /// The exploration makes no progress (ProgressWatch): it ends, incomplete.
+  bool stalled(const TopoView& topo, Decision* d);
   /// The mission's door was not found after max_route_attempts turns towards it: the belief is
   /// reset, or the mission fails after max_relocation_failures such misses.
   void missedMissionDoor(const RouteStep& route, Decision* d);
@@ -160,6 +163,7 @@ class Coordinator {
   HallwayNavigator hallway_;
   RoomSequence room_;
   MissionRunner mission_;
+  ProgressWatch progress_;
   State state_ = State::Init;
   CoordinatorMode mode_ = CoordinatorMode::Topological;
   std::string state_text_ = "waiting for the first scan and the topological map";
@@ -170,6 +174,7 @@ class Coordinator {
   bool have_last_odom_ = false;
   laser_features::Pose2D last_odom_;
   double travel_ = 0.0;          // m, odometric
+  double hallway_travel_ = 0.0;  // m, odometric, in the hallway's states (Follow, Turn) only
   MotionFeedback motion_;          // the motion controller's last status in a room's states
 
   // The door being entered (hallway_.door()), the opening it is entered as, and the place of its room.

@@ -98,6 +98,8 @@ class TopoGraph {
   size_t unexploredCount() const;
   size_t unexploredCount(const std::function<bool(uint32_t, const GraphOpening&)>& skip) const;
   size_t exploredCount() const;
+  /// m, the length of all edges together (no shortest route is longer).
+  double edgeLength() const;
   /// Places linked to the graph's nodes (distinct place ids).
   size_t placeCount() const { return placeIds().size(); }
   std::set<int> placeIds() const;
