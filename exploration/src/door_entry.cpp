@@ -27,15 +27,19 @@ void DoorEntry::leftBy(const DoorTrack& door, const std::vector<DoorTrack>& othe
 }
 
 namespace {
+// A door's direction into the room, seen from the hallway and from inside, or passed twice, agrees
+// within this (rad): a door facing the other way at the same place is the room's across the hallway.
+constexpr double kSameDirection = 0.5;
+
 // `door` is one of `doors` recorded within `window` (m) of travel: centres within `distance(seen)`,
-// directions into the room within 0.5 rad.
+// directions into the room within kSameDirection.
 template <typename Distance>
 bool seenWithin(const std::vector<std::pair<DoorTrack, double>>& doors, const DoorTrack& door, double travel,
                 double window, Distance distance) {
   return std::any_of(doors.begin(), doors.end(), [&](const std::pair<DoorTrack, double>& seen) {
     return travel - seen.second <= window &&
            (door.centre_odom - seen.first.centre_odom).norm() < distance(seen.first) &&
-           std::abs(normalizeAngle(door.into_odom - seen.first.into_odom)) < 0.5;
+           std::abs(normalizeAngle(door.into_odom - seen.first.into_odom)) < kSameDirection;
   });
 }
 }  // namespace
@@ -74,7 +78,7 @@ std::optional<MappedRoomDoor> DoorEntry::mappedRoomOf(const DoorTrack& door, con
   double best_distance = 0.5 * HallwayDoors::kSameDoorSpan;
   for (const MappedDoor& m : mapped_doors_) {
     const double distance = (m.centre_map - centre).norm();
-    if (distance >= best_distance || std::abs(normalizeAngle(into - m.into_map)) >= 0.5) continue;
+    if (distance >= best_distance || std::abs(normalizeAngle(into - m.into_map)) >= kSameDirection) continue;
     best = &m;
     best_distance = distance;
   }

@@ -190,10 +190,10 @@ bool HallwayNavigator::enterDoorAfterTurn(const Perception& p, const TopoView& t
 
 bool HallwayNavigator::stopAtDoor(const DoorTrack& door, const char* what, const Perception& p, const TopoView& topo,
                                   const HallwayContext& at, HallwayStep* step, Decision* d) {
-  const std::optional<EntryOpening> entry =
-      door_entry_.justLeft(door, at.travel) ? std::nullopt : mayEnter(topo, at, door);
+  const bool just_left = door_entry_.justLeft(door, at.travel);
+  const std::optional<EntryOpening> entry = just_left ? std::nullopt : mayEnter(topo, at, door);
   if (!entry) {
-    if (door_entry_.justLeft(door, at.travel)) step->text = "door passed: the one just left";
+    if (just_left) step->text = "door passed: the one just left";
     ++stats_.doors_passed;
     return false;
   }
