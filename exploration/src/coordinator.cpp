@@ -460,9 +460,8 @@ void Coordinator::relocate(const Perception& p, const TopoView& topo, Decision* 
 
 bool Coordinator::stalled(const TopoView& topo, Decision* d) {
   if (state_ != State::Follow && state_ != State::Turn) return false;
-  const ProgressCounts counts{graph_.nodes().size(), graph_.placeCount(), graph_.exploredCount(),
-                              hallway_.routeStats().openings_given_up};
-  if (!progress_.stalled(hallway_travel_, topo.mode == TopoMode::Frontier, counts, graph_.edgeLength())) return false;
+  if (!progress_.stalled(hallway_travel_, topo.mode == TopoMode::Frontier, hallway_.routeStats().openings_given_up))
+    return false;
   finish(false, progress_.why(), d);
   return true;
 }

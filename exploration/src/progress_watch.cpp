@@ -4,17 +4,22 @@
 
 namespace exploration {
 
-bool ProgressWatch::stalled(double hallway_travel, bool on_frontier, const ProgressCounts& counts,
-                            double edge_length) {
-  if (!started_ || on_frontier || !(counts == last_)) {
+void ProgressWatch::mapChanged(const TopoGraph& graph) {
+  now_.nodes = graph.nodes().size();
+  now_.places = graph.placeCount();
+  now_.openings_explored = graph.exploredCount();
+  edge_length_ = graph.edgeLength();
+}
+
+bool ProgressWatch::stalled(double hallway_travel, bool on_frontier, int openings_given_up) {
+  now_.openings_given_up = openings_given_up;
+  if (!started_ || on_frontier || !(now_ == last_)) {
     started_ = true;
-    last_ = counts;
+    last_ = now_;
     progress_travel_ = hallway_travel;
   }
-  edge_length_ = edge_length;
-  window_ = walks_ * edge_length;
   since_ = hallway_travel - progress_travel_;
-  return edge_length > 0.0 && since_ > window_;
+  return edge_length_ > 0.0 && since_ > window();
 }
 
 std::string ProgressWatch::why() const {

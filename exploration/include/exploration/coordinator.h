@@ -81,7 +81,10 @@ class Coordinator {
   const laser_features::HeadingBins& headingBins() const { return hallway_.headingBins(); }
 
   /// The topological map as last published.
-  void setGraph(const TopoGraph& graph) { graph_ = graph; }
+  void setGraph(const TopoGraph& graph) {
+    graph_ = graph;
+    progress_.mapChanged(graph_);
+  }
   const TopoGraph& graph() const { return graph_; }
 
   /// One tick: what to do now. `motion_reached` / `motion_blocked`: the motion controller's status

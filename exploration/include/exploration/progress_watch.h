@@ -9,47 +9,49 @@
 // (max_route_attempts + 1) times the graph's edge length with no progress ends the exploration,
 // incomplete. Travel in rooms does not count (a room's coverage is the place's progress).
 //
-// ROS-free: the standard library only.
+// ROS-free: the standard library and the exploration core only.
 #pragma once
 
 #include <cstddef>
 #include <string>
 
-namespace exploration {
+#include "exploration/topo_route.h"
 
-/// What the map and the route count at a tick; a change of any is progress.
-struct ProgressCounts {
-  size_t nodes = 0;
-  size_t places = 0;
-  size_t openings_explored = 0;
-  int openings_given_up = 0;
-  bool operator==(const ProgressCounts& o) const {
-    return nodes == o.nodes && places == o.places && openings_explored == o.openings_explored &&
-           openings_given_up == o.openings_given_up;
-  }
-};
+namespace exploration {
 
 class ProgressWatch {
  public:
   explicit ProgressWatch(int max_route_attempts) : walks_(max_route_attempts + 1) {}
 
+  /// The topological map changed: its counts (nodes, places, openings explored) and edge length,
+  /// taken here once rather than at every tick.
+  void mapChanged(const TopoGraph& graph);
   /// Each tick in a hallway: `hallway_travel` (m, odometric, only ever growing), whether the robot is
-  /// on a new stretch, the counts, and the graph's edge length (m). True once no progress was made
+  /// on a new stretch, and the openings the route gave up so far. True once no progress was made
   /// over window() of hallway travel (never while the graph has no edge).
-  bool stalled(double hallway_travel, bool on_frontier, const ProgressCounts& counts, double edge_length);
+  bool stalled(double hallway_travel, bool on_frontier, int openings_given_up);
   /// m, the hallway travel without progress that ends the exploration (at the last call).
-  double window() const { return window_; }
+  double window() const { return walks_ * edge_length_; }
   /// m, the hallway travel since the last progress (at the last call).
   double sinceProgress() const { return since_; }
   /// Why the exploration ends, for its summary.
   std::string why() const;
 
  private:
+  struct Counts {  // a change of any is progress
+    size_t nodes = 0, places = 0, openings_explored = 0;
+    int openings_given_up = 0;
+    bool operator==(const Counts& o) const {
+      return nodes == o.nodes && places == o.places && openings_explored == o.openings_explored &&
+             openings_given_up == o.openings_given_up;
+    }
+  };
   int walks_;
+  Counts now_, last_;
+  double edge_length_ = 0.0;      // m, the map's at its last change
   bool started_ = false;
-  ProgressCounts last_;
   double progress_travel_ = 0.0;  // hallway travel at the last progress
-  double window_ = 0.0, since_ = 0.0, edge_length_ = 0.0;
+  double since_ = 0.0;
 };
 
 }  // namespace exploration
