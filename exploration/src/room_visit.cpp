@@ -190,7 +190,7 @@ std::vector<DoorTrack> RoomVisit::otherDoorsOdom() const {
   for (const SeenDoor& s : other_doors_) {
     DoorTrack t;
     t.centre_odom = transformPoint(place_origin_odom_, s.centre());
-    t.into_odom = normalizeAngle(place_origin_odom_.theta + std::atan2(s.into_sum.y(), s.into_sum.x()));
+    t.into_odom = normalizeAngle(place_origin_odom_.theta + s.into());
     t.width = s.width_sum / s.count;
     t.sightings = s.count;
     doors.push_back(t);
@@ -202,7 +202,7 @@ std::vector<Pose2D> RoomVisit::otherDoorsInPlace() const {
   std::vector<Pose2D> doors;
   for (const SeenDoor& s : other_doors_) {
     const Eigen::Vector2d c = s.centre();
-    doors.push_back(Pose2D{c.x(), c.y(), std::atan2(s.into_sum.y(), s.into_sum.x())});
+    doors.push_back(Pose2D{c.x(), c.y(), s.into()});
   }
   return doors;
 }
@@ -212,7 +212,7 @@ std::vector<RoomVisit::DoorInPlace> RoomVisit::innerDoors() const {
   std::vector<DoorInPlace> doors;
   for (const SeenDoor& s : other_doors_) {
     if (s.in_wall < 2 || explorer_.depth(s.centre()) < min_depth) continue;
-    const double into = std::atan2(s.into_sum.y(), s.into_sum.x());
+    const double into = s.into();
     // A gap between furniture and a wall is no door: the space behind it is the room's.
     if (!explorer_.leadsOutOfRoom(s.centre(), into, kDoorPassage)) continue;
     doors.push_back(DoorInPlace{s.centre(), into, s.width_sum / s.count, s.count});

@@ -10,6 +10,8 @@
 // ROS-free: Eigen, laser_features and the standard library only.
 #pragma once
 
+#include <cmath>
+
 #include "exploration/coordinator_io.h"
 #include "exploration/grid_planner.h"
 #include "exploration/hallway_doors.h"
@@ -203,6 +205,7 @@ class RoomVisit {
     int count = 0;
     int in_wall = 0;                // sightings as a gap in a wall (Opening::in_wall)
     Eigen::Vector2d centre() const { return centre_sum / count; }
+    double into() const { return std::atan2(into_sum.y(), into_sum.x()); }  // rad, the mean direction into the room
   };
   std::vector<SeenDoor> other_doors_;
 };
