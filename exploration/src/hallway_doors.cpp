@@ -51,7 +51,6 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
     // Every opening that may be a door is tracked: whether it is one (a double door's width needs a
     // room seen behind it) is decided on the track, when it is passed.
     if (!(o.width >= rules_.door_min_width && rules_.mayBeDoor(o.width))) continue;
-    if (o.confidence < params_.min_confidence) continue;
     const double lateral = o.center.dot(nrm);
     if (std::abs(lateral) > rules_.hallwayReach() || std::abs(lateral) < 0.4) continue;
     const double side = lateral > 0.0 ? 1.0 : -1.0;
@@ -60,6 +59,17 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
     // stopped for with the real door 0.5 m ahead; the robot drove into the wall).
     const std::optional<double>& wall = walls[side > 0.0 ? 0 : 1];
     if (wall && std::abs(lateral) > *wall + params_.wall_tolerance) continue;
+    // A gap in the side wall the robot follows -- both its edges on that wall's line -- needs no
+    // confidence from its edges' lines: that wall supports it, as an end wall supports a gap in it
+    // (inEndWall). The wall beside a door next to a corner (the hallway's end, a junction) may be
+    // shorter than any line, which halves laser_features' confidence once or twice. A weak gap with
+    // an edge off the wall (seen past an occluding jamb to a point in the room) is not the door's
+    // width.
+    const auto onWall = [&](const Eigen::Vector2d& edge) {
+      return std::abs(side * edge.dot(nrm) - *wall) <= params_.wall_tolerance;
+    };
+    const bool in_side_wall = wall && onWall(o.left) && onWall(o.right);
+    if (o.confidence < params_.min_confidence && !in_side_wall) continue;
     const double into = dir_robot + side * 0.5 * kPi;  // robot frame
     if (std::abs(normalizeAngle(o.theta - into)) > params_.tracks.side_angle) continue;
     const Eigen::Vector2d c = transformPoint(odom, o.center);

@@ -291,10 +291,17 @@ TEST(HallwayDoors, AGapInTheEndWallNeedsNoLineSupportOfItsEdges) {
 
 // Drives 5 m east past an opening 3 m ahead, `aside` m to the left, seeing the walls of `view`: whether
 // the opening is passed as a door to enter.
-bool passesOpening(HallwayDoors* doors, const exploration::HallwayView& view, double aside) {
+// `confidence`: laser_features' for the opening.
+// `far_edge_behind` (m): the opening's far edge that much beyond its line, away from the robot (a gap
+// seen past the near jamb to a point in the room).
+bool passesOpening(HallwayDoors* doors, const exploration::HallwayView& view, double aside, double confidence = 1.0,
+                   double far_edge_behind = 0.0) {
   for (int i = 0; i <= 100; ++i) {
     const laser_features::Pose2D odom{0.05 * i, 0.0, 0.0};
-    const auto walls = doors->track(odom, {opening({3.0 - odom.x, aside}, 0.5 * kPi, 0.9)}, 0.0, view, odom.x);
+    laser_features::Opening o = opening({3.0 - odom.x, aside}, 0.5 * kPi, 0.9);
+    o.confidence = confidence;
+    o.left.y() += far_edge_behind;
+    const auto walls = doors->track(odom, {o}, 0.0, view, odom.x);
     DoorTrack d;
     if (doors->passed(odom, 0.0, walls, &d)) return true;
   }
@@ -313,6 +320,36 @@ TEST(HallwayDoors, ADoorIsTrackedWithinHalfTheWidestHallway) {
       EXPECT_EQ(passesOpening(&doors, exploration::HallwayView(), aside), aside <= 0.5 * hallway_max_width)
           << "widest hallway " << hallway_max_width << " m, door " << aside << " m aside";
     }
+  }
+}
+
+// A door next to a corner (the hallway's end, a junction) has a piece of wall beside it shorter than
+// any line, which leaves laser_features' confidence at 0.25: in the side wall the robot follows
+// (both edges on its line), that wall supports it and it is a door; the same weak gap with no wall
+// known, half a metre in front of the wall (between furniture along it), or with its far edge in
+// the room behind (seen past the near jamb: not the door's width), is not.
+TEST(HallwayDoors, AGapInTheSideWallFollowedNeedsNoLineSupportOfItsEdges) {
+  exploration::HallwayView walls_seen = hallwayEnd(2.0, 10.0);
+  const double weak = 0.25;
+  {
+    HallwayDoors doors{HallwayDoorParams(), BuildingRules()};
+    EXPECT_TRUE(passesOpening(&doors, walls_seen, 1.0, weak)) << "in the left wall";
+  }
+  {
+    HallwayDoors doors{HallwayDoorParams(), BuildingRules()};
+    EXPECT_FALSE(passesOpening(&doors, exploration::HallwayView(), 1.0, weak)) << "no wall known";
+  }
+  {
+    HallwayDoors doors{HallwayDoorParams(), BuildingRules()};
+    walls_seen.left_lateral = 1.5;
+    EXPECT_FALSE(passesOpening(&doors, walls_seen, 1.0, weak)) << "0.5 m in front of the wall";
+    HallwayDoors seen_well{HallwayDoorParams(), BuildingRules()};
+    EXPECT_TRUE(passesOpening(&seen_well, walls_seen, 1.0, 0.9)) << "0.5 m in front of the wall, seen well";
+  }
+  {
+    HallwayDoors doors{HallwayDoorParams(), BuildingRules()};
+    walls_seen.left_lateral = 1.0;
+    EXPECT_FALSE(passesOpening(&doors, walls_seen, 1.0, weak, 0.6)) << "its far edge 0.6 m into the room";
   }
 }
 

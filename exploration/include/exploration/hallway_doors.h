@@ -24,7 +24,7 @@ namespace exploration {
 
 /// Parameters of HallwayDoors (config/exploration.yaml's door_* keys; each with its unit and default).
 struct HallwayDoorParams {
-  double min_confidence = 0.5;   // -, laser_features' opening confidence a door needs (not in a dead end's end wall)
+  double min_confidence = 0.5;   // -, laser_features' opening confidence a door needs (not in a dead end's end wall, nor in the side wall followed)
   double wall_tolerance = 0.35;  // m, a door lies on its side's wall: one farther behind the wall seen is not tracked
   double wall_memory = 3.0;      // m of travel, a side's wall line is kept where the scan no longer sees it
   double same_distance = 1.0;    // m, a door this close to one already decided on is the same door
