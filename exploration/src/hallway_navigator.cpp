@@ -54,8 +54,14 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
                    : "following the hallway until the belief is confident";
 
   recordWaysNotTaken(sure, at.travel, p.stamp, d);
-  if (localized && sure && followRoute(p, topo, at, &step, d)) return step;
+  // Driven on from the end (beyond the span of two doors from where it turned or came back out of
+  // a room): its doors are behind.
+  if (at.travel - end_travel_ > 2.0 * HallwayDoors::kSameDoorSpan) doors_left_at_end_.clear();
+  // The door beside the end just turned at first: the route's view of the graph does not have it
+  // yet (it is no opening of any node until entered), so the route would end the exploration or
+  // turn the robot away from it.
   if (enterDoorAfterTurn(p, topo, at, &step, d)) return step;
+  if (localized && sure && followRoute(p, topo, at, &step, d)) return step;
   if (enterPassedDoor(p, topo, dir_robot, v, at, &step, d)) return step;
   if (turnIntoRouteBranch(p, topo, sure, dir_robot, v, at, &step, d)) return step;
   if (intoWayAtAngle(p, blocked, d)) {
@@ -78,11 +84,18 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
     HallwayDoors doors_at_end = doors_;  // the turn forgets the doors tracked
     const int back = follower_.headingBins().wrap(follower_.bin() + follower_.headingBins().bins / 2);
     turnAtEnd(p, topo, v, at, &step);
+    const std::array<bool, 2> closed{{!v.end_open_left, !v.end_open_right}};
     DoorTrack beside;
-    if (!blocked && !at.mission_door &&
-        doors_at_end.besideEnd(p.odom, dir_robot, walls_, v.free_ahead, {{!v.end_open_left, !v.end_open_right}},
-                               turn_bin_ == back, &beside))
-      door_after_turn_ = beside;
+    if (!blocked && !at.mission_door) {
+      if (doors_at_end.besideEnd(p.odom, dir_robot, walls_, v.free_ahead, closed, turn_bin_ == back, &beside))
+        door_after_turn_ = beside;
+      // Every other door there, abeam ones included: one passed on the way back is entered only
+      // while the stretch is new, and a room visit from the end can outlast that.
+      while (doors_at_end.besideEnd(p.odom, dir_robot, walls_, v.free_ahead, closed, false, &beside))
+        doors_left_at_end_.push_back(beside);
+      door_after_turn_mode_ = topo.mode;
+      end_travel_ = at.travel;
+    }
     if (blocked) step.text = "motion blocked: " + step.text;
     turnGoal(p, d);
     return step;
@@ -181,11 +194,23 @@ bool HallwayNavigator::enterPassedDoor(const Perception& p, const TopoView& topo
 
 bool HallwayNavigator::enterDoorAfterTurn(const Perception& p, const TopoView& topo, const HallwayContext& at,
                                           HallwayStep* step, Decision* d) {
-  if (!door_after_turn_) return false;
-  const DoorTrack door = *door_after_turn_;
-  door_after_turn_.reset();
-  return stopAtDoor(door, "stopping at a door beside the hallway's end turned at, to enter the room", p, topo, at,
-                    step, d);
+  // A door beside the end of a new stretch is new, as a door passed on it would be: the turn there
+  // puts the robot on the stretch just made (the belief localized on its end node), where no
+  // opening of the node has the door yet.
+  TopoView at_end = topo;
+  at_end.mode = door_after_turn_mode_;
+  while (door_after_turn_) {
+    const DoorTrack door = *door_after_turn_;
+    door_after_turn_.reset();
+    if (stopAtDoor(door, "stopping at a door beside the hallway's end turned at, to enter the room", p, at_end, at,
+                   step, d)) {
+      entering_.beside_end = entering_.node < 0;
+      return true;
+    }
+    // The next door there (one refused is the room just left, or one entered on the way back).
+    nextDoorAtEnd();
+  }
+  return false;
 }
 
 bool HallwayNavigator::stopAtDoor(const DoorTrack& door, const char* what, const Perception& p, const TopoView& topo,
@@ -402,6 +427,7 @@ bool HallwayNavigator::intoWayAtAngle(const Perception& p, bool blocked, Decisio
 void HallwayNavigator::beginTurn(int bin, const TopoView& topo, std::vector<int> not_taken) {
   way_line_.reset();
   door_after_turn_.reset();
+  doors_left_at_end_.clear();
   // Turns keep the hallway's offset from the axes: a wing's crossings and U-turns are square to it.
   turn_bin_ = follower_.headingBins().wrap(bin);
   turn_odom_heading_ = normalizeAngle(follower_.odomHeadingAtOffset(turn_bin_, topo));
@@ -441,12 +467,13 @@ bool HallwayNavigator::turn(const Perception& p, bool motion_reached, bool motio
 
 std::optional<EntryOpening> HallwayNavigator::enterAfterStop(const TopoView& topo, const HallwayContext& at,
                                                              std::string* why_passed) {
-  if (entering_.node < 0 && topo.mode != TopoMode::Frontier) {
+  if (entering_.node < 0 && !entering_.beside_end && topo.mode != TopoMode::Frontier) {
     // Stopped for a door on a new stretch, and pomdp_topo has since made its node and taken it
     // for a known one: a loop hypothesis (the check merges the node, the door explored, or
     // rejects it, its opening unexplored and come back to), or a loop closed in the same scan
     // (explore_restart: room_east mapped twice). Entered only as a known unexplored door
-    // (mayEnter); else on along the hallway.
+    // (mayEnter); else on along the hallway. Not a door beside the end of a new stretch: the turn
+    // there localizes the belief on the end's node, whose door it is (enterDoorAfterTurn).
     const std::optional<EntryOpening> known = mayEnter(topo, at, door_);
     if (!known) {
       ++stats_.doors_passed;
@@ -472,10 +499,18 @@ void HallwayNavigator::roomMapped(int place_id, const Pose2D& origin_map, const 
   door_entry_.roomMapped(place_id, origin_map, doors_in_place);
 }
 
+void HallwayNavigator::nextDoorAtEnd() {
+  if (doors_left_at_end_.empty()) return;
+  door_after_turn_ = doors_left_at_end_.front();
+  doors_left_at_end_.erase(doors_left_at_end_.begin());
+}
+
 void HallwayNavigator::backFromRoom(const HallwayDirection& direction, const DoorTrack& door_left,
                                     const std::vector<DoorTrack>& other_doors, double travel) {
   way_line_.reset();
   door_after_turn_.reset();
+  end_travel_ = travel;
+  nextDoorAtEnd();
   follower_.setDirection(direction);
   follower_.forgetGoal();
   door_entry_.leftBy(door_left, other_doors, travel);

@@ -385,6 +385,126 @@ TEST(HallwayNavigator, ADoorInACornersOuterWallIsEnteredOnceTurned) {
   EXPECT_NEAR(nav.door().into_odom, 0.5 * kPi, 0.05);
 }
 
+namespace {
+
+// The dead end of `Hallway` (x = 20) with a 0.9 m door in each side wall near it: the left one's
+// centre at x = `left_x`, the right one's at `right_x`, each to a room 4 m deep; laser_features
+// reports each from within 6 m.
+struct DeadEndWithTwoDoors : exploration::test::SegmentWorld {
+  double left_x, right_x;
+
+  DeadEndWithTwoDoors(double left, double right) : left_x(left), right_x(right) {
+    wall(-10.0, -1.0, -10.0, 1.0);
+    wall(20.0, -5.0, 20.0, 5.0);
+    wall(-10.0, 1.0, left_x - 0.45, 1.0);
+    wall(left_x + 0.45, 1.0, 20.0, 1.0);
+    wall(left_x - 2.0, 1.0, left_x - 2.0, 5.0);
+    wall(left_x - 2.0, 5.0, 20.0, 5.0);
+    wall(-10.0, -1.0, right_x - 0.45, -1.0);
+    wall(right_x + 0.45, -1.0, 20.0, -1.0);
+    wall(right_x - 2.0, -1.0, right_x - 2.0, -5.0);
+    wall(right_x - 2.0, -5.0, 20.0, -5.0);
+  }
+
+  Perception perceive(const Pose2D& robot, double stamp) const {
+    Perception p;
+    p.stamp = stamp;
+    p.odom = robot;
+    const Pose2D to_robot = laser_features::inverse(robot);
+    const Eigen::Vector2d at(robot.x, robot.y);
+    for (int k = 0; k < 360; ++k) {
+      const Eigen::Vector2d u = laser_features::unitVector(robot.theta + k * kPi / 180.0);
+      const double r = raycast(at, u);
+      if (r < 15.0) p.points.push_back(laser_features::transformPoint(to_robot, at + r * u));
+    }
+    for (const exploration::test::Segment& w : walls) {
+      laser_features::LineSegment l;
+      l.start = laser_features::transformPoint(to_robot, w.a);
+      l.end = laser_features::transformPoint(to_robot, w.b);
+      p.lines.push_back(l);
+    }
+    for (const double side : {1.0, -1.0}) {
+      const double x = side > 0.0 ? left_x : right_x;
+      if (std::abs(robot.x - x) >= 6.0) continue;
+      laser_features::Opening o;
+      o.left = laser_features::transformPoint(to_robot, Eigen::Vector2d(x - side * 0.45, side));
+      o.right = laser_features::transformPoint(to_robot, Eigen::Vector2d(x + side * 0.45, side));
+      o.center = 0.5 * (o.left + o.right);
+      o.theta = laser_features::normalizeAngle(side * 0.5 * kPi - robot.theta);
+      o.width = 0.9;
+      o.kind = laser_features::OpeningKind::kDoor;
+      o.confidence = 0.9;
+      o.room_behind = true;
+      p.openings.push_back(o);
+    }
+    return p;
+  }
+};
+
+// Follows `w` (a new stretch) as followUntilChange does Hallway.
+Followed followUntilChange(HallwayNavigator* nav, const DeadEndWithTwoDoors& w, Pose2D* robot, int max_ticks) {
+  const TopoGraph none;
+  Followed run;
+  for (; run.ticks < max_ticks; ++run.ticks) {
+    Decision d;
+    const Pose2D before = *robot;
+    const HallwayContext at{none, run.travel, nullptr};
+    run.step = nav->follow(w.perceive(*robot, 0.1 * run.ticks), belief(TopoMode::Frontier), false, at, &d);
+    run.last = d;
+    if (run.step.kind != HallwayStep::Following) break;
+    step(d, robot);
+    run.travel += std::hypot(robot->x - before.x, robot->y - before.y);
+  }
+  return run;
+}
+
+bool turnOnTheSpot(HallwayNavigator* nav, const DeadEndWithTwoDoors& w, Pose2D* robot, double travel) {
+  for (int i = 0; i < 100; ++i) {
+    Decision d;
+    const bool turned = nav->turn(w.perceive(*robot, 0.1 * i), false, false, travel, &d);
+    step(d, robot);
+    if (turned) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+// The robot leaves a dead end the way it came and passes none of the doors beside it on the way: each
+// is entered from the end. The first after the U-turn; it is new, as a door passed on the new stretch
+// would be, though by then the belief is localized on the end's node (the stretch is known once the
+// robot turns back along it) and no opening of that node has the door. Back from that room, the door
+// on the other side (abeam where the robot turned, so not taken at the turn) is offered next; the
+// door just left is not offered again.
+TEST(HallwayNavigator, EveryDoorBesideADeadEndIsEnteredFromItAsANewDoor) {
+  const DeadEndWithTwoDoors end(19.2, 18.85);
+  HallwayNavigator nav = navigator();
+  Pose2D robot{12.0, 0.0, 0.0};
+  const Followed run = followUntilChange(&nav, end, &robot, 400);
+  ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
+  EXPECT_EQ(run.step.text.rfind("hallway end: turning round", 0), 0u) << run.step.text;
+  ASSERT_TRUE(turnOnTheSpot(&nav, end, &robot, run.travel));
+  const Followed after = followUntilChange(&nav, end, &robot, 5);
+  ASSERT_EQ(after.step.kind, HallwayStep::StopForDoor) << after.step.text;
+  EXPECT_NEAR(nav.door().centre_odom.x(), 19.2, 0.1);
+  EXPECT_NEAR(nav.door().centre_odom.y(), 1.0, 0.1);
+  const TopoGraph none;
+  std::string why;
+  const std::optional<EntryOpening> entry =
+      nav.enterAfterStop(belief(TopoMode::Localized), HallwayContext{none, run.travel + after.travel, nullptr}, &why);
+  ASSERT_TRUE(entry) << why;
+  EXPECT_EQ(entry->node, -1);
+  EXPECT_NEAR(entry->bearing, 0.5 * kPi, 0.05);
+
+  const exploration::DoorTrack left_by = nav.door();
+  nav.backFromRoom(nav.direction(), left_by, {}, run.travel + after.travel + 12.0);
+  const Followed back = followUntilChange(&nav, end, &robot, 5);
+  ASSERT_EQ(back.step.kind, HallwayStep::StopForDoor) << back.step.text;
+  EXPECT_EQ(back.step.text.rfind("stopping at a door beside the hallway's end turned at", 0), 0u) << back.step.text;
+  EXPECT_NEAR(nav.door().centre_odom.x(), 18.85, 0.1);
+  EXPECT_NEAR(nav.door().centre_odom.y(), -1.0, 0.1);
+}
+
 // On the known map: with no unexplored opening left the exploration is complete; a mission's door
 // the graph does not reach has no route.
 TEST(HallwayNavigator, SaysWhenNoOpeningIsLeftAndWhenAMissionsDoorHasNoRoute) {

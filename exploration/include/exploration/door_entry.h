@@ -39,6 +39,8 @@ struct MappedRoomDoor {
 struct EntryOpening {
   int node = -1;         // -1: a new door, at pomdp_topo's current node
   double bearing = 0.0;  // rad, map frame, into the room
+  bool beside_end = false;  // new, beside the end of a new stretch turned at: the belief is localized
+                            // on the end's node by then, and the door is that node's
 };
 
 class DoorEntry {

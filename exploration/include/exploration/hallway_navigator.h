@@ -162,6 +162,8 @@ class HallwayNavigator {
   bool intoWayAtAngle(const Perception& p, bool blocked, Decision* d);
   /// The goal of a turn on the spot: where the robot is now, with the turn's heading.
   void turnGoal(const Perception& p, Decision* d) const;
+  /// The next door left at the end turned at last becomes the door to enter after the turn.
+  void nextDoorAtEnd();
   /// The opening `door` is entered as, if it is (DoorEntry::mayEnter, from the belief now).
   std::optional<EntryOpening> mayEnter(const TopoView& topo, const HallwayContext& at, const DoorTrack& door) const;
   /// The belief is localized and confident, and not on hold after a jump.
@@ -172,6 +174,12 @@ class HallwayNavigator {
   HallwayDoors doors_;  // the doors along the hallway being followed
   HallwayDoors::Walls walls_;  // the walls the doors were gated with this tick
   std::optional<DoorTrack> door_after_turn_;  // beside the hallway's end: entered once turned
+  // The other doors beside that end (between the robot and the end wall), each offered in turn once
+  // the robot is back from a room entered there: the robot leaves a hallway's end by the way it came,
+  // and passes none of them on it.
+  std::vector<DoorTrack> doors_left_at_end_;
+  TopoMode door_after_turn_mode_ = TopoMode::Frontier;  // the belief's mode when that end was reached
+  double end_travel_ = 0.0;  // m, travel when the robot turned at that end or came back out of a room there
   DoorEntry door_entry_;
   RoutePolicy route_;
   HallwayStats stats_;
