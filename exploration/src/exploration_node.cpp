@@ -357,7 +357,6 @@ class ExplorationNode {
   void pairWithOdometry(const Pose2D& odom) {
     topo_.map_from_odom = laser_features::compose(topo_pose_, laser_features::inverse(odom));
     topo_.map_from_odom.theta = laser_features::normalizeAngle(topo_.map_from_odom.theta);
-    topo_.heading_offset = topo_.map_from_odom.theta;
   }
   void onLocalPose(const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& msg) { local_poses_.add(*msg); }
   /// ~pause (SetBool): true stops the robot and the coordinator's decisions where they are (the

@@ -23,19 +23,19 @@ HallwayFollower::HallwayFollower(const HallwayFollowerParams& params, const Hall
 }
 
 double HallwayFollower::odomHeadingOfBin(int bin, const TopoView& topo) const {
-  return normalizeAngle(binHeading(bin) - (topo.heading_valid ? topo.heading_offset : 0.0));
+  return normalizeAngle(binHeading(bin) - (topo.heading_valid ? topo.map_from_odom.theta : 0.0));
 }
 
 double HallwayFollower::topoBearing(double odom_bearing, const TopoView& topo) const {
-  return normalizeAngle(odom_bearing + topo.heading_offset - direction_.offset);
+  return normalizeAngle(odom_bearing + topo.map_from_odom.theta - direction_.offset);
 }
 
 double HallwayFollower::mapHeading(double dir_robot, const Perception& p, const TopoView& topo) {
-  return normalizeAngle(dir_robot + p.odom.theta + (topo.heading_valid ? topo.heading_offset : 0.0));
+  return normalizeAngle(dir_robot + p.odom.theta + (topo.heading_valid ? topo.map_from_odom.theta : 0.0));
 }
 
 void HallwayFollower::faceRobotsBin(const Perception& p, const TopoView& topo) {
-  direction_.bin = binOf(p.odom.theta + topo.heading_offset);
+  direction_.bin = binOf(p.odom.theta + topo.map_from_odom.theta);
 }
 
 double HallwayFollower::freeAlong(int bin, const Perception& p, const TopoView& topo) const {

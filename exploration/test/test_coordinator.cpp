@@ -115,7 +115,7 @@ TopoView view(TopoMode mode, bool confident) {
   v.mode = mode;
   v.confident = confident;
   v.heading_valid = true;
-  v.heading_offset = 0.0;
+  v.map_from_odom.theta = 0.0;
   return v;
 }
 

@@ -49,8 +49,8 @@ struct TopoView {
   TopoMode mode = TopoMode::Unknown;
   bool confident = false;
   bool heading_valid = false;
-  double heading_offset = 0.0;  // rad, map heading - odometry heading (the heading estimator's correction)
-  // map <- odom as pomdp_topo's corrected dead reckoning has it (theta: heading_offset): a pose in
+  // map <- odom as pomdp_topo's corrected dead reckoning has it (theta: map heading - odometry
+  // heading, the heading estimator's correction; valid with heading_valid): a pose in
   // the odometry frame composed with it is in the frame of the graph's display poses. Its drift is
   // the residual of the filtered heading and the wheels' along-track noise, not the odometry's
   // heading random walk; held while the robot is in a room (pomdp_topo publishes no state there).
