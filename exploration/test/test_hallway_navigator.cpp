@@ -33,6 +33,43 @@ using laser_features::Pose2D;
 
 namespace {
 
+// The scan's points (360 beams, 1 deg apart, to 15 m) and the walls' lines (all of them) of `w` in
+// the frame of a robot at `robot`.
+Perception scanOf(const exploration::test::SegmentWorld& w, const Pose2D& robot, double stamp) {
+  Perception p;
+  p.stamp = stamp;
+  p.odom = robot;
+  const Pose2D to_robot = laser_features::inverse(robot);
+  const Eigen::Vector2d at(robot.x, robot.y);
+  for (int k = 0; k < 360; ++k) {
+    const Eigen::Vector2d u = laser_features::unitVector(robot.theta + k * kPi / 180.0);
+    const double r = w.raycast(at, u);
+    if (r < 15.0) p.points.push_back(laser_features::transformPoint(to_robot, at + r * u));
+  }
+  for (const exploration::test::Segment& s : w.walls) {
+    laser_features::LineSegment l;
+    l.start = laser_features::transformPoint(to_robot, s.a);
+    l.end = laser_features::transformPoint(to_robot, s.b);
+    p.lines.push_back(l);
+  }
+  return p;
+}
+
+// A 0.9 m door centred at x = `x` in the wall y = `side` (+1: the left wall of a hallway along +x, -1:
+// the right one), as laser_features reports it to a robot at `robot`.
+laser_features::Opening sideDoor(const Pose2D& robot, double x, double side) {
+  const Pose2D to_robot = laser_features::inverse(robot);
+  laser_features::Opening o;
+  o.left = laser_features::transformPoint(to_robot, Eigen::Vector2d(x - side * 0.45, side));
+  o.right = laser_features::transformPoint(to_robot, Eigen::Vector2d(x + side * 0.45, side));
+  o.center = 0.5 * (o.left + o.right);
+  o.theta = laser_features::normalizeAngle(side * 0.5 * kPi - robot.theta);
+  o.width = 0.9;
+  o.kind = laser_features::OpeningKind::kDoor;
+  o.confidence = 0.9;
+  return o;
+}
+
 // A hallway along +x, 2 m wide (y in [-1, 1]), from x = -10 to its dead end at x = 20; with
 // `door`, a 0.9 m door in its left wall at x = `door_x` (5 m) to a room 4 m deep.
 struct Hallway : exploration::test::SegmentWorld {
@@ -57,33 +94,8 @@ struct Hallway : exploration::test::SegmentWorld {
   // The scan's points and the walls' lines (all of them) in the robot frame; the door as
   // laser_features reports it, from within 6 m.
   Perception perceive(const Pose2D& robot, double stamp) const {
-    Perception p;
-    p.stamp = stamp;
-    p.odom = robot;
-    const Pose2D to_robot = laser_features::inverse(robot);
-    const Eigen::Vector2d at(robot.x, robot.y);
-    for (int k = 0; k < 360; ++k) {
-      const Eigen::Vector2d u = laser_features::unitVector(robot.theta + k * kPi / 180.0);
-      const double r = raycast(at, u);
-      if (r < 15.0) p.points.push_back(laser_features::transformPoint(to_robot, at + r * u));
-    }
-    for (const exploration::test::Segment& w : walls) {
-      laser_features::LineSegment l;
-      l.start = laser_features::transformPoint(to_robot, w.a);
-      l.end = laser_features::transformPoint(to_robot, w.b);
-      p.lines.push_back(l);
-    }
-    if (door && std::abs(robot.x - door_x) < 6.0) {
-      laser_features::Opening o;
-      o.left = laser_features::transformPoint(to_robot, Eigen::Vector2d(door_x - 0.45, 1.0));
-      o.right = laser_features::transformPoint(to_robot, Eigen::Vector2d(door_x + 0.45, 1.0));
-      o.center = 0.5 * (o.left + o.right);
-      o.theta = laser_features::normalizeAngle(0.5 * kPi - robot.theta);
-      o.width = 0.9;
-      o.kind = laser_features::OpeningKind::kDoor;
-      o.confidence = 0.9;
-      p.openings.push_back(o);
-    }
+    Perception p = scanOf(*this, robot, stamp);
+    if (door && std::abs(robot.x - door_x) < 6.0) p.openings.push_back(sideDoor(robot, door_x, 1.0));
     return p;
   }
 };
@@ -124,9 +136,10 @@ struct Followed {
   int ticks = 0;
 };
 
-// Follows the hallway (a new stretch, no map yet) from `robot` until the tick that is not on along
-// the hallway, or for `max_ticks`; `mode`: pomdp_topo's.
-Followed followUntilChange(HallwayNavigator* nav, const Hallway& h, Pose2D* robot, int max_ticks,
+// Follows the hallway of `h` (a new stretch, no map yet) from `robot` until the tick that is not on
+// along the hallway, or for `max_ticks`; `mode`: pomdp_topo's.
+template <typename World>
+Followed followUntilChange(HallwayNavigator* nav, const World& h, Pose2D* robot, int max_ticks,
                            TopoMode mode = TopoMode::Frontier) {
   const TopoGraph none;
   Followed run;
@@ -144,7 +157,8 @@ Followed followUntilChange(HallwayNavigator* nav, const Hallway& h, Pose2D* robo
 }
 
 // Turns on the spot (HallwayNavigator::turn) for at most 100 ticks; true once turned.
-bool turnOnTheSpot(HallwayNavigator* nav, const Hallway& h, Pose2D* robot, double travel) {
+template <typename World>
+bool turnOnTheSpot(HallwayNavigator* nav, const World& h, Pose2D* robot, double travel) {
   for (int i = 0; i < 100; ++i) {
     Decision d;
     const bool turned = nav->turn(h.perceive(*robot, 0.1 * i), false, false, travel, &d);
@@ -152,6 +166,18 @@ bool turnOnTheSpot(HallwayNavigator* nav, const Hallway& h, Pose2D* robot, doubl
     if (turned) return true;
   }
   return false;
+}
+
+// From x = 12 m along the hallway of `w` to its dead end at x = 20, and round on the spot there: the
+// travel (m), or -1 if the robot did not turn round at the end (the failure reported).
+template <typename World>
+double turnRoundAtTheEnd(HallwayNavigator* nav, const World& w, Pose2D* robot) {
+  *robot = Pose2D{12.0, 0.0, 0.0};
+  const Followed run = followUntilChange(nav, w, robot, 400);
+  EXPECT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
+  EXPECT_EQ(run.step.text.rfind("hallway end: turning round", 0), 0u) << run.step.text;
+  if (run.step.kind != HallwayStep::Turning || !turnOnTheSpot(nav, w, robot, run.travel)) return -1.0;
+  return run.travel;
 }
 
 }  // namespace
@@ -321,12 +347,10 @@ TEST(HallwayNavigator, StopsForADoorPassedOnANewStretch) {
 TEST(HallwayNavigator, ADoorBesideTheHallwaysEndIsEnteredOnceTurned) {
   const Hallway h(true, 19.2);  // the door's centre 0.8 m from the end wall: ahead where the robot turns
   HallwayNavigator nav = navigator();
-  Pose2D robot{12.0, 0.0, 0.0};
-  const Followed run = followUntilChange(&nav, h, &robot, 400);
-  ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
-  EXPECT_EQ(run.step.text.rfind("hallway end: turning round", 0), 0u) << run.step.text;
+  Pose2D robot;
+  const double travel = turnRoundAtTheEnd(&nav, h, &robot);
+  ASSERT_GE(travel, 0.0);
   EXPECT_LT(robot.x, 19.2 - 0.3);  // the door not passed
-  ASSERT_TRUE(turnOnTheSpot(&nav, h, &robot, run.travel));
   const Followed after = followUntilChange(&nav, h, &robot, 5);
   ASSERT_EQ(after.step.kind, HallwayStep::StopForDoor) << after.step.text;
   EXPECT_EQ(after.step.text.rfind("stopping at a door beside the hallway's end turned at", 0), 0u) << after.step.text;
@@ -335,7 +359,7 @@ TEST(HallwayNavigator, ADoorBesideTheHallwaysEndIsEnteredOnceTurned) {
   const TopoGraph none;
   std::string why;
   const std::optional<EntryOpening> entry =
-      nav.enterAfterStop(belief(TopoMode::Frontier), HallwayContext{none, after.travel + run.travel, nullptr}, &why);
+      nav.enterAfterStop(belief(TopoMode::Frontier), HallwayContext{none, after.travel + travel, nullptr}, &why);
   ASSERT_TRUE(entry) << why;
   EXPECT_NEAR(entry->bearing, 0.5 * kPi, 0.05);
 }
@@ -345,11 +369,8 @@ TEST(HallwayNavigator, ADoorBesideTheHallwaysEndIsEnteredOnceTurned) {
 TEST(HallwayNavigator, TurningRoundADoorAbeamIsPassedOnTheWayBack) {
   const Hallway h(true, 18.85);  // the robot turns round at x = 18.7: the door 0.15 m ahead
   HallwayNavigator nav = navigator();
-  Pose2D robot{12.0, 0.0, 0.0};
-  const Followed run = followUntilChange(&nav, h, &robot, 400);
-  ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
-  EXPECT_EQ(run.step.text.rfind("hallway end: turning round", 0), 0u) << run.step.text;
-  ASSERT_TRUE(turnOnTheSpot(&nav, h, &robot, run.travel));
+  Pose2D robot;
+  ASSERT_GE(turnRoundAtTheEnd(&nav, h, &robot), 0.0);
   const double x_turned = robot.x;
   const Followed after = followUntilChange(&nav, h, &robot, 100);
   ASSERT_EQ(after.step.kind, HallwayStep::StopForDoor) << after.step.text;
@@ -407,66 +428,14 @@ struct DeadEndWithTwoDoors : exploration::test::SegmentWorld {
   }
 
   Perception perceive(const Pose2D& robot, double stamp) const {
-    Perception p;
-    p.stamp = stamp;
-    p.odom = robot;
-    const Pose2D to_robot = laser_features::inverse(robot);
-    const Eigen::Vector2d at(robot.x, robot.y);
-    for (int k = 0; k < 360; ++k) {
-      const Eigen::Vector2d u = laser_features::unitVector(robot.theta + k * kPi / 180.0);
-      const double r = raycast(at, u);
-      if (r < 15.0) p.points.push_back(laser_features::transformPoint(to_robot, at + r * u));
-    }
-    for (const exploration::test::Segment& w : walls) {
-      laser_features::LineSegment l;
-      l.start = laser_features::transformPoint(to_robot, w.a);
-      l.end = laser_features::transformPoint(to_robot, w.b);
-      p.lines.push_back(l);
-    }
+    Perception p = scanOf(*this, robot, stamp);
     for (const double side : {1.0, -1.0}) {
       const double x = side > 0.0 ? left_x : right_x;
-      if (std::abs(robot.x - x) >= 6.0) continue;
-      laser_features::Opening o;
-      o.left = laser_features::transformPoint(to_robot, Eigen::Vector2d(x - side * 0.45, side));
-      o.right = laser_features::transformPoint(to_robot, Eigen::Vector2d(x + side * 0.45, side));
-      o.center = 0.5 * (o.left + o.right);
-      o.theta = laser_features::normalizeAngle(side * 0.5 * kPi - robot.theta);
-      o.width = 0.9;
-      o.kind = laser_features::OpeningKind::kDoor;
-      o.confidence = 0.9;
-      o.room_behind = true;
-      p.openings.push_back(o);
+      if (std::abs(robot.x - x) < 6.0) p.openings.push_back(sideDoor(robot, x, side));
     }
     return p;
   }
 };
-
-// Follows `w` (a new stretch) as followUntilChange does Hallway.
-Followed followUntilChange(HallwayNavigator* nav, const DeadEndWithTwoDoors& w, Pose2D* robot, int max_ticks) {
-  const TopoGraph none;
-  Followed run;
-  for (; run.ticks < max_ticks; ++run.ticks) {
-    Decision d;
-    const Pose2D before = *robot;
-    const HallwayContext at{none, run.travel, nullptr};
-    run.step = nav->follow(w.perceive(*robot, 0.1 * run.ticks), belief(TopoMode::Frontier), false, at, &d);
-    run.last = d;
-    if (run.step.kind != HallwayStep::Following) break;
-    step(d, robot);
-    run.travel += std::hypot(robot->x - before.x, robot->y - before.y);
-  }
-  return run;
-}
-
-bool turnOnTheSpot(HallwayNavigator* nav, const DeadEndWithTwoDoors& w, Pose2D* robot, double travel) {
-  for (int i = 0; i < 100; ++i) {
-    Decision d;
-    const bool turned = nav->turn(w.perceive(*robot, 0.1 * i), false, false, travel, &d);
-    step(d, robot);
-    if (turned) return true;
-  }
-  return false;
-}
 
 }  // namespace
 
@@ -479,11 +448,9 @@ bool turnOnTheSpot(HallwayNavigator* nav, const DeadEndWithTwoDoors& w, Pose2D* 
 TEST(HallwayNavigator, EveryDoorBesideADeadEndIsEnteredFromItAsANewDoor) {
   const DeadEndWithTwoDoors end(19.2, 18.85);
   HallwayNavigator nav = navigator();
-  Pose2D robot{12.0, 0.0, 0.0};
-  const Followed run = followUntilChange(&nav, end, &robot, 400);
-  ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
-  EXPECT_EQ(run.step.text.rfind("hallway end: turning round", 0), 0u) << run.step.text;
-  ASSERT_TRUE(turnOnTheSpot(&nav, end, &robot, run.travel));
+  Pose2D robot;
+  const double travel = turnRoundAtTheEnd(&nav, end, &robot);
+  ASSERT_GE(travel, 0.0);
   const Followed after = followUntilChange(&nav, end, &robot, 5);
   ASSERT_EQ(after.step.kind, HallwayStep::StopForDoor) << after.step.text;
   EXPECT_NEAR(nav.door().centre_odom.x(), 19.2, 0.1);
@@ -491,13 +458,13 @@ TEST(HallwayNavigator, EveryDoorBesideADeadEndIsEnteredFromItAsANewDoor) {
   const TopoGraph none;
   std::string why;
   const std::optional<EntryOpening> entry =
-      nav.enterAfterStop(belief(TopoMode::Localized), HallwayContext{none, run.travel + after.travel, nullptr}, &why);
+      nav.enterAfterStop(belief(TopoMode::Localized), HallwayContext{none, travel + after.travel, nullptr}, &why);
   ASSERT_TRUE(entry) << why;
   EXPECT_EQ(entry->node, -1);
   EXPECT_NEAR(entry->bearing, 0.5 * kPi, 0.05);
 
   const exploration::DoorTrack left_by = nav.door();
-  nav.backFromRoom(nav.direction(), left_by, {}, run.travel + after.travel + 12.0);
+  nav.backFromRoom(nav.direction(), left_by, {}, travel + after.travel + 12.0);
   const Followed back = followUntilChange(&nav, end, &robot, 5);
   ASSERT_EQ(back.step.kind, HallwayStep::StopForDoor) << back.step.text;
   EXPECT_EQ(back.step.text.rfind("stopping at a door beside the hallway's end turned at", 0), 0u) << back.step.text;
