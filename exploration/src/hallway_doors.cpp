@@ -59,14 +59,15 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
     // stopped for with the real door 0.5 m ahead; the robot drove into the wall).
     const std::optional<double>& wall = walls[side > 0.0 ? 0 : 1];
     if (wall && std::abs(lateral) > *wall + params_.wall_tolerance) continue;
-    // A gap in the side wall the robot follows -- both its edges on that wall's line -- needs no
-    // confidence from its edges' lines: that wall supports it, as an end wall supports a gap in it
-    // (inEndWall). The wall beside a door next to a corner (the hallway's end, a junction) may be
-    // shorter than any line, which halves laser_features' confidence once or twice. A weak gap with
-    // an edge off the wall (seen past an occluding jamb to a point in the room) is not the door's
-    // width.
+    // A gap in the side wall the robot follows -- both its edges on that wall's line, within the
+    // error of a measured edge (width_tolerance) -- needs no confidence from its edges' lines: that
+    // wall supports it, as an end wall supports a gap in it (inEndWall). The wall beside a door next
+    // to a corner (the hallway's end, a junction) may be shorter than any line, which halves
+    // laser_features' confidence once or twice. A weak gap with an edge off the wall (seen past an
+    // occluding jamb to a point in the room, or between things in front of the wall) is not the
+    // door, and would pull its track off the wall.
     const auto onWall = [&](const Eigen::Vector2d& edge) {
-      return std::abs(side * edge.dot(nrm) - *wall) <= params_.wall_tolerance;
+      return std::abs(side * edge.dot(nrm) - *wall) <= rules_.width_tolerance;
     };
     const bool in_side_wall = wall && onWall(o.left) && onWall(o.right);
     if (o.confidence < params_.min_confidence && !in_side_wall) continue;

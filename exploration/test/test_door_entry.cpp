@@ -325,9 +325,10 @@ TEST(HallwayDoors, ADoorIsTrackedWithinHalfTheWidestHallway) {
 
 // A door next to a corner (the hallway's end, a junction) has a piece of wall beside it shorter than
 // any line, which leaves laser_features' confidence at 0.25: in the side wall the robot follows
-// (both edges on its line), that wall supports it and it is a door; the same weak gap with no wall
-// known, half a metre in front of the wall (between furniture along it), or with its far edge in
-// the room behind (seen past the near jamb: not the door's width), is not.
+// (both edges on its line, within the error of a measured edge), that wall supports it and it is a
+// door; the same weak gap with no wall known, 0.3 or 0.5 m in front of the wall (between furniture
+// along it), or with its far edge in the room behind (seen past the near jamb: not the door's
+// width), is not.
 TEST(HallwayDoors, AGapInTheSideWallFollowedNeedsNoLineSupportOfItsEdges) {
   exploration::HallwayView walls_seen = hallwayEnd(2.0, 10.0);
   const double weak = 0.25;
@@ -350,6 +351,14 @@ TEST(HallwayDoors, AGapInTheSideWallFollowedNeedsNoLineSupportOfItsEdges) {
     HallwayDoors doors{HallwayDoorParams(), BuildingRules()};
     walls_seen.left_lateral = 1.0;
     EXPECT_FALSE(passesOpening(&doors, walls_seen, 1.0, weak, 0.6)) << "its far edge 0.6 m into the room";
+    // Both edges 0.3 m in front of the wall (between things along it): its track would sit off the
+    // wall, where the robot would enter the hallway itself as the room.
+    walls_seen.left_lateral = 1.3;
+    HallwayDoors in_front{HallwayDoorParams(), BuildingRules()};
+    EXPECT_FALSE(passesOpening(&in_front, walls_seen, 1.0, weak)) << "0.3 m in front of the wall";
+    HallwayDoors on_it{HallwayDoorParams(), BuildingRules()};
+    walls_seen.left_lateral = 1.08;
+    EXPECT_TRUE(passesOpening(&on_it, walls_seen, 1.0, weak)) << "0.08 m off the wall line: within an edge's error";
   }
 }
 
