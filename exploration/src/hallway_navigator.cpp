@@ -86,7 +86,7 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
     turnAtEnd(p, topo, v, at, &step);
     const std::array<bool, 2> closed{{!v.end_open_left, !v.end_open_right}};
     DoorTrack beside;
-    if (!blocked && !at.mission_door) {
+    if (!blocked) {  // a mission's door too (mayEnter takes its own only)
       if (doors_at_end.besideEnd(p.odom, dir_robot, walls_, v.free_ahead, closed, turn_bin_ == back, &beside))
         door_after_turn_ = beside;
       // Every other door there, abeam ones included: one passed on the way back is entered only
@@ -270,11 +270,14 @@ bool HallwayNavigator::enterEndWallDoor(const Perception& p, const TopoView& top
                                         Decision* d) {
   // A room at a hallway's end has its door in the end wall: no door passes beside the robot there.
   // At a dead end (a side open is a way on, and a door in the far wall of a crossing is passed on
-  // it) the door ahead is entered as a door passed would be, unless the robot came out of it.
-  if (v.end_open_left || v.end_open_right || at.mission_door) return false;
+  // it) the door ahead is entered as a door passed would be, unless the robot came out of it. A
+  // mission's door may be that door (mayEnter takes its own only); the rooms mapped are what a
+  // mission goes to.
+  if (v.end_open_left || v.end_open_right) return false;
   const std::optional<DoorTrack> door = doors_.inEndWall(p.odom, p.openings, dir_robot, v);
-  if (!door || door_entry_.justLeft(*door, at.travel) || door_entry_.otherDoorOfRoomLeft(*door, at.travel) ||
-      door_entry_.mappedRoomOf(*door, topo.map_from_odom))
+  if (!door || door_entry_.justLeft(*door, at.travel)) return false;
+  if (!at.mission_door &&
+      (door_entry_.otherDoorOfRoomLeft(*door, at.travel) || door_entry_.mappedRoomOf(*door, topo.map_from_odom)))
     return false;
   const std::optional<EntryOpening> entry = mayEnter(topo, at, *door);
   if (!entry) return false;

@@ -499,6 +499,46 @@ TEST(HallwayNavigator, SaysWhenNoOpeningIsLeftAndWhenAMissionsDoorHasNoRoute) {
   EXPECT_FALSE(step.route.found);
 }
 
+// A mission's door beside a dead end is entered from the end, as exploration's is: the robot goes
+// no farther than the end and passes no door beside it on its way back. On the known map (a
+// localized belief on the hallway's edge, the door at its end node), the robot drives to the end,
+// turns round there and stops for the mission's door at once.
+TEST(HallwayNavigator, AMissionsDoorBesideADeadEndIsEnteredFromTheEnd) {
+  const Hallway h(true, 19.2);
+  TopoGraph g;
+  g.addNode(GraphNode{0, 4, 0.0, 0.0, {}});
+  g.addNode(GraphNode{1, 0, 18.7, 0.0, {GraphOpening{0.5 * kPi, 0.9, true, 3, {0.0, 0.0, 0.0}}}});
+  g.addEdge(GraphEdge{0, 0, 1, 0.0, 18.7});
+  const PlaceDoor door = *g.placeDoor(3);
+  HallwayNavigator nav = navigator();
+  Pose2D robot{12.0, 0.0, 0.0};
+  double travel = 0.0;
+  bool turned_round = false;
+  HallwayStep last;
+  for (int tick = 0; tick < 800; ++tick) {
+    TopoView on_edge = belief(TopoMode::Localized);
+    on_edge.position.valid = true;
+    on_edge.position.id = 0;
+    on_edge.position.offset = std::min(robot.x, 18.7);
+    on_edge.position.heading = robot.theta;
+    Decision d;
+    const Pose2D before = robot;
+    last = nav.follow(h.perceive(robot, 0.1 * tick), on_edge, false, HallwayContext{g, travel, &door}, &d);
+    if (last.kind == HallwayStep::Turning) {
+      turned_round = turned_round || last.text.rfind("hallway end: turning round", 0) == 0;
+      ASSERT_TRUE(turnOnTheSpot(&nav, h, &robot, travel)) << last.text;
+      continue;
+    }
+    if (last.kind != HallwayStep::Following) break;
+    step(d, &robot);
+    travel += std::hypot(robot.x - before.x, robot.y - before.y);
+  }
+  EXPECT_TRUE(turned_round);
+  ASSERT_EQ(last.kind, HallwayStep::StopForDoor) << last.text;
+  EXPECT_EQ(last.text.rfind("stopping at a door beside the hallway's end turned at", 0), 0u) << last.text;
+  EXPECT_NEAR(nav.door().centre_odom.x(), 19.2, 0.1);
+}
+
 namespace {
 
 // A 2 m hallway along +x (y in [-1, 1]) whose end at x = 10 turns right into a hallway along -y
