@@ -194,6 +194,7 @@ bool HallwayNavigator::enterPassedDoor(const Perception& p, const TopoView& topo
 
 bool HallwayNavigator::enterDoorAfterTurn(const Perception& p, const TopoView& topo, const HallwayContext& at,
                                           HallwayStep* step, Decision* d) {
+  if (!door_after_turn_) return false;  // most ticks: no copy of the belief's view
   // A door beside the end of a new stretch is new, as a door passed on it would be: the turn there
   // puts the robot on the stretch just made (the belief localized on its end node), where no
   // opening of the node has the door yet.
