@@ -195,6 +195,30 @@ TEST(HallwayView, AWingLeavingAHallwaysEndAtAnAngleIsTheWayOn) {
   }
 }
 
+// The wall on the inner side of a turn into a wing starts at the turn's corner and is seen edge-on
+// from the hallway's end: its points are in the scan, too few for a line. One wall along the way and
+// the points across within a hallway's width make it a hallway; the piece of end wall cut at a slant
+// between the hallway's outer wall and the wing's is no second way.
+TEST(HallwayView, AWingWhoseInnerWallIsSeenEdgeOnIsTheWayOn) {
+  for (const double angle : {-0.52, -0.7, -0.9}) {
+    std::vector<Eigen::Vector2d> pts;
+    std::vector<laser_features::LineSegment> lines, inner;
+    const Eigen::Vector2d d = dirOf(angle), n(-d.y(), d.x());
+    const Eigen::Vector2d right0(0.5, -0.85), left0 = right0 + 1.7 * n;  // a 1.7 m hallway and wing
+    addWall(&pts, &lines, {-8.0, -0.85}, right0);
+    addWall(&pts, &inner, right0, right0 + 9.0 * d);  // its points only
+    addWall(&pts, &lines, {-8.0, 0.85}, {0.5, 0.85});
+    addWall(&pts, &lines, {0.5, 0.85}, left0);  // the mouth's slanted piece
+    addWall(&pts, &lines, left0, left0 + 9.0 * d);
+    exploration::HallwayView v;
+    v.end_centre = Eigen::Vector2d(0.0, 0.0);
+    const std::vector<exploration::ObliqueWay> ways =
+        exploration::obliqueHallways(pts, lines, v, 0.0, HallwayViewParams(), 4.0, 4.1);
+    ASSERT_EQ(ways.size(), 1u) << angle;
+    EXPECT_NEAR(ways[0].direction, angle, 0.03) << angle;
+  }
+}
+
 // A door in the end wall seen at a slant opens a corridor into the room behind it, but no walls run
 // along that corridor: no way on. Nor is a plain dead end.
 TEST(HallwayView, ADoorInTheEndWallAtASlantIsNoWingNorIsADeadEnd) {

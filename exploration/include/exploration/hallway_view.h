@@ -155,8 +155,10 @@ struct ObliqueWay {
 /// eighths of a turn to either side, the robot's corridor (params.clearance) free for `min_free`)
 /// from the expected crossing's centre or a point across the crossing that the robot fits in (its
 /// mouth may be beside the hallway's end), that is a hallway, not a door seen at a slant: seen from
-/// a point inside it, walls on both sides run along it within `max_width` of each other. Left
-/// first; none where there is none.
+/// a point inside it, walls on both sides run along it within `max_width` of each other, or one
+/// wall runs along it and the scan's points across lie within `max_width` of it (the wall on the
+/// inner side of the turn is seen edge-on from the hallway's end). Left first; none where there is
+/// none.
 std::vector<ObliqueWay> obliqueHallways(const std::vector<Eigen::Vector2d>& points,
                                         const std::vector<laser_features::LineSegment>& lines, const HallwayView& view,
                                         double direction, const HallwayViewParams& params, double min_free,
