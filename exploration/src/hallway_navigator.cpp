@@ -83,16 +83,19 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
     // would be.
     HallwayDoors doors_at_end = doors_;  // the turn forgets the doors tracked
     const int back = follower_.headingBins().wrap(follower_.bin() + follower_.headingBins().bins / 2);
-    turnAtEnd(p, topo, v, at, &step);
+    std::vector<WayLine> at_angle;
+    turnAtEnd(p, topo, v, at, &step, &at_angle);
     const std::array<bool, 2> closed{{!v.end_open_left, !v.end_open_right}};
     DoorTrack beside;
     if (!blocked) {  // a mission's door too (mayEnter takes its own only)
-      if (doors_at_end.besideEnd(p.odom, dir_robot, walls_, v.free_ahead, closed, turn_bin_ == back, &beside))
+      if (doors_at_end.besideEnd(p.odom, dir_robot, walls_, v.free_ahead, closed, turn_bin_ == back, &beside) &&
+          !inMouthOfWay(beside, at_angle))
         door_after_turn_ = beside;
       // Every other door there, abeam ones included: one passed on the way back is entered only
       // while the stretch is new, and a room visit from the end can outlast that.
-      while (doors_at_end.besideEnd(p.odom, dir_robot, walls_, v.free_ahead, closed, false, &beside))
-        doors_left_at_end_.push_back(beside);
+      while (doors_at_end.besideEnd(p.odom, dir_robot, walls_, v.free_ahead, closed, false, &beside)) {
+        if (!inMouthOfWay(beside, at_angle)) doors_left_at_end_.push_back(beside);
+      }
       door_after_turn_mode_ = topo.mode;
       end_travel_ = at.travel;
     }
@@ -310,8 +313,16 @@ bool HallwayNavigator::turnIntoRouteBranch(const Perception& p, const TopoView& 
   return actOnRoute(route_.atBranch(route_at, step->route, side_open, door_abeam), p, topo, step, d);
 }
 
+bool HallwayNavigator::inMouthOfWay(const DoorTrack& door, const std::vector<WayLine>& at_angle) const {
+  return std::any_of(at_angle.begin(), at_angle.end(), [&](const WayLine& way) {
+    const Eigen::Vector2d u(std::cos(way.heading), std::sin(way.heading)), n(-u.y(), u.x());
+    const Eigen::Vector2d c = door.centre_odom - way.origin;
+    return c.dot(u) >= 0.0 && std::abs(c.dot(n)) <= 0.5 * door.width + follower_.rules().width_tolerance;
+  });
+}
+
 void HallwayNavigator::turnAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v,
-                                 const HallwayContext& at, HallwayStep* step) {
+                                 const HallwayContext& at, HallwayStep* step, std::vector<WayLine>* at_angle) {
   step->kind = HallwayStep::Turning;
   const int n = follower_.headingBins().bins, bin = follower_.bin();
   const int left = (bin + n / 4) % n, right = (bin + 3 * n / 4) % n, back = (bin + n / 2) % n;
@@ -322,6 +333,7 @@ void HallwayNavigator::turnAtEnd(const Perception& p, const TopoView& topo, cons
   if (v.end_open_left) ways.push_back({left, std::nullopt});
   if (v.end_open_right) ways.push_back({right, std::nullopt});
   for (const ObliqueWay& way : follower_.obliqueWaysAtEnd(p, topo, v)) {
+    at_angle->push_back(WayLine{transformPoint(p.odom, way.origin), normalizeAngle(p.odom.theta + way.direction), 0.0});
     const int way_bin = follower_.wayBin(way.direction, p, topo);
     const bool known = std::any_of(ways.begin(), ways.end(), [&](const EndWay& w) { return w.bin == way_bin; });
     if (way_bin != back && !known) ways.push_back({way_bin, way});

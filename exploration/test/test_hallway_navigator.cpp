@@ -562,6 +562,51 @@ Hallway cornerWithWing(double angle) {
 
 }  // namespace
 
+namespace {
+
+// cornerWithWing(angle) whose wing's mouth (the gap in the left wall, x in [left0.x, 10]) laser_features
+// reports as a door: as wide as one, free space behind it as behind a room's door.
+struct WingMouthSeen {
+  Hallway h;
+  double angle;
+
+  Perception perceive(const Pose2D& robot, double stamp) const {
+    Perception p = h.perceive(robot, stamp);
+    const double from = 10.0 - 2.0 * std::sin(angle);  // left0.x
+    const Pose2D to_robot = laser_features::inverse(robot);
+    laser_features::Opening o;
+    o.left = laser_features::transformPoint(to_robot, Eigen::Vector2d(from, 1.0));
+    o.right = laser_features::transformPoint(to_robot, Eigen::Vector2d(10.0, 1.0));
+    o.center = 0.5 * (o.left + o.right);
+    o.theta = laser_features::normalizeAngle(0.5 * kPi - robot.theta);
+    o.width = 10.0 - from;
+    o.kind = laser_features::OpeningKind::kDoor;
+    o.confidence = 0.9;
+    o.room_behind = true;
+    if (std::abs(robot.x - 10.0) < 6.0) p.openings.push_back(o);
+    return p;
+  }
+};
+
+}  // namespace
+
+// A wing's mouth beside a hallway's end is as wide as a double door, with free space behind it as a
+// room's door has: where a hallway at an angle leaves the end through it, it is that hallway's mouth
+// (recorded as a way not taken), not a door to enter once turned.
+TEST(HallwayNavigator, AWingsMouthBesideTheEndIsNoDoorToEnter) {
+  for (const double angle : {0.6, 0.7, 0.8}) {
+    const WingMouthSeen w{cornerWithWing(angle), angle};
+    HallwayNavigator nav = navigator();
+    Pose2D robot{0.0, 0.0, 0.0};
+    const Followed run = followUntilChange(&nav, w, &robot, 400);
+    ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
+    EXPECT_EQ(run.step.text.rfind("hallway end: turning right (free ahead", 0), 0u) << run.step.text;
+    ASSERT_TRUE(turnOnTheSpot(&nav, w, &robot, run.travel));
+    const Followed after = followUntilChange(&nav, w, &robot, 20);
+    EXPECT_NE(after.step.kind, HallwayStep::StopForDoor) << angle << ": " << after.step.text;
+  }
+}
+
 // At a hallway's end the wings leaving it at an angle are ways out as the sides open along the axes
 // are: on a new stretch those not taken are recorded as the turn's node's unexplored openings, in
 // the bin pomdp_topo gives the branch once the robot turns into it.

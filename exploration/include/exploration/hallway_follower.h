@@ -53,6 +53,7 @@ class HallwayFollower {
   double lookahead() const { return params_.lookahead; }
   /// m, building/hallway_max_width: how far a way at an angle is found free (obliqueWaysAtEnd).
   double hallwayMaxWidth() const { return rules_.hallway_max_width; }
+  const laser_features::BuildingRules& rules() const { return rules_; }
 
   /// The building's axes (pomdp_topo's building_axes): the discrete headings of the hallways.
   void setHeadingBins(const laser_features::HeadingBins& bins) { bins_ = bins; }

@@ -149,9 +149,15 @@ class HallwayNavigator {
                         const HallwayContext& at, HallwayStep* step, Decision* d);
   bool turnIntoRouteBranch(const Perception& p, const TopoView& topo, bool sure, double dir_robot, const HallwayView& v,
                            const HallwayContext& at, HallwayStep* step, Decision* d);
+  struct WayLine;
   /// The turn at a hallway's end (or where the robot is blocked): into an open way, else a U-turn.
+  /// `at_angle`: the hallways at an angle found leaving the end (odometry frame).
   void turnAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, const HallwayContext& at,
-                 HallwayStep* step);
+                 HallwayStep* step, std::vector<WayLine>* at_angle);
+  /// `door` lies in the mouth of one of the hallways at an angle `at_angle`: within half its width
+  /// (and a measured edge's error) of the way's line, not behind the way's origin. A wing's mouth is
+  /// as wide as a double door and has free space behind it as a room does.
+  bool inMouthOfWay(const DoorTrack& door, const std::vector<WayLine>& at_angle) const;
   /// The hallway followed opened into an open area (HallwayFollower::intoOpenArea): a turn along its
   /// wall begins, unless a route leads across it (then false).
   bool turnInOpenArea(const TopoView& topo, const HallwayContext& at, HallwayStep* step);
@@ -196,7 +202,7 @@ class HallwayNavigator {
   // robot turns: its line (odometry frame) is followed for `length` m before the hallway is judged
   // from the robot (the sector from beside its mouth meets the mouth's corner).
   struct WayLine {
-    Eigen::Vector2d origin;
+    Eigen::Vector2d origin;  // odometry frame
     double heading = 0.0;
     double length = 0.0;
   };
