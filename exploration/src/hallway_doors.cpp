@@ -70,7 +70,8 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
       return std::abs(side * edge.dot(nrm) - *wall) <= rules_.width_tolerance;
     };
     const bool in_side_wall = wall && onWall(o.left) && onWall(o.right);
-    if (o.confidence < params_.min_confidence && !in_side_wall) continue;
+    const bool weak = o.confidence < params_.min_confidence;
+    if (weak && !in_side_wall) continue;
     const double into = dir_robot + side * 0.5 * kPi;  // robot frame
     if (std::abs(normalizeAngle(o.theta - into)) > params_.tracks.side_angle) continue;
     const Eigen::Vector2d c = transformPoint(odom, o.center);
@@ -84,6 +85,7 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
       t.into_odom = into_odom;
       t.width = o.width;
       t.sightings = 1;
+      t.located_sightings = weak ? 0 : 1;
       t.room_sightings = o.room_behind ? 1 : 0;
       t.wall_lateral = wall ? *wall : -1.0;
       t.located = std::abs(o.center.dot(unitVector(dir_robot))) <= kAbeam * std::abs(lateral);
@@ -94,10 +96,15 @@ HallwayDoors::Walls HallwayDoors::track(const Pose2D& odom, const std::vector<la
       tracks_.push_back(t);
       continue;
     }
-    // Running mean of the position and width (the heading is the hallway's normal).
-    const double k = 1.0 / double(std::min(it->sightings + 1, 20));
-    it->centre_odom += k * (c - it->centre_odom);
-    it->width += k * (o.width - it->width);
+    // Running mean of the position and width (the heading is the hallway's normal), of the
+    // confident sightings once there are any: a weak one confirms the door, not where it is.
+    if (!weak || it->located_sightings == 0) {
+      const int n = weak ? it->sightings : it->located_sightings;
+      const double k = 1.0 / double(std::min(n + 1, 20));
+      it->centre_odom += k * (c - it->centre_odom);
+      it->width += k * (o.width - it->width);
+    }
+    if (!weak) ++it->located_sightings;
     it->into_odom = into_odom;
     it->wall_lateral = wall ? *wall : -1.0;
     if (std::abs(o.center.dot(unitVector(dir_robot))) <= kAbeam * std::abs(lateral)) it->located = true;

@@ -362,6 +362,29 @@ TEST(HallwayDoors, AGapInTheSideWallFollowedNeedsNoLineSupportOfItsEdges) {
   }
 }
 
+// A weak gap in the side wall (a door next to a corner seen with too little wall beside it) confirms
+// a door: a track located by confident sightings stays where they put it. Weak sightings of a door
+// also cut at a piece of the wall beside it (a shelf's end, the corner's) are no place to average in.
+TEST(HallwayDoors, AWeakSightingConfirmsADoorConfidentOnesLocate) {
+  exploration::HallwayView walls_seen = hallwayEnd(2.0, 10.0);
+  HallwayDoors doors{HallwayDoorParams(), BuildingRules()};
+  DoorTrack passed;
+  bool was_passed = false;
+  for (int i = 0; i <= 100 && !was_passed; ++i) {
+    const laser_features::Pose2D odom{0.05 * i, 0.0, 0.0};
+    // Every other scan sees the 0.9 m door at x = 3 well; the others see a 1.3 m gap 0.2 m further on.
+    laser_features::Opening o = i % 2 == 0 ? opening({3.0 - odom.x, 1.0}, 0.5 * kPi, 0.9)
+                                           : opening({3.2 - odom.x, 1.0}, 0.5 * kPi, 1.3);
+    if (i % 2 != 0) o.confidence = 0.25;
+    const auto walls = doors.track(odom, {o}, 0.0, walls_seen, odom.x);
+    was_passed = doors.passed(odom, 0.0, walls, &passed);
+  }
+  ASSERT_TRUE(was_passed);
+  EXPECT_NEAR(passed.centre_odom.x(), 3.0, 1e-9);
+  EXPECT_NEAR(passed.width, 0.9, 1e-9);
+  EXPECT_GT(passed.sightings, passed.located_sightings);  // the weak ones confirmed it
+}
+
 // Passing along +x beside doors in the left wall (y = 1), each seen within 6 m: the doors passed.
 // `far_shift`: seen from farther than 2.5 m along, the first door appears this much further on;
 // `drift`: after the first door passed a room is visited (HallwayDoors::roomVisited) and the

@@ -36,6 +36,7 @@ struct DoorTrack {
   double into_odom = 0.0;   // rad, odometry frame, direction into the room
   double width = 0.0;       // m
   int sightings = 0;
+  int located_sightings = 0;  // confident ones (door_min_confidence): they alone place it once there is one
   int room_sightings = 0;   // scans that saw a room behind it (BuildingRules::isDoorTracked)
   bool decided = false;     // entered or passed: never again on this pass
   bool taken = false;       // passed and offered for entering (entered, or refused as known)
