@@ -457,15 +457,22 @@ std::vector<ObliqueWay> obliqueHallways(const std::vector<Eigen::Vector2d>& poin
                                         double max_width) {
   // Directions every 5 deg: a 1.5 m hallway's mouth subtends more than twice that from min_free.
   constexpr double kStep = 0.0873;
+  // m, origins nearer each other than this along the hallway see the same ways.
+  constexpr double kMinOriginStep = 0.1;
   // A wing's mouth need not face the crossing's centre (its wall may start at the corner, beside the
-  // hallway's end): the ways are looked for from the centre and from across the crossing, wherever
-  // the robot fits (half the hallway's width less the clearance to either side, and as far back).
+  // hallway's end, or bend at the mouth): the ways are looked for from the centre and from across the
+  // crossing, wherever the robot fits (half the hallway's width less the clearance to either side,
+  // as far back, and on to the end wall less the clearance, where a wing leaving backwards or through
+  // a bent mouth opens).
   const double half = std::max(0.0, (view.width() > 0.0 ? 0.5 * view.width() : 0.5 * params.min_mouth) - params.clearance);
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction)), n(-u.y(), u.x());
+  const double ahead = view.free_ahead - params.clearance - view.end_centre.dot(u);
+  std::vector<double> alongs{0.0, -half};
+  if (ahead > kMinOriginStep) alongs.insert(alongs.end(), {0.5 * ahead, ahead});
   std::vector<ObliqueWay> hallways;
-  for (const double back : {0.0, half}) {
+  for (const double along : alongs) {
     for (const double lateral : {0.0, half, -half}) {
-      const Eigen::Vector2d origin = view.end_centre - back * u + lateral * n;
+      const Eigen::Vector2d origin = view.end_centre + along * u + lateral * n;
       const std::vector<double> ways = obliqueWays(points, origin, direction, params.clearance, min_free, 0.75 * kPi,
                                                    params.wall_parallel_tolerance, kStep);
       for (double way : ways) {

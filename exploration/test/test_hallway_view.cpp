@@ -4,7 +4,9 @@
 #include <cmath>
 #include <string>
 
+#include "exploration/hallway_follower.h"
 #include "exploration/hallway_view.h"
+#include "segment_world.h"
 
 using exploration::HallwayViewParams;
 using laser_features::BuildingRules;
@@ -216,6 +218,63 @@ TEST(HallwayView, AWingWhoseInnerWallIsSeenEdgeOnIsTheWayOn) {
         exploration::obliqueHallways(pts, lines, v, 0.0, HallwayViewParams(), 4.0, 4.1);
     ASSERT_EQ(ways.size(), 1u) << angle;
     EXPECT_NEAR(ways[0].direction, angle, 0.03) << angle;
+  }
+}
+
+// A wing's mouth bent at the hallway's end (its outer wall goes on from the hallway's, its inner wall
+// starts past a piece cut at a slant) or a wing leaving backwards beside the end wall lies beyond
+// the crossing's expected centre: the way is found from on towards the end wall, where the robot
+// still fits. The robot stands at the end's stopping distance, as where it turns.
+TEST(HallwayView, AWingThroughABentMouthIsSeenFromOnTowardsTheEndWall) {
+  for (const double angle : {-1.03, -0.9}) {  // 59 and 52 deg to the right
+    exploration::test::SegmentWorld world;
+    const Eigen::Vector2d d = dirOf(angle), n(-d.y(), d.x());
+    const Eigen::Vector2d right0(1.2, -0.78), left0 = right0 + 1.55 * n;  // a 1.55 m hallway and wing
+    // Walls 0.1 m thick, as the simulator's: their faces and end caps.
+    const auto wall = [&](Eigen::Vector2d a, Eigen::Vector2d b) {
+      const Eigen::Vector2d t = 0.05 * (b - a).normalized(), m(-t.y(), t.x());
+      const Eigen::Vector2d c[4] = {a - t + m, b + t + m, b + t - m, a - t - m};
+      for (int i = 0; i < 4; ++i) world.wall(c[i].x(), c[i].y(), c[(i + 1) % 4].x(), c[(i + 1) % 4].y());
+    };
+    wall({-8.0, -0.78}, right0);
+    wall(right0, right0 + 9.0 * d);
+    wall(right0, {1.2, -12.0});  // a room's wall beside the wing
+    wall({-8.0, 0.77}, {1.2, 0.77});
+    wall({1.2, 0.77}, {1.2, 6.0});  // a room's wall across the hallway's end
+    wall({1.2, 0.77}, left0);       // the mouth's piece cut at a slant
+    wall(left0, left0 + 9.0 * d);
+    // The scan from the robot (what it occludes matters here) and the walls' lines, robot frame.
+    std::vector<Eigen::Vector2d> pts;
+    std::vector<laser_features::LineSegment> lines;
+    const auto look = [&](double x) {
+      const Eigen::Vector2d at(x, 0.0);
+      pts.clear();
+      lines.clear();
+      for (int k = 0; k < 720; ++k) {
+        const Eigen::Vector2d u = dirOf(k * kPi / 360.0);
+        const double r = world.raycast(at, u);
+        if (r < 15.0) pts.push_back(r * u);
+      }
+      for (const exploration::test::Segment& w : world.walls) {
+        if ((w.b - w.a).norm() < 0.3) continue;  // an end cap: no line
+        laser_features::LineSegment l;
+        l.start = w.a - at;
+        l.end = w.b - at;
+        lines.push_back(l);
+      }
+      return exploration::viewHallway(pts, lines, 0.0, HallwayViewParams());
+    };
+    // Along the hallway to where the robot stops at its end (HallwayFollowerParams::end_distance).
+    const double end_distance = exploration::HallwayFollowerParams().end_distance;
+    double x = -3.0;
+    exploration::HallwayView v = look(x);
+    while (v.free_ahead >= end_distance && x < 1.0) v = look(x += 0.05);
+    const std::vector<exploration::ObliqueWay> ways =
+        exploration::obliqueHallways(pts, lines, v, 0.0, HallwayViewParams(), 4.0, 4.1);
+    ASSERT_EQ(ways.size(), 1u) << angle << " free ahead " << v.free_ahead;
+    // The wing's way, told apart from any other (ways closer than the wall tolerance are one); the
+    // follower takes its walls' direction once in it.
+    EXPECT_NEAR(ways[0].direction, angle, 0.5 * HallwayViewParams().wall_parallel_tolerance) << angle;
   }
 }
 
