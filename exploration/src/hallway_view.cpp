@@ -39,6 +39,12 @@ constexpr double kLaneStep = 0.1;
 // wall_min_length long, parallel to the direction within wall_parallel_tolerance (modulo pi: a wall
 // has no orientation), running beside the robot (not only far ahead or behind), between wall_min_lateral and
 // `max_lateral` to a side. Its direction difference (rad, robot frame) and lateral offset (m, + left).
+// rad, how far `heading` is from the nearest quarter turn of `axis` (both robot frame).
+double offAxis(double heading, double axis) {
+  const double rel = normalizeAngle(heading - axis);
+  return std::abs(rel - std::round(rel / (0.5 * kPi)) * 0.5 * kPi);
+}
+
 struct WallBeside {
   double diff, lateral;
 };
@@ -363,8 +369,7 @@ std::vector<double> obliqueWays(const std::vector<Eigen::Vector2d>& points, cons
   };
   for (int k = -n; k <= n; ++k) {
     const double rel = k * step;
-    const double from_axis = std::abs(rel - std::round(rel / (0.5 * kPi)) * 0.5 * kPi);
-    const bool free = from_axis >= off_axis &&
+    const bool free = offAxis(rel, 0.0) >= off_axis &&
                       corridorFree(points, origin, normalizeAngle(direction + rel), half_width, min_free) >= min_free;
     if (free) {
       if (run_length == 0) run_start = k;
@@ -391,12 +396,6 @@ double widthAcross(const std::vector<Eigen::Vector2d>& points, const Eigen::Vect
   const double towards = w.wall_direction + (w.left_wall ? -0.5 : 0.5) * kPi;  // the side with no wall seen
   const double wall = w.left_wall ? w.left_lateral : -w.right_lateral;
   return wall + corridorFree(points, inside, towards, clearance, cap + 1.0);
-}
-
-// rad, how far `heading` is from the nearest quarter turn of `axis` (both robot frame).
-double offAxis(double heading, double axis) {
-  const double rel = normalizeAngle(heading - axis);
-  return std::abs(rel - std::round(rel / (0.5 * kPi)) * 0.5 * kPi);
 }
 
 // The length-weighted direction (robot frame) of the walls beside `inside` along `way` (as
@@ -447,7 +446,6 @@ std::optional<WingSight> wingSeenFrom(const std::vector<Eigen::Vector2d>& points
     return std::nullopt;
   return WingSight{w.wall_direction, both};
 }
-
 
 }  // namespace
 
