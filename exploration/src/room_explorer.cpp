@@ -331,9 +331,15 @@ std::optional<Path> RoomExplorer::exitPathOn(GridPlanner* planner, const Eigen::
   return planner->plan(robot, target);
 }
 
-std::optional<Path> RoomExplorer::pathTo(const Eigen::Vector2d& robot, const Eigen::Vector2d& goal) {
+std::optional<Path> RoomExplorer::pathTo(const Eigen::Vector2d& robot, const Eigen::Vector2d& goal,
+                                         const std::vector<Eigen::Vector2d>& seen) {
   if (status_ == RoomStatus::Invalid || !finite(robot) || !finite(goal)) return std::nullopt;
   optimistic_planner_.setMap(grid_);
+  if (!seen.empty()) {
+    optimistic_planner_.addObstacles(seen);
+    if (std::optional<Path> path = optimistic_planner_.plan(robot, goal)) return path;
+    optimistic_planner_.setMap(grid_);  // as pathToExit: the grid alone where the scan leaves no way
+  }
   return optimistic_planner_.plan(robot, goal);
 }
 

@@ -60,6 +60,7 @@ bool SuiteVisit::nextDoor(RoomVisit& host, const Eigen::Vector2d& robot) {
   door_ = todo_[best_index];
   todo_.erase(todo_.begin() + long(best_index));
   path_.set(std::move(best_path));
+  planned_at_ = 0.0;
   peek_step_ = PeekStep::In;
   looks_ = door_sightings_ = 0;
   behind_ = Behind::Room;
@@ -67,14 +68,22 @@ bool SuiteVisit::nextDoor(RoomVisit& host, const Eigen::Vector2d& robot) {
   return true;
 }
 
-SuiteVisit::Drive SuiteVisit::driveToDoor(const RoomVisit& host, const Perception& q, double elapsed, Decision* d) {
+SuiteVisit::Drive SuiteVisit::driveToDoor(RoomVisit& host, const Perception& q, double elapsed, Decision* d) {
   if (elapsed > params_.exit_time_limit) {
     ++given_up_;
     return Drive::Failed;
   }
   const Eigen::Vector2d robot(q.room_pose.x, q.room_pose.y);
-  path_.advance(robot, host.pathPlanner());
   const Eigen::Vector2d front = door_.centre + kFront * unitVector(door_.into);
+  // The path is planned again from where the robot is every replan_period (as a mission's path in
+  // a room), clear of the latest scan's returns: the host's grid loses thin obstacles (table and
+  // chair legs, 2-5 cm: beams passing beside a leg mark its cell free), and a path between legs
+  // leaves the robot turning to and fro before them. Where the scan leaves no way, the grid's.
+  if (elapsed - planned_at_ >= params_.replan_period) {
+    planned_at_ = elapsed;
+    if (std::optional<Path> path = host.pathTo(robot, front, true)) path_.set(std::move(path->waypoints));
+  }
+  path_.advance(robot, host.pathPlanner());
   const double facing = normalizeAngle(door_.into + kPi);
   if (path_.beforeLast()) {
     host.goalInPlace(q, path_.current(), std::nullopt, d);

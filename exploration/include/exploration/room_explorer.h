@@ -152,8 +152,10 @@ class RoomExplorer {
   /// A grid path from `robot` to `goal` in the room as seen so far (a mission's goal), through its
   /// unseen part too (optimistic: the caller plans again as the room is seen; a goal behind
   /// furniture not yet seen round is otherwise unreachable). None when unreachable on the grid,
-  /// before start() or for non-finite points.
-  std::optional<Path> pathTo(const Eigen::Vector2d& robot, const Eigen::Vector2d& goal);
+  /// before start() or for non-finite points. `seen`: the latest scan's returns (pose frame), kept
+  /// clear of as in pathToExit(), unless no path leaves them: then the grid's path.
+  std::optional<Path> pathTo(const Eigen::Vector2d& robot, const Eigen::Vector2d& goal,
+                             const std::vector<Eigen::Vector2d>& seen = {});
   /// The planners whose snapshots made the last pathToExit() and pathTo() paths.
   const GridPlanner& exitPlanner() const { return explorer_.planner(); }
   const GridPlanner& pathPlanner() const { return optimistic_planner_; }

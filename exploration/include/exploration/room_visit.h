@@ -144,9 +144,11 @@ class RoomVisit {
   DoorTrack doorOdom() const;
   /// A goal `g` (and heading `theta`) in the place as an odometry goal for the robot of `q`.
   void goalInPlace(const Perception& q, const Eigen::Vector2d& g, std::optional<double> theta, Decision* d) const;
-  /// A grid path in the room as seen so far (RoomExplorer::pathTo).
-  std::optional<Path> pathTo(const Eigen::Vector2d& robot, const Eigen::Vector2d& goal) {
-    return explorer_.pathTo(robot, goal);
+  /// A grid path in the room as seen so far (RoomExplorer::pathTo); with `clear_of_scan`, kept clear
+  /// of the latest scan's returns too (what the grid lost of table and chair legs: planExit()).
+  std::optional<Path> pathTo(const Eigen::Vector2d& robot, const Eigen::Vector2d& goal, bool clear_of_scan = false) {
+    static const std::vector<Eigen::Vector2d> kNone;
+    return explorer_.pathTo(robot, goal, clear_of_scan ? scan_in_place_ : kNone);
   }
   /// The planner whose snapshot made the last pathTo() path.
   const GridPlanner& pathPlanner() const { return explorer_.pathPlanner(); }

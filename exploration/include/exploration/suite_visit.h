@@ -83,9 +83,10 @@ class SuiteVisit {
   int doorsGivenUp() const { return given_up_; }
 
   enum class Drive { Driving, There, Failed };
-  /// Along the path to the door's front (kFront from it, on the host's side), then facing the door.
-  /// Failed after the room visit's exit_time_limit of `elapsed`.
-  Drive driveToDoor(const RoomVisit& host, const Perception& q, double elapsed, Decision* d);
+  /// Along the path to the door's front (kFront from it, on the host's side), then facing the door;
+  /// the path planned again every replan_period of `elapsed` (s since the drive began), clear of
+  /// the latest scan's returns (RoomVisit::pathTo). Failed after the room visit's exit_time_limit.
+  Drive driveToDoor(RoomVisit& host, const Perception& q, double elapsed, Decision* d);
 
   /// What lies behind the door being visited, as peek() saw it.
   enum class Behind { Room, ConnectingRoom, Hallway };
@@ -159,6 +160,7 @@ class SuiteVisit {
   std::string space_;
   std::vector<DoorTrack> inner_doors_odom_;
   int given_up_ = 0;
+  double planned_at_ = 0.0;  // s, driveToDoor()'s elapsed when its path was planned
   int origins_kept_ = 0;  // keepOrigin() calls: the door ids given
   double peek_depth_ = 0.25;  // m, peekDepth()
   std::vector<std::pair<RoomExtent, double>> recent_rooms_;  // extents (odometry frame), travel when covered
