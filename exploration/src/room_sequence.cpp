@@ -102,7 +102,8 @@ RoomSequence::Outcome RoomSequence::coverRoom(const Perception& q, double travel
 void RoomSequence::exitHost() {
   host_.closeFurnitureGaps();
   host_.beginExit();
-  setStep(Step::ExitPath, now_, "leaving the room by its door");
+  const std::string unreached = suite_.takeUnreached();
+  setStep(Step::ExitPath, now_, (unreached.empty() ? "" : unreached + ": given up; ") + "leaving the room by its door");
 }
 
 bool RoomSequence::toNextInnerRoom(const Perception& q, const Places& places) {

@@ -36,6 +36,7 @@ void SuiteVisit::begin(const RoomVisit& host, double travel) {
   }
   inside_ = false;
   inner_doors_odom_.clear();
+  unreached_.clear();
 }
 
 bool SuiteVisit::nextDoor(RoomVisit& host, const Eigen::Vector2d& robot) {
@@ -54,6 +55,12 @@ bool SuiteVisit::nextDoor(RoomVisit& host, const Eigen::Vector2d& robot) {
   }
   if (best_index == todo_.size()) {
     given_up_ += int(todo_.size());
+    for (const RoomVisit::DoorInPlace& door : todo_) {
+      char text[128];
+      std::snprintf(text, sizeof(text), "%sno path to the front of the %.2f m inner door at (%.2f, %.2f) of the place",
+                    unreached_.empty() ? "" : "; ", door.width, door.centre.x(), door.centre.y());
+      unreached_ += text;
+    }
     todo_.clear();
     return false;
   }
@@ -79,9 +86,12 @@ SuiteVisit::Drive SuiteVisit::driveToDoor(RoomVisit& host, const Perception& q, 
   // a room), clear of the latest scan's returns: the host's grid loses thin obstacles (table and
   // chair legs, 2-5 cm: beams passing beside a leg mark its cell free), and a path between legs
   // leaves the robot turning to and fro before them. Where the scan leaves no way, the grid's.
+  // The path followed is kept while what is left of it is clear in the new plan's snapshot: two
+  // ways round a table about as long would swap as the scan changes, the robot turning between them.
   if (elapsed - planned_at_ >= params_.replan_period) {
     planned_at_ = elapsed;
-    if (std::optional<Path> path = host.pathTo(robot, front, true)) path_.set(std::move(path->waypoints));
+    std::optional<Path> path = host.pathTo(robot, front, true);
+    if (path && (path_.done() || !path_.restClear(robot, host.pathPlanner()))) path_.set(std::move(path->waypoints));
   }
   path_.advance(robot, host.pathPlanner());
   const double facing = normalizeAngle(door_.into + kPi);

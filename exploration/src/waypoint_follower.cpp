@@ -19,4 +19,12 @@ void WaypointFollower::advance(const Eigen::Vector2d& robot, const GridPlanner& 
   }
 }
 
+bool WaypointFollower::restClear(const Eigen::Vector2d& robot, const GridPlanner& planner) const {
+  if (done()) return true;
+  if (!planner.clearLine(robot, waypoints_[index_])) return false;
+  for (std::size_t i = index_; i + 1 < waypoints_.size(); ++i)
+    if (!planner.clearLine(waypoints_[i], waypoints_[i + 1])) return false;
+  return true;
+}
+
 }  // namespace exploration

@@ -544,6 +544,31 @@ TEST(WaypointFollower, AWaypointIsPassedNearItWhereTheWayOnIsClearAndOnItOtherwi
   EXPECT_TRUE(follower.done());
 }
 
+// What is left of a path is clear in a planner's snapshot only where no obstacle lies on the way
+// from the robot to the waypoint headed for and on; legs already driven do not count (SuiteVisit
+// keeps the path it follows while its rest stays clear of the scan's returns).
+TEST(WaypointFollower, TheRestOfAPathIsClearWhereNothingLiesOnItFromTheRobotOn) {
+  World world = room();
+  world.box(0.0, 0.0, 0.5, 0.5);
+  const OccupancyGrid grid = gridOf(world, GridBounds{-3.0, -3.0, 3.0, 3.0});
+  GridPlanner planner;
+  planner.setMap(grid);
+  const std::optional<Path> path = planner.plan(Vector2d(1.5, -1.5), Vector2d(-1.5, 1.5));
+  ASSERT_TRUE(path.has_value());
+  const std::vector<Vector2d>& w = path->waypoints;
+  ASSERT_GE(w.size(), 3u);
+  WaypointFollower follower;
+  follower.set(w);
+  follower.advance(w[0], planner);  // at the start: its waypoint passed, the first leg is driven
+  ASSERT_EQ(follower.index(), 1u);
+  EXPECT_TRUE(follower.restClear(w[0], planner));
+  const Vector2d on_first_leg = 0.5 * (w[0] + w[1]);
+  planner.addObstacles({on_first_leg + 0.2 * (w[1] - w[0]).normalized()});  // ahead on the first leg
+  EXPECT_FALSE(follower.restClear(w[0], planner));
+  follower.set(std::vector<Vector2d>(w.begin() + 1, w.end()));  // the first leg driven: behind
+  EXPECT_TRUE(follower.restClear(w[1], planner));
+}
+
 TEST(MotionController, DeadEndEndsBlocked) {
   // A corridor 1.6 m wide, closed ahead, open behind; the goal is behind its end wall.
   World w = room(8.0);

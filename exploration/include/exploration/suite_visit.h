@@ -81,6 +81,9 @@ class SuiteVisit {
   bool nextDoor(RoomVisit& host, const Eigen::Vector2d& robot);
   /// Inner doors given up since the start: no path to the front, or driveToDoor() or peek() Failed.
   int doorsGivenUp() const { return given_up_; }
+  /// The inner doors of the host since begin() that nextDoor() gave up for want of a path, as text
+  /// for the log (empty if none); taken (cleared) by takeUnreached().
+  std::string takeUnreached() { return std::exchange(unreached_, std::string()); }
 
   enum class Drive { Driving, There, Failed };
   /// Along the path to the door's front (kFront from it, on the host's side), then facing the door;
@@ -158,6 +161,7 @@ class SuiteVisit {
   int looks_ = 0, door_sightings_ = 0;  // peek(): scans taken past the door, those that saw a hallway door behind
   Behind behind_ = Behind::Room;
   std::string space_;
+  std::string unreached_;  // nextDoor(): the doors given up for want of a path (text)
   std::vector<DoorTrack> inner_doors_odom_;
   int given_up_ = 0;
   double planned_at_ = 0.0;  // s, driveToDoor()'s elapsed when its path was planned

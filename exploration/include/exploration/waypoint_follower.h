@@ -50,6 +50,9 @@ class WaypointFollower {
   bool beforeLast() const { return index_ + 1 < waypoints_.size(); }
   /// The waypoint to head for (not done()).
   const Eigen::Vector2d& current() const { return waypoints_[index_]; }
+  /// What is left of the path, from `robot` to the waypoint to head for and on, is clear in
+  /// `planner`'s snapshot (GridPlanner::clearLine leg by leg; true once done()).
+  bool restClear(const Eigen::Vector2d& robot, const GridPlanner& planner) const;
 
  private:
   std::vector<Eigen::Vector2d> waypoints_;
