@@ -454,3 +454,34 @@ TEST(SuiteVisit, AWayToAnInnerDoorIsPlannedAgainClearOfLegsTheGridLost) {
   }
   EXPECT_TRUE(there) << "the door's front reached round the table";
 }
+
+// A door of a room lies in the room's walls. The host's second hallway door, in its left wall, opens
+// onto a side hallway; across it a door into another room is seen through that door, twice, a wall
+// running on from both its edges. It lies 2 m beyond the host's wall, and no path from the host
+// reaches its front: no door of the host's. Generated building 25 (seed 25 at 1f137d4): such a
+// 1.62 m gap, 7.6 m from the entry door, was given up as the host's inner door "for want of a
+// path", and the run ended incomplete with every room mapped.
+TEST(SuiteVisit, ADoorSeenThroughAnotherDoorIsNoDoorOfTheRoom) {
+  exploration::test::SegmentWorld w;
+  wallWithGaps(&w, 0.0, -8.5, 6.0, {{-0.45, 0.45}});  // the hallway below the host, the entry door at x = 0
+  w.wall(-8.5, -2.0, 6.0, -2.0);
+  w.wall(6.0, -2.0, 6.0, 0.0);
+  w.wall(2.5, 0.0, 2.5, 5.0);                                   // the host's right wall
+  w.wall(-2.5, 5.0, 2.5, 5.0);                                  // its back wall
+  wallWithGaps(&w, -2.5, 0.0, 5.0, {{2.0, 2.9}}, true);        // its left wall: a door onto the side hallway
+  wallWithGaps(&w, -4.5, 0.0, 8.0, {{2.0, 2.9}}, true);        // across the side hallway: another room's door
+  w.wall(-2.5, 5.0, -2.5, 8.0);
+  w.wall(-4.5, 8.0, -2.5, 8.0);
+  w.wall(-8.5, 0.0, -8.5, 5.0);                                 // the room beyond
+  w.wall(-8.5, 5.0, -4.5, 5.0);
+  w.wall(-8.5, -2.0, -8.5, 0.0);
+  const RoomVisit host = coveredRoom(w, {{0.0, 1.0, 0.5 * kPi}, {0.0, 2.0, 0.5 * kPi}, {-1.0, 2.45, kPi},
+                                         {-1.2, 2.45, kPi}, {1.5, 2.5, 0.0}, {0.0, 4.0, 0.5 * kPi},
+                                         {-1.5, 4.2, kPi}, {1.0, 1.2, 0.0}});
+  bool side_door = false;
+  for (const RoomVisit::DoorInPlace& d : host.innerDoors()) {
+    EXPECT_GT(d.centre.x(), -3.0) << "a door across the side hallway at " << d.centre.transpose();
+    if (std::abs(d.centre.x() + 2.5) < 0.2) side_door = true;
+  }
+  EXPECT_TRUE(side_door) << "the host's own door onto the side hallway";
+}
