@@ -419,11 +419,6 @@ std::optional<RoomExtent> RoomExplorer::extent(const std::vector<std::uint8_t>& 
 
 std::optional<RoomExtent> RoomExplorer::extent() const { return extent(roomCells()); }
 
-bool RoomExplorer::withinExtent(const Eigen::Vector2d& p, double margin) const {
-  const std::optional<RoomExtent> room = extent();
-  return room && room->contains(p, -margin);
-}
-
 bool RoomExplorer::leadsOutOfRoom(const Eigen::Vector2d& centre, double into, double distance) const {
   const std::vector<std::uint8_t> cells = roomCells();
   const std::optional<RoomExtent> room = extent(cells);

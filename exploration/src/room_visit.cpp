@@ -210,13 +210,14 @@ std::vector<Pose2D> RoomVisit::otherDoorsInPlace() const {
 std::vector<RoomVisit::DoorInPlace> RoomVisit::innerDoors() const {
   const double min_depth = rules_.doorFromCorner();
   std::vector<DoorInPlace> doors;
+  const std::optional<RoomExtent> room = explorer_.extent();
   for (const SeenDoor& s : other_doors_) {
     if (s.in_wall < 2 || explorer_.depth(s.centre()) < min_depth) continue;
     // A door of the room lies in its walls, on the edge of its free area's box (within a robot
     // radius: the wall's half thickness and a cell). A gap seen through another opening (a door
     // across the hallway, through the room's second hallway door) is none of its doors: no path
     // from the room reaches its front.
-    if (!explorer_.withinExtent(s.centre(), explorer_.params().planner.robot_radius)) continue;
+    if (!room || !room->contains(s.centre(), -explorer_.params().planner.robot_radius)) continue;
     const double into = s.into();
     // A gap between furniture and a wall is no door: the space behind it is the room's.
     if (!explorer_.leadsOutOfRoom(s.centre(), into, kDoorPassage)) continue;

@@ -178,9 +178,6 @@ class RoomExplorer {
   bool leadsOutOfRoom(const Eigen::Vector2d& centre, double into, double distance) const;
   /// The box of freeArea()'s cells along the entry door's axes (pose frame); none without a room.
   std::optional<RoomExtent> extent() const;
-  /// `p` (pose frame) lies in extent(), or up to `margin` (m) outside it; false without a room.
-  /// O(cells).
-  bool withinExtent(const Eigen::Vector2d& p, double margin) const;
   /// Frontier goals issued since start() (the entering goal is not one).
   int goalsIssued() const { return goals_issued_; }
   /// Memory of the room's grid: one byte per cell.

@@ -34,8 +34,8 @@ namespace exploration {
 struct RoomVisitParams {
   double time_limit = 600.0;       // s, a room's exploration ends after this (then the robot leaves); a
                                    // mission's drive to its goal in the room fails after it
-  double replan_period = 0.5;      // s, the room's frontier goal (a mission's grid path) is chosen again
-                                   // at most this often
+  double replan_period = 0.5;      // s, the room's frontier goal (a mission's grid path, the path to an
+                                   // inner door) is chosen again at most this often
   double exit_time_limit = 120.0;  // s, leaving a room takes at most this (a third of it per step through the door)
   bool inner_rooms = true;         // -, after a room's coverage its inner doors (innerDoors()) are looked through and
                                    // the rooms behind them visited as rooms of their own (SuiteVisit), but for
