@@ -15,6 +15,7 @@ add_library(exploration_core
   ${EXPLORATION_CORE_DIR}/src/frontier_goal.cpp
   ${EXPLORATION_CORE_DIR}/src/room_explorer.cpp
   ${EXPLORATION_CORE_DIR}/src/hallway_view.cpp
+  ${EXPLORATION_CORE_DIR}/src/oblique_hallways.cpp
   ${EXPLORATION_CORE_DIR}/src/hallway_follower.cpp
   ${EXPLORATION_CORE_DIR}/src/topo_route.cpp
   ${EXPLORATION_CORE_DIR}/src/route_policy.cpp

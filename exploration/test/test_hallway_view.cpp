@@ -6,6 +6,7 @@
 
 #include "exploration/hallway_follower.h"
 #include "exploration/hallway_view.h"
+#include "exploration/oblique_hallways.h"
 #include "segment_world.h"
 
 using exploration::HallwayViewParams;

@@ -13,6 +13,7 @@
 #include "exploration/coordinator_io.h"
 #include "exploration/grid_planner.h"
 #include "exploration/hallway_view.h"
+#include "exploration/oblique_hallways.h"
 #include "laser_features/building_axes.h"
 #include "laser_features/building_rules.h"
 #include "laser_features/geometry.h"
