@@ -22,6 +22,7 @@ add_library(exploration_core
   ${EXPLORATION_CORE_DIR}/src/progress_watch.cpp
   ${EXPLORATION_CORE_DIR}/src/hallway_doors.cpp
   ${EXPLORATION_CORE_DIR}/src/door_entry.cpp
+  ${EXPLORATION_CORE_DIR}/src/hallway_door_stops.cpp
   ${EXPLORATION_CORE_DIR}/src/hallway_navigator.cpp
   ${EXPLORATION_CORE_DIR}/src/path_driver.cpp
   ${EXPLORATION_CORE_DIR}/src/waypoint_follower.cpp

@@ -8,8 +8,6 @@
 
 namespace exploration {
 
-using laser_features::Pose2D;
-using laser_features::inverse;
 using laser_features::kPi;
 using laser_features::normalizeAngle;
 using laser_features::transformPoint;
@@ -20,9 +18,8 @@ HallwayNavigator::HallwayNavigator(const HallwayFollowerParams& follow, const Ha
                                    double branch_record_distance)
     : branch_record_distance_(branch_record_distance),
       follower_(follow, view, rules, robot),
-      doors_(doors, rules),
-      door_entry_(doors, rules),
-      route_(route, rules) {}
+      route_(route, rules),
+      door_stops_(doors, rules, follower_, route_) {}
 
 bool HallwayNavigator::setOff(const Perception& p, const TopoView& topo, Decision* d) {
   const int along = follower_.startBin(p, topo);
@@ -54,15 +51,13 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
                    : "following the hallway until the belief is confident";
 
   recordWaysNotTaken(sure, at.travel, p.stamp, d);
-  // Driven on from the end (beyond the span of two doors from where it turned or came back out of
-  // a room): its doors are behind.
-  if (at.travel - end_travel_ > 2.0 * HallwayDoors::kSameDoorSpan) doors_left_at_end_.clear();
+  door_stops_.forgetEndPassed(at.travel);
   // The door beside the end just turned at first: the route's view of the graph does not have it
   // yet (it is no opening of any node until entered), so the route would end the exploration or
   // turn the robot away from it.
-  if (enterDoorAfterTurn(p, topo, at, &step, d)) return step;
+  if (door_stops_.enterAfterTurn(p, topo, at, &step, d)) return step;
   if (localized && sure && followRoute(p, topo, at, &step, d)) return step;
-  if (enterPassedDoor(p, topo, dir_robot, v, at, &step, d)) return step;
+  if (door_stops_.enterPassed(p, topo, dir_robot, v, at, &step, d)) return step;
   if (turnIntoRouteBranch(p, topo, sure, dir_robot, v, at, &step, d)) return step;
   if (intoWayAtAngle(p, blocked, d)) {
     step.text = "into the hallway at an angle";
@@ -75,29 +70,17 @@ HallwayStep HallwayNavigator::follow(const Perception& p, const TopoView& topo, 
 
   const std::optional<double> lane = follower_.laneAround(p, dir_robot, v, blocked);
   if (lane) step.text = "passing an obstacle in the hallway";
-  if (follower_.atEnd(v) && !lane && !blocked && enterEndWallDoor(p, topo, dir_robot, v, at, &step, d)) return step;
+  if (follower_.atEnd(v) && !lane && !blocked && door_stops_.enterInEndWall(p, topo, dir_robot, v, at, &step, d))
+    return step;
   if ((follower_.atEnd(v) && !lane) || blocked) {
-    // A door in a side wall between the robot and the end wall is never passed: the robot turns
-    // here (the outer wall of an L corner, a dead end's side walls next to its end). It is entered
-    // once turned, when the map builder has the turn's node to record it at, as a door passed
-    // would be.
-    HallwayDoors doors_at_end = doors_;  // the turn forgets the doors tracked
+    // The doors beside the end are entered once turned (HallwayDoorStops::rememberAtEnd).
+    HallwayDoors doors_at_end = door_stops_.tracked();  // the turn forgets the doors tracked
     const int back = follower_.headingBins().wrap(follower_.bin() + follower_.headingBins().bins / 2);
     std::vector<WayLine> at_angle;
     turnAtEnd(p, topo, v, at, &step, &at_angle);
-    const std::array<bool, 2> closed{{!v.end_open_left, !v.end_open_right}};
-    DoorTrack beside;
     if (!blocked) {  // a mission's door too (mayEnter takes its own only)
-      if (doors_at_end.besideEnd(p.odom, dir_robot, walls_, v.free_ahead, closed, turn_bin_ == back, &beside) &&
-          !inMouthOfWay(beside, at_angle))
-        door_after_turn_ = beside;
-      // Every other door there, abeam ones included: one passed on the way back is entered only
-      // while the stretch is new, and a room visit from the end can outlast that.
-      while (doors_at_end.besideEnd(p.odom, dir_robot, walls_, v.free_ahead, closed, false, &beside)) {
-        if (!inMouthOfWay(beside, at_angle)) doors_left_at_end_.push_back(beside);
-      }
-      door_after_turn_mode_ = topo.mode;
-      end_travel_ = at.travel;
+      door_stops_.rememberAtEnd(std::move(doors_at_end), p, dir_robot, v, turn_bin_ == back, at_angle, topo.mode,
+                                at.travel);
     }
     if (blocked) step.text = "motion blocked: " + step.text;
     turnGoal(p, d);
@@ -186,117 +169,6 @@ bool HallwayNavigator::actOnRoute(const RouteAction& action, const Perception& p
   return true;
 }
 
-bool HallwayNavigator::enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v,
-                                       const HallwayContext& at, HallwayStep* step, Decision* d) {
-  // Doors: entered once passed, if new (frontier) or known and unexplored, and the belief is sure.
-  walls_ = doors_.track(p.odom, p.openings, dir_robot, v, at.travel);
-  DoorTrack door;
-  return doors_.passed(p.odom, dir_robot, walls_, &door) &&
-         stopAtDoor(door, "stopping at a door to enter the room", p, topo, at, step, d);
-}
-
-bool HallwayNavigator::enterDoorAfterTurn(const Perception& p, const TopoView& topo, const HallwayContext& at,
-                                          HallwayStep* step, Decision* d) {
-  if (!door_after_turn_) return false;  // most ticks: no copy of the belief's view
-  // A door beside the end of a new stretch is new, as a door passed on it would be: the turn there
-  // puts the robot on the stretch just made (the belief localized on its end node), where no
-  // opening of the node has the door yet.
-  TopoView at_end = topo;
-  at_end.mode = door_after_turn_mode_;
-  while (door_after_turn_) {
-    const DoorTrack door = *door_after_turn_;
-    door_after_turn_.reset();
-    if (stopAtDoor(door, "stopping at a door beside the hallway's end turned at, to enter the room", p, at_end, at,
-                   step, d)) {
-      entering_.beside_end = entering_.node < 0;
-      return true;
-    }
-    // The next door there (one refused is the room just left, or one entered on the way back).
-    nextDoorAtEnd();
-  }
-  return false;
-}
-
-bool HallwayNavigator::stopAtDoor(const DoorTrack& door, const char* what, const Perception& p, const TopoView& topo,
-                                  const HallwayContext& at, HallwayStep* step, Decision* d) {
-  const bool just_left = door_entry_.justLeft(door, at.travel);
-  const std::optional<EntryOpening> entry = just_left ? std::nullopt : mayEnter(topo, at, door);
-  if (!entry) {
-    if (just_left) step->text = "door passed: the one just left";
-    ++stats_.doors_passed;
-    return false;
-  }
-  if (!at.mission_door) {
-    // A door that would be entered but is a door of a room mapped already (the room just left, or
-    // any other) is an explored way into that room: recorded so at the opening it would have been
-    // entered as, linked to the room's place and stored in it (a room with two doors is one place,
-    // reachable by either), not entered as a new room.
-    const std::optional<MappedRoomDoor> mapped = door_entry_.mappedRoomOf(door, topo.map_from_odom);
-    if (mapped || door_entry_.otherDoorOfRoomLeft(door, at.travel)) {
-      Request rec;
-      rec.kind = Request::RecordOpening;
-      rec.node = entry->node;
-      rec.bearing = entry->bearing;
-      rec.width = door.width;
-      rec.explored = true;
-      rec.beside_robot = entry->node < 0;
-      if (mapped) {
-        rec.place_id = mapped->place_id;
-        rec.pose = mapped->door_in_place;
-        rec.store_in_place = true;
-        ++stats_.mapped_room_doors;
-      }
-      d->requests.push_back(rec);
-      step->text = mapped ? "door passed: a door of the room of place " + std::to_string(mapped->place_id) +
-                                ", mapped already"
-                          : "door passed: another door of the room just left";
-      ++stats_.doors_passed;
-      return false;
-    }
-  }
-  entering_ = *entry;
-  door_ = door;
-  // Where the door was taken to be (the log tells a door tracked wrongly from a real one).
-  const Eigen::Vector2d rel = transformPoint(inverse(p.odom), door.centre_odom);  // robot frame
-  char where[128];
-  char wall[40] = "no wall known";
-  if (door.wall_lateral >= 0.0) std::snprintf(wall, sizeof(wall), "its wall %.2f m aside", door.wall_lateral);
-  std::snprintf(where, sizeof(where), " (%.2f m wide, %d sightings, at %.2f m ahead, %.2f m left, %s)", door.width,
-                door.sightings, rel.x(), rel.y(), wall);
-  step->kind = HallwayStep::StopForDoor;
-  step->text = what + std::string(where);
-  d->stop = true;
-  return true;
-}
-
-bool HallwayNavigator::enterEndWallDoor(const Perception& p, const TopoView& topo, double dir_robot,
-                                        const HallwayView& v, const HallwayContext& at, HallwayStep* step,
-                                        Decision* d) {
-  // A room at a hallway's end has its door in the end wall: no door passes beside the robot there.
-  // At a dead end (a side open is a way on, and a door in the far wall of a crossing is passed on
-  // it) the door ahead is entered as a door passed would be, unless the robot came out of it. A
-  // mission's door may be that door (mayEnter takes its own only); the rooms mapped are what a
-  // mission goes to.
-  if (v.end_open_left || v.end_open_right) return false;
-  const std::optional<DoorTrack> door = doors_.inEndWall(p.odom, p.openings, dir_robot, v);
-  if (!door || door_entry_.justLeft(*door, at.travel)) return false;
-  if (!at.mission_door &&
-      (door_entry_.otherDoorOfRoomLeft(*door, at.travel) || door_entry_.mappedRoomOf(*door, topo.map_from_odom)))
-    return false;
-  const std::optional<EntryOpening> entry = mayEnter(topo, at, *door);
-  if (!entry) return false;
-  entering_ = *entry;
-  door_ = *door;
-  const Eigen::Vector2d rel = transformPoint(inverse(p.odom), door->centre_odom);
-  char text[160];
-  std::snprintf(text, sizeof(text), "stopping at a door in the hallway's end wall to enter the room (%.2f m wide, %.2f m ahead, %.2f m left)",
-                door->width, rel.x(), rel.y());
-  step->kind = HallwayStep::StopForDoor;
-  step->text = text;
-  d->stop = true;
-  return true;
-}
-
 bool HallwayNavigator::turnIntoRouteBranch(const Perception& p, const TopoView& topo, bool sure, double dir_robot,
                                            const HallwayView& v, const HallwayContext& at, HallwayStep* step,
                                            Decision* d) {
@@ -308,17 +180,9 @@ bool HallwayNavigator::turnIntoRouteBranch(const Perception& p, const TopoView& 
   const bool left = route_bin == (bin + n / 4) % n, right = route_bin == (bin + 3 * n / 4) % n;
   const bool side_open = (left && v.open_left) || (right && v.open_right);
   const std::optional<DoorTrack> door_abeam =
-      side_open ? doors_.abeam(p.odom, dir_robot, left ? 1.0 : -1.0) : std::nullopt;
+      side_open ? door_stops_.abeam(p.odom, dir_robot, left ? 1.0 : -1.0) : std::nullopt;
   const RouteContext route_at{at.graph, topo, at.travel, at.mission_door != nullptr};
   return actOnRoute(route_.atBranch(route_at, step->route, side_open, door_abeam), p, topo, step, d);
-}
-
-bool HallwayNavigator::inMouthOfWay(const DoorTrack& door, const std::vector<WayLine>& at_angle) const {
-  return std::any_of(at_angle.begin(), at_angle.end(), [&](const WayLine& way) {
-    const Eigen::Vector2d u(std::cos(way.heading), std::sin(way.heading)), n(-u.y(), u.x());
-    const Eigen::Vector2d c = door.centre_odom - way.origin;
-    return c.dot(u) >= 0.0 && std::abs(c.dot(n)) <= 0.5 * door.width + follower_.rules().width_tolerance;
-  });
 }
 
 void HallwayNavigator::turnAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v,
@@ -442,8 +306,7 @@ bool HallwayNavigator::intoWayAtAngle(const Perception& p, bool blocked, Decisio
 
 void HallwayNavigator::beginTurn(int bin, const TopoView& topo, std::vector<int> not_taken) {
   way_line_.reset();
-  door_after_turn_.reset();
-  doors_left_at_end_.clear();
+  door_stops_.turned();  // the doors and walls seen so far belong to the hallway being left
   // Turns keep the hallway's offset from the axes: a wing's crossings and U-turns are square to it.
   turn_bin_ = follower_.headingBins().wrap(bin);
   turn_odom_heading_ = normalizeAngle(follower_.odomHeadingAtOffset(turn_bin_, topo));
@@ -458,7 +321,6 @@ void HallwayNavigator::beginTurn(int bin, const TopoView& topo, std::vector<int>
   pending.insert(pending.end(), not_taken.begin(), not_taken.end());
   pending_branches_ = std::move(pending);
   pending_branch_travel_ = -1.0;
-  doors_.clear();  // the doors and walls seen so far belong to the hallway being left
 }
 
 void HallwayNavigator::turnGoal(const Perception& p, Decision* d) const {
@@ -481,63 +343,13 @@ bool HallwayNavigator::turn(const Perception& p, bool motion_reached, bool motio
   return true;
 }
 
-std::optional<EntryOpening> HallwayNavigator::enterAfterStop(const TopoView& topo, const HallwayContext& at,
-                                                             std::string* why_passed) {
-  if (entering_.node < 0 && !entering_.beside_end && topo.mode != TopoMode::Frontier) {
-    // Stopped for a door on a new stretch, and pomdp_topo has since made its node and taken it
-    // for a known one: a loop hypothesis (the check merges the node, the door explored, or
-    // rejects it, its opening unexplored and come back to), or a loop closed in the same scan
-    // (explore_restart: room_east mapped twice). Entered only as a known unexplored door
-    // (mayEnter); else on along the hallway. Not a door beside the end of a new stretch: the turn
-    // there localizes the belief on the end's node, whose door it is (enterDoorAfterTurn).
-    const std::optional<EntryOpening> known = mayEnter(topo, at, door_);
-    if (!known) {
-      ++stats_.doors_passed;
-      *why_passed = topo.mode == TopoMode::LoopCheck ? "door passed: pomdp_topo checks whether it is a known one"
-                                              : "door passed: it is a known one (pomdp_topo closed a loop at it)";
-      return std::nullopt;
-    }
-    entering_ = *known;
-  }
-  if (entering_.node < 0 &&
-      door_entry_.exploredAtFrontierNode(topo, at.graph, door_, follower_.topoBearing(door_.into_odom, topo), at.travel)) {
-    // On a new stretch pomdp_topo took the door for one its current node has, explored: a door
-    // recorded at a junction a metre off its centre, seen again from it (large_floor: room_7_14,
-    // entered from the junction at a T, entered again from a stretch leaving it 5,600 s later).
-    ++stats_.doors_passed;
-    *why_passed = "door passed: the node's explored one";
-    return std::nullopt;
-  }
-  return entering_;
-}
-
-void HallwayNavigator::roomMapped(int place_id, const Pose2D& origin_map, const std::vector<Pose2D>& doors_in_place) {
-  door_entry_.roomMapped(place_id, origin_map, doors_in_place);
-}
-
-void HallwayNavigator::nextDoorAtEnd() {
-  if (doors_left_at_end_.empty()) return;
-  door_after_turn_ = doors_left_at_end_.front();
-  doors_left_at_end_.erase(doors_left_at_end_.begin());
-}
-
 void HallwayNavigator::backFromRoom(const HallwayDirection& direction, const DoorTrack& door_left,
                                     const std::vector<DoorTrack>& other_doors, double travel) {
   way_line_.reset();
-  door_after_turn_.reset();
-  end_travel_ = travel;
-  nextDoorAtEnd();
+  door_stops_.backFromRoom(door_left, other_doors, travel);
   follower_.setDirection(direction);
   follower_.forgetGoal();
-  door_entry_.leftBy(door_left, other_doors, travel);
-  doors_.roomVisited();
   route_.backOnHallway(travel);
-}
-
-std::optional<EntryOpening> HallwayNavigator::mayEnter(const TopoView& topo, const HallwayContext& at,
-                                                       const DoorTrack& door) const {
-  return door_entry_.mayEnter(topo, at.graph, door, follower_.topoBearing(door.into_odom, topo),
-                              beliefTrusted(topo, at.travel), at.mission_door);
 }
 
 }  // namespace exploration

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -109,10 +110,12 @@ TopoView belief(TopoMode mode) {
   return v;
 }
 
-HallwayNavigator navigator() {
+// The navigator is not copyable (its door stops read its follower and route): held by pointer.
+std::unique_ptr<HallwayNavigator> navigator() {
   const exploration::CoordinatorParams p;
-  HallwayNavigator nav(p.follow, p.hallway, p.rules, p.room.planner, p.doors, p.route, p.branch_record_distance);
-  nav.setHeadingBins({0.0, 4});
+  auto nav = std::make_unique<HallwayNavigator>(p.follow, p.hallway, p.rules, p.room.planner, p.doors, p.route,
+                                                p.branch_record_distance);
+  nav->setHeadingBins({0.0, 4});
   return nav;
 }
 
@@ -186,7 +189,8 @@ double turnRoundAtTheEnd(HallwayNavigator* nav, const World& w, Pose2D* robot) {
 // unexplored opening; it keeps to the hallway's mid-line; across the hallway it turns first.
 TEST(HallwayNavigator, SetsOffAlongTheHallwayAndFollowsItsMidLine) {
   const Hallway h(false);
-  HallwayNavigator nav = navigator();
+  const auto nav_owner = navigator();
+  HallwayNavigator& nav = *nav_owner;
   Pose2D robot{0.0, 0.3, 0.1};
   nav.faceRobotsBin(h.perceive(robot, 0.0), belief(TopoMode::Frontier));
   Decision start;
@@ -205,7 +209,8 @@ TEST(HallwayNavigator, SetsOffAlongTheHallwayAndFollowsItsMidLine) {
   EXPECT_EQ(followUntilChange(&nav, h, &robot, 1, TopoMode::LoopCheck).step.text,
             "following the hallway until the belief is confident");
 
-  HallwayNavigator across = navigator();
+  const auto across_owner = navigator();
+  HallwayNavigator& across = *across_owner;
   Pose2D facing_wall{0.0, 0.0, 0.5 * kPi};
   across.faceRobotsBin(h.perceive(facing_wall, 0.0), belief(TopoMode::Frontier));
   Decision turn;
@@ -231,7 +236,8 @@ TEST(HallwayNavigator, TheWaysAtTheStartAreTheOpeningsOfTheStartNode) {
   crossing.wall(-1.0, -10.0, 1.0, -10.0);
   // The bearings of the openings recorded, sorted (pi for -pi).
   const auto recorded = [](const Hallway& h, const Pose2D& robot, bool* turns) {
-    HallwayNavigator nav = navigator();
+    const auto nav_owner = navigator();
+    HallwayNavigator& nav = *nav_owner;
     nav.faceRobotsBin(h.perceive(robot, 0.0), belief(TopoMode::Frontier));
     Decision d;
     *turns = nav.setOff(h.perceive(robot, 0.0), belief(TopoMode::Frontier), &d);
@@ -262,7 +268,8 @@ TEST(HallwayNavigator, TheWaysAtTheStartAreTheOpeningsOfTheStartNode) {
 // At the dead end the robot turns round on the spot, and then follows the hallway back.
 TEST(HallwayNavigator, TurnsRoundAtADeadEndAndFollowsTheHallwayBack) {
   const Hallway h(false);
-  HallwayNavigator nav = navigator();
+  const auto nav_owner = navigator();
+  HallwayNavigator& nav = *nav_owner;
   Pose2D robot{14.0, 0.0, 0.0};
   const Followed run = followUntilChange(&nav, h, &robot, 400);
   ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
@@ -298,7 +305,8 @@ TEST(HallwayNavigator, TurnedRoundIntoAClosedWayItTurnsToTheFreerSide) {
   pocket.wall(2.6, -0.8, 2.6, 0.8);
   pocket.wall(2.6, 0.8, 0.0, 0.8);
   pocket.wall(0.0, 0.8, 0.0, -0.8);
-  HallwayNavigator nav = navigator();
+  const auto nav_owner = navigator();
+  HallwayNavigator& nav = *nav_owner;
   Pose2D robot{0.8, 0.0, 0.5 * kPi};
   nav.faceRobotsBin(pocket.perceive(robot, 0.0), belief(TopoMode::Frontier));
   const Followed first = followUntilChange(&nav, pocket, &robot, 5);
@@ -318,7 +326,8 @@ TEST(HallwayNavigator, TurnedRoundIntoAClosedWayItTurnsToTheFreerSide) {
 // checks whether the door's node is a known one, it is passed.
 TEST(HallwayNavigator, StopsForADoorPassedOnANewStretch) {
   const Hallway h(true);
-  HallwayNavigator nav = navigator();
+  const auto nav_owner = navigator();
+  HallwayNavigator& nav = *nav_owner;
   Pose2D robot{0.0, 0.0, 0.0};
   const Followed run = followUntilChange(&nav, h, &robot, 400);
   ASSERT_EQ(run.step.kind, HallwayStep::StopForDoor) << run.step.text;
@@ -346,7 +355,8 @@ TEST(HallwayNavigator, StopsForADoorPassedOnANewStretch) {
 // forgotten with the hallway left.
 TEST(HallwayNavigator, ADoorBesideTheHallwaysEndIsEnteredOnceTurned) {
   const Hallway h(true, 19.2);  // the door's centre 0.8 m from the end wall: ahead where the robot turns
-  HallwayNavigator nav = navigator();
+  const auto nav_owner = navigator();
+  HallwayNavigator& nav = *nav_owner;
   Pose2D robot;
   const double travel = turnRoundAtTheEnd(&nav, h, &robot);
   ASSERT_GE(travel, 0.0);
@@ -368,7 +378,8 @@ TEST(HallwayNavigator, ADoorBesideTheHallwaysEndIsEnteredOnceTurned) {
 // entered there as any door, not taken at the end (which would change nothing but the moment).
 TEST(HallwayNavigator, TurningRoundADoorAbeamIsPassedOnTheWayBack) {
   const Hallway h(true, 18.85);  // the robot turns round at x = 18.7: the door 0.15 m ahead
-  HallwayNavigator nav = navigator();
+  const auto nav_owner = navigator();
+  HallwayNavigator& nav = *nav_owner;
   Pose2D robot;
   ASSERT_GE(turnRoundAtTheEnd(&nav, h, &robot), 0.0);
   const double x_turned = robot.x;
@@ -392,7 +403,8 @@ TEST(HallwayNavigator, ADoorInACornersOuterWallIsEnteredOnceTurned) {
   corner.wall(10.0, 5.0, 10.0, -12.0);
   corner.wall(-10.0, -1.0, 8.0, -1.0);
   corner.wall(8.0, -1.0, 8.0, -12.0);
-  HallwayNavigator nav = navigator();
+  const auto nav_owner = navigator();
+  HallwayNavigator& nav = *nav_owner;
   Pose2D robot{2.0, 0.0, 0.0};
   const Followed run = followUntilChange(&nav, corner, &robot, 400);
   ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
@@ -447,7 +459,8 @@ struct DeadEndWithTwoDoors : exploration::test::SegmentWorld {
 // door just left is not offered again.
 TEST(HallwayNavigator, EveryDoorBesideADeadEndIsEnteredFromItAsANewDoor) {
   const DeadEndWithTwoDoors end(19.2, 18.85);
-  HallwayNavigator nav = navigator();
+  const auto nav_owner = navigator();
+  HallwayNavigator& nav = *nav_owner;
   Pose2D robot;
   const double travel = turnRoundAtTheEnd(&nav, end, &robot);
   ASSERT_GE(travel, 0.0);
@@ -487,12 +500,14 @@ TEST(HallwayNavigator, SaysWhenNoOpeningIsLeftAndWhenAMissionsDoorHasNoRoute) {
   on_edge.position.offset = 2.0;
   const Pose2D robot{2.0, 0.0, 0.0};
 
-  HallwayNavigator exploring = navigator();
+  const auto exploring_owner = navigator();
+  HallwayNavigator& exploring = *exploring_owner;
   Decision d;
   EXPECT_EQ(exploring.follow(h.perceive(robot, 0.0), on_edge, false, HallwayContext{g, 0.0, nullptr}, &d).kind,
             HallwayStep::Complete);
 
-  HallwayNavigator mission = navigator();
+  const auto mission_owner = navigator();
+  HallwayNavigator& mission = *mission_owner;
   const PlaceDoor door = *g.placeDoor(3);
   const HallwayStep step = mission.follow(h.perceive(robot, 0.0), on_edge, false, HallwayContext{g, 0.0, &door}, &d);
   EXPECT_EQ(step.kind, HallwayStep::NoRoute);
@@ -510,7 +525,8 @@ TEST(HallwayNavigator, AMissionsDoorBesideADeadEndIsEnteredFromTheEnd) {
   g.addNode(GraphNode{1, 0, 18.7, 0.0, {GraphOpening{0.5 * kPi, 0.9, true, 3, {0.0, 0.0, 0.0}}}});
   g.addEdge(GraphEdge{0, 0, 1, 0.0, 18.7});
   const PlaceDoor door = *g.placeDoor(3);
-  HallwayNavigator nav = navigator();
+  const auto nav_owner = navigator();
+  HallwayNavigator& nav = *nav_owner;
   Pose2D robot{12.0, 0.0, 0.0};
   double travel = 0.0;
   bool turned_round = false;
@@ -596,7 +612,8 @@ struct WingMouthSeen {
 TEST(HallwayNavigator, AWingsMouthBesideTheEndIsNoDoorToEnter) {
   for (const double angle : {0.6, 0.7, 0.8}) {
     const WingMouthSeen w{cornerWithWing(angle), angle};
-    HallwayNavigator nav = navigator();
+    const auto nav_owner = navigator();
+    HallwayNavigator& nav = *nav_owner;
     Pose2D robot{0.0, 0.0, 0.0};
     const Followed run = followUntilChange(&nav, w, &robot, 400);
     ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
@@ -613,7 +630,8 @@ TEST(HallwayNavigator, AWingsMouthBesideTheEndIsNoDoorToEnter) {
 TEST(HallwayNavigator, AWingNotTakenAtAHallwaysEndIsAnUnexploredOpening) {
   for (const double angle : {0.6, 0.7, 0.8}) {  // 34-46 deg: the left side stays closed
     const Hallway h = cornerWithWing(angle);
-    HallwayNavigator nav = navigator();
+    const auto nav_owner = navigator();
+    HallwayNavigator& nav = *nav_owner;
     Pose2D robot{0.0, 0.0, 0.0};
     Followed run = followUntilChange(&nav, h, &robot, 400);
     ASSERT_EQ(run.step.kind, HallwayStep::Turning) << run.step.text;
@@ -654,7 +672,8 @@ TEST(HallwayNavigator, AWayNotTakenIsRecordedThoughTheRobotTurnsAgainAtOnce) {
   t.wall(-10.0, -1.8, 20.0, -1.8);
   t.wall(20.0, -1.8, 20.0, -12.0);
   t.wall(20.0, -12.0, 22.0, -12.0);
-  HallwayNavigator nav = navigator();
+  const auto nav_owner = navigator();
+  HallwayNavigator& nav = *nav_owner;
   Pose2D robot{14.0, 0.0, 0.0};
   const TopoGraph none;
   double travel = 0.0;

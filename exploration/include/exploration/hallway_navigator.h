@@ -1,6 +1,6 @@
 // Navigating the hallways (Tomatis, Nourbakhsh & Siegwart 2001, section 3.1), the TOPOLOGICAL mode:
-// each tick of following a hallway's mid-line (HallwayFollower), the doors passed (HallwayDoors)
-// and whether one is entered (DoorEntry), the route on the known map (RoutePolicy), and the turns:
+// each tick of following a hallway's mid-line (HallwayFollower), the doors it stops at to enter
+// (HallwayDoorStops), the route on the known map (RoutePolicy), and the turns:
 // at a hallway's end into an open way (left first, or the route's), the ways not taken recorded as
 // unexplored openings of the node once the map builder has made it, a U-turn at a dead end; a turn
 // round or into a branch for the route.
@@ -16,6 +16,7 @@
 #include "exploration/coordinator_io.h"
 #include "exploration/door_entry.h"
 #include "exploration/grid_planner.h"
+#include "exploration/hallway_door_stops.h"
 #include "exploration/hallway_doors.h"
 #include "exploration/hallway_follower.h"
 #include "exploration/hallway_view.h"
@@ -29,28 +30,6 @@
 #include <vector>
 
 namespace exploration {
-
-/// The map and the robot on it this tick, as the hallway's navigation sees them.
-struct HallwayContext {
-  const TopoGraph& graph;         // the topological map as last published
-  double travel;                  // m, odometric
-  const PlaceDoor* mission_door;  // the running mission's door; none while exploring
-};
-
-/// What a tick of following the hallway came to (HallwayNavigator::follow()).
-struct HallwayStep {
-  enum Kind {
-    Following,    // on along the hallway (its goal set; none the tick an opening is given up)
-    Turning,      // a turn on the spot begins (its goal set): turn() until it is done
-    StopForDoor,  // a door passed is entered (door()): the robot stops
-    Complete,     // on the known map no unexplored opening is left, none set aside (no mission runs)
-    NoRoute,      // the mission's door has no route on the topological map
-    MissedDoor,   // the mission's door was not found after max_route_attempts turns towards it
-  };
-  Kind kind = Following;
-  std::string text;  // the state text (Following, Turning, StopForDoor)
-  RouteStep route;   // the route planned this tick on the known map (found: false if none was)
-};
 
 /// The counts of the hallway's navigation (in CoordinatorStats).
 struct HallwayStats {
@@ -67,19 +46,24 @@ class HallwayNavigator {
                    const HallwayDoorParams& doors, const RoutePolicyParams& route, double branch_record_distance);
   /// The hallway view's parameters with their derived sizes.
   const HallwayViewParams& viewParams() const { return follower_.viewParams(); }
-  const HallwayStats& stats() const { return stats_; }
+  HallwayStats stats() const {
+    HallwayStats s = stats_;
+    s.doors_passed = door_stops_.doorsPassed();
+    s.mapped_room_doors = door_stops_.mappedRoomDoors();
+    return s;
+  }
   const RouteStats& routeStats() const { return route_.stats(); }
 
   /// The building's axes (pomdp_topo's building_axes): the discrete headings of the hallways.
   void setHeadingBins(const laser_features::HeadingBins& bins) {
     follower_.setHeadingBins(bins);
-    door_entry_.setHeadingBins(bins);
+    door_stops_.setHeadingBins(bins);
     route_.setHeadingBins(bins);
   }
   const laser_features::HeadingBins& headingBins() const { return follower_.headingBins(); }
 
   /// Each tick, whatever the state: the node pomdp_topo's frontier stands at, and the travel (m).
-  void observe(const TopoView& topo, double travel) { door_entry_.observe(topo, travel); }
+  void observe(const TopoView& topo, double travel) { door_stops_.observe(topo, travel); }
   /// The coordinator's state changed: the stall window and the lane past an obstacle start again.
   void restart() { follower_.restart(); }
 
@@ -96,10 +80,12 @@ class HallwayNavigator {
   bool turn(const Perception& p, bool motion_reached, bool motion_blocked, double travel, Decision* d);
 
   /// The door the robot last stopped at (HallwayStep::StopForDoor), as tracked.
-  const DoorTrack& door() const { return door_; }
+  const DoorTrack& door() const { return door_stops_.door(); }
   /// Stopped at door(): the opening it is entered as; none when pomdp_topo has since taken it for
   /// a known one or for its node's explored one (it is passed, `why_passed` says so).
-  std::optional<EntryOpening> enterAfterStop(const TopoView& topo, const HallwayContext& at, std::string* why_passed);
+  std::optional<EntryOpening> enterAfterStop(const TopoView& topo, const HallwayContext& at, std::string* why_passed) {
+    return door_stops_.enterAfterStop(topo, at, why_passed);
+  }
 
   /// The direction followed; the heading (odometry frame) of a direction's hallway.
   const HallwayDirection& direction() const { return follower_.direction(); }
@@ -114,7 +100,9 @@ class HallwayNavigator {
   /// The room of place `place_id` is mapped (DoorEntry::roomMapped): none of its doors is entered
   /// again from a hallway.
   void roomMapped(int place_id, const laser_features::Pose2D& origin_map,
-                  const std::vector<laser_features::Pose2D>& doors_in_place);
+                  const std::vector<laser_features::Pose2D>& doors_in_place) {
+    door_stops_.roomMapped(place_id, origin_map, doors_in_place);
+  }
   /// The next goal is a new one (the robot leaves the hallway's mid-line for a while).
   void forgetGoal() { follower_.forgetGoal(); }
   /// A mission sets off along the hallway at `travel` (m): a new goal, and the route may turn the
@@ -134,30 +122,12 @@ class HallwayNavigator {
   bool followRoute(const Perception& p, const TopoView& topo, const HallwayContext& at, HallwayStep* step, Decision* d);
   /// Carries out what the route asks (a turn, an opening given up, a mission's door missed).
   bool actOnRoute(const RouteAction& action, const Perception& p, const TopoView& topo, HallwayStep* step, Decision* d);
-  bool enterPassedDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v,
-                       const HallwayContext& at, HallwayStep* step, Decision* d);
-  /// The door beside the hallway's end (HallwayDoors::besideEnd) the robot turned at, once turned.
-  bool enterDoorAfterTurn(const Perception& p, const TopoView& topo, const HallwayContext& at, HallwayStep* step,
-                          Decision* d);
-  /// A door passed or beside the end: stops to enter it (true) unless it is the door just left,
-  /// another door of the room just left (recorded explored) or not to be entered (DoorEntry).
-  /// `what` begins the state's text.
-  bool stopAtDoor(const DoorTrack& door, const char* what, const Perception& p, const TopoView& topo,
-                  const HallwayContext& at, HallwayStep* step, Decision* d);
-  /// At a dead end (no side open), a door in the end wall is entered as a door passed would be.
-  bool enterEndWallDoor(const Perception& p, const TopoView& topo, double dir_robot, const HallwayView& v,
-                        const HallwayContext& at, HallwayStep* step, Decision* d);
   bool turnIntoRouteBranch(const Perception& p, const TopoView& topo, bool sure, double dir_robot, const HallwayView& v,
                            const HallwayContext& at, HallwayStep* step, Decision* d);
-  struct WayLine;
   /// The turn at a hallway's end (or where the robot is blocked): into an open way, else a U-turn.
   /// `at_angle`: the hallways at an angle found leaving the end (odometry frame).
   void turnAtEnd(const Perception& p, const TopoView& topo, const HallwayView& v, const HallwayContext& at,
                  HallwayStep* step, std::vector<WayLine>* at_angle);
-  /// `door` lies in the mouth of one of the hallways at an angle `at_angle`: within half its width
-  /// (and a measured edge's error) of the way's line, not behind the way's origin. A wing's mouth is
-  /// as wide as a double door and has free space behind it as a room does.
-  bool inMouthOfWay(const DoorTrack& door, const std::vector<WayLine>& at_angle) const;
   /// The hallway followed opened into an open area (HallwayFollower::intoOpenArea): a turn along its
   /// wall begins, unless a route leads across it (then false).
   bool turnInOpenArea(const TopoView& topo, const HallwayContext& at, HallwayStep* step);
@@ -168,27 +138,14 @@ class HallwayNavigator {
   bool intoWayAtAngle(const Perception& p, bool blocked, Decision* d);
   /// The goal of a turn on the spot: where the robot is now, with the turn's heading.
   void turnGoal(const Perception& p, Decision* d) const;
-  /// The next door left at the end turned at last becomes the door to enter after the turn.
-  void nextDoorAtEnd();
-  /// The opening `door` is entered as, if it is (DoorEntry::mayEnter, from the belief now).
-  std::optional<EntryOpening> mayEnter(const TopoView& topo, const HallwayContext& at, const DoorTrack& door) const;
   /// The belief is localized and confident, and not on hold after a jump.
   bool beliefTrusted(const TopoView& topo, double travel) const { return route_.beliefTrusted(topo, travel); }
 
   double branch_record_distance_;
   HallwayFollower follower_;
-  HallwayDoors doors_;  // the doors along the hallway being followed
-  HallwayDoors::Walls walls_;  // the walls the doors were gated with this tick
-  std::optional<DoorTrack> door_after_turn_;  // beside the hallway's end: entered once turned
-  // The other doors beside that end (between the robot and the end wall), each offered in turn once
-  // the robot is back from a room entered there: the robot leaves a hallway's end by the way it came,
-  // and passes none of them on it.
-  std::vector<DoorTrack> doors_left_at_end_;
-  TopoMode door_after_turn_mode_ = TopoMode::Frontier;  // the belief's mode when that end was reached
-  double end_travel_ = 0.0;  // m, travel when the robot turned at that end or came back out of a room there
-  DoorEntry door_entry_;
   RoutePolicy route_;
-  HallwayStats stats_;
+  HallwayDoorStops door_stops_;  // after follower_ and route_, which it reads
+  HallwayStats stats_;  // turns and U-turns (the door counts are door_stops_')
   // Turning.
   int turn_bin_ = 0;
   double turn_odom_heading_ = 0.0;
@@ -198,24 +155,13 @@ class HallwayNavigator {
     int bin = 0;
     std::optional<ObliqueWay> oblique;
   };
-  // A hallway at an angle is found from where the crossing's centre is expected, not from where the
-  // robot turns: its line (odometry frame) is followed for `length` m before the hallway is judged
-  // from the robot (the sector from beside its mouth meets the mouth's corner).
-  struct WayLine {
-    Eigen::Vector2d origin;  // odometry frame
-    double heading = 0.0;
-    double length = 0.0;
-  };
-  std::optional<WayLine> way_line_;
+  std::optional<WayLine> way_line_;  // the hallway at an angle just turned into (intoWayAtAngle)
   double pending_branch_travel_ = -1.0;
   double u_turn_travel_ = -1e9;  // m, travel at the last U-turn at a hallway's end
   // s, when ways not taken were last recorded: no "complete" until pomdp_topo's map has them (it is
   // published after every scan; kRecordSettleTime is many scans).
   double recorded_stamp_ = -1e9;
   static constexpr double kRecordSettleTime = 2.0;
-  // The door stopped at, and the opening it is entered as.
-  DoorTrack door_;
-  EntryOpening entering_;
 };
 
 }  // namespace exploration
