@@ -280,24 +280,7 @@ Command MotionController::drive(const Pose2D& pose, double dt) {
     stuck_elapsed_ = 0.0;
   }
 
-  if (phase_ == Phase::Heading) {  // in place: a circular robot cannot hit anything turning
-    const double error = normalizeAngle(*goal_theta_ - pose.theta);
-    if (std::abs(error) <= heading_tolerance_) {
-      has_goal_ = false;
-      finish(MotionStatus::Reached, "reached: heading %.3f rad off", error);
-      return stop(dt);
-    }
-    if (!notStuck(std::abs(error), params_.progress_angle, dt)) {
-      has_goal_ = false;
-      finish(MotionStatus::Blocked, "blocked: the final heading, %.2f rad off, made no progress for %.1f s", error,
-             params_.stuck_time);
-      return stop(dt);
-    }
-    target_heading_ = *goal_theta_;
-    status_ = MotionStatus::Moving;
-    setText("moving: turning to the goal heading, %.2f rad left", error);
-    return limit(Command{0.0, turnRate(error)}, dt);
-  }
+  if (phase_ == Phase::Heading) return driveHeading(pose, dt);
 
   if (!notStuck(distance, params_.progress_distance, dt)) {
     has_goal_ = false;
@@ -317,23 +300,84 @@ Command MotionController::drive(const Pose2D& pose, double dt) {
   free_ahead_ = freeDistance(pose.theta);
 
   const double goal_direction = std::atan2(dy, dx);
+  if (const std::optional<Command> back = reverseApproach(pose, goal_direction, distance, dt)) return *back;
+
+  bool none_free = false;
+  const int chosen = chooseHeading(goal_direction, distance, &none_free);
+  const double spacing = kTwoPi / params_.candidate_headings;
+  const int k = (chosen % 2 == 1) ? (chosen + 1) / 2 : -(chosen / 2);
+  target_heading_ = normalizeAngle(goal_direction + k * spacing);
+  previous_choice_ = target_heading_;
+  have_previous_choice_ = true;
+
+  const double error = normalizeAngle(target_heading_ - pose.theta);
+  if (std::abs(error) > params_.turn_in_place_angle) {
+    turning_in_place_ = true;
+  } else if (std::abs(error) < 0.5 * params_.turn_in_place_angle) {
+    turning_in_place_ = false;
+  }
+  double v = 0.0;
+  if (!turning_in_place_) {
+    // Towards the goal: constant deceleration (sqrt). Towards an obstacle: linear, so the robot
+    // only creeps up to the margin, never through it.
+    const double near_goal =
+        std::max(params_.min_linear, params_.max_linear * std::sqrt(distance / params_.slow_down_distance));
+    const double near_obstacle = params_.max_linear * free_ahead_ / params_.slow_down_distance;
+    v = std::min({params_.max_linear, near_goal, near_obstacle}) * std::max(0.0, std::cos(error));
+  }
+
+  status_ = MotionStatus::Moving;
+  if (none_free)
+    setText("moving: no free direction, turning to the freest (%.2f m free)", candidate_free_[chosen]);
+  else if (chosen != 0)
+    setText("moving: avoiding, %.2f rad off the goal direction", normalizeAngle(target_heading_ - goal_direction));
+  else
+    setText("moving: %.2f m to the goal", distance);
+  return limit(Command{v, turnRate(error)}, dt);
+}
+
+Command MotionController::driveHeading(const Pose2D& pose, double dt) {
+  // In place: a circular robot cannot hit anything turning.
+  const double error = normalizeAngle(*goal_theta_ - pose.theta);
+  if (std::abs(error) <= heading_tolerance_) {
+    has_goal_ = false;
+    finish(MotionStatus::Reached, "reached: heading %.3f rad off", error);
+    return stop(dt);
+  }
+  if (!notStuck(std::abs(error), params_.progress_angle, dt)) {
+    has_goal_ = false;
+    finish(MotionStatus::Blocked, "blocked: the final heading, %.2f rad off, made no progress for %.1f s", error,
+           params_.stuck_time);
+    return stop(dt);
+  }
+  target_heading_ = *goal_theta_;
+  status_ = MotionStatus::Moving;
+  setText("moving: turning to the goal heading, %.2f rad left", error);
+  return limit(Command{0.0, turnRate(error)}, dt);
+}
+
+std::optional<Command> MotionController::reverseApproach(const Pose2D& pose, double goal_direction, double distance,
+                                                         double dt) {
   // The fine approach: a goal a few centimetres behind (an EKF correction after the final turn)
   // is reached backwards. Turning round to it would turn half a circle there and half back, and
   // each turn's odometry error moves the goal again.
-  if (goal_theta_ && distance <= params_.reverse_distance &&
-      std::abs(normalizeAngle(goal_direction - pose.theta)) > 0.5 * kPi && freeDistance(pose.theta + kPi) >= distance) {
-    target_heading_ = normalizeAngle(goal_direction + kPi);  // the rear towards the goal
-    const double error = normalizeAngle(target_heading_ - pose.theta);
-    double v = 0.0;
-    if (std::abs(error) <= params_.turn_in_place_angle)
-      v = -std::max(params_.min_linear, params_.max_linear * std::sqrt(distance / params_.slow_down_distance)) *
-          std::cos(error);
-    have_previous_choice_ = false;
-    status_ = MotionStatus::Moving;
-    setText("moving: backwards, %.3f m to the goal", distance);
-    return limit(Command{v, turnRate(error)}, dt);
-  }
+  if (!(goal_theta_ && distance <= params_.reverse_distance &&
+        std::abs(normalizeAngle(goal_direction - pose.theta)) > 0.5 * kPi &&
+        freeDistance(pose.theta + kPi) >= distance))
+    return std::nullopt;
+  target_heading_ = normalizeAngle(goal_direction + kPi);  // the rear towards the goal
+  const double error = normalizeAngle(target_heading_ - pose.theta);
+  double v = 0.0;
+  if (std::abs(error) <= params_.turn_in_place_angle)
+    v = -std::max(params_.min_linear, params_.max_linear * std::sqrt(distance / params_.slow_down_distance)) *
+        std::cos(error);
+  have_previous_choice_ = false;
+  status_ = MotionStatus::Moving;
+  setText("moving: backwards, %.3f m to the goal", distance);
+  return limit(Command{v, turnRate(error)}, dt);
+}
 
+int MotionController::chooseHeading(double goal_direction, double distance, bool* none_free) {
   // Candidates k * spacing from the goal direction, k = 0 first: the goal direction is one of them.
   const int n = params_.candidate_headings;
   const double spacing = kTwoPi / n;
@@ -363,38 +407,8 @@ Command MotionController::drive(const Pose2D& pose, double dt) {
       freest_cost = cost;
     }
   }
-  const bool none_free = chosen < 0;
-  const bool avoiding = chosen != 0;
-  if (none_free) chosen = freest;
-  const int k = (chosen % 2 == 1) ? (chosen + 1) / 2 : -(chosen / 2);
-  target_heading_ = normalizeAngle(goal_direction + k * spacing);
-  previous_choice_ = target_heading_;
-  have_previous_choice_ = true;
-
-  const double error = normalizeAngle(target_heading_ - pose.theta);
-  if (std::abs(error) > params_.turn_in_place_angle) {
-    turning_in_place_ = true;
-  } else if (std::abs(error) < 0.5 * params_.turn_in_place_angle) {
-    turning_in_place_ = false;
-  }
-  double v = 0.0;
-  if (!turning_in_place_) {
-    // Towards the goal: constant deceleration (sqrt). Towards an obstacle: linear, so the robot
-    // only creeps up to the margin, never through it.
-    const double near_goal =
-        std::max(params_.min_linear, params_.max_linear * std::sqrt(distance / params_.slow_down_distance));
-    const double near_obstacle = params_.max_linear * free_ahead_ / params_.slow_down_distance;
-    v = std::min({params_.max_linear, near_goal, near_obstacle}) * std::max(0.0, std::cos(error));
-  }
-
-  status_ = MotionStatus::Moving;
-  if (none_free)
-    setText("moving: no free direction, turning to the freest (%.2f m free)", candidate_free_[chosen]);
-  else if (avoiding)
-    setText("moving: avoiding, %.2f rad off the goal direction", normalizeAngle(target_heading_ - goal_direction));
-  else
-    setText("moving: %.2f m to the goal", distance);
-  return limit(Command{v, turnRate(error)}, dt);
+  *none_free = chosen < 0;
+  return *none_free ? freest : chosen;
 }
 
 }  // namespace exploration

@@ -330,13 +330,24 @@ bool OccupancyGrid::insert(const Pose2D& pose, const std::vector<T>& ranges, dou
   if (!ensureCovers(x0 - 1, y0 - 1, x1 + 1, y1 + 1, error)) return false;
 
   // A full turn: the last beam is adjacent to the first.
-  const bool wraps = n > 2 && std::abs(std::abs(angle_increment) * static_cast<double>(n) - kTwoPi) <
-                                  0.5 * std::abs(angle_increment);
-  const auto next = [&](std::size_t i) -> std::size_t { return i + 1 < n ? i + 1 : (wraps ? 0 : n); };
-  const auto prev = [&](std::size_t i) -> std::size_t { return i > 0 ? i - 1 : (wraps ? n - 1 : n); };
+  BeamOrder order;
+  order.n = n;
+  order.wraps = n > 2 && std::abs(std::abs(angle_increment) * static_cast<double>(n) - kTwoPi) <
+                             0.5 * std::abs(angle_increment);
+  joinSurfaces(order, angle_increment);
+  surfaceTangents(order);
+  traceBeams(order, sensor, origin);
+  if (params_.fill_gaps) fillWedges(order, sensor);
+  applyUpdates();
+  ++scans_;
+  return true;
+}
+
+void OccupancyGrid::joinSurfaces(const BeamOrder& order, double angle_increment) {
   // Adjacent returns on one surface: the adaptive breakpoint test (Borges & Aldon 2004, as the line
   // extractor of laser_features segments scans), or, for a surface seen too grazing for it, the
   // two returns in line with a third adjacent one; never farther apart than max_surface_gap.
+  const std::size_t n = order.n;
   const double dphi = std::abs(angle_increment), lambda = params_.breakpoint_lambda;
   const double break_ratio = lambda > dphi ? std::sin(dphi) / std::sin(lambda - dphi) : -1.0;
   const double max_gap = params_.max_surface_gap, margin = params_.breakpoint_margin;
@@ -348,7 +359,7 @@ bool OccupancyGrid::insert(const Pose2D& pose, const std::vector<T>& ranges, dou
   };
   joined_.assign(n, 0);  // joined_[i]: beams i and next(i) are one surface
   for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t j = next(i);
+    const std::size_t j = order.next(i);
     if (j >= n) continue;
     const Ray& a = rays_[i];
     const Ray& b = rays_[j];
@@ -356,17 +367,22 @@ bool OccupancyGrid::insert(const Pose2D& pose, const std::vector<T>& ranges, dou
     if ((b.end - a.end).norm() > max_gap) continue;  // bounds a false chord across a depth step
     const double jump = std::abs(a.length - b.length);
     const bool breakpoint_ok = break_ratio >= 0.0 && jump <= std::min(a.length, b.length) * break_ratio + margin;
-    joined_[i] = breakpoint_ok || inLine(a, b, prev(i), a) || inLine(a, b, next(j), b) ? 1 : 0;
+    joined_[i] = breakpoint_ok || inLine(a, b, order.prev(i), a) || inLine(a, b, order.next(j), b) ? 1 : 0;
   }
+}
+
+void OccupancyGrid::surfaceTangents(const BeamOrder& order) {
   // The surface's direction at each return, from the chords to the returns it is joined with; for
   // a return joined to none, the line through its neighbours' returns when it lies on it (a wall
   // seen so grazing that its returns are far apart: the direction only stops free space short of
   // the wall, it joins nothing).
+  const std::size_t n = order.n;
+  const double margin = params_.breakpoint_margin;
   for (std::size_t i = 0; i < n; ++i) {
     Ray& ray = rays_[i];
     if (!ray.hit) continue;
     Eigen::Vector2d t = Eigen::Vector2d::Zero();
-    const std::size_t before = prev(i), after = next(i);
+    const std::size_t before = order.prev(i), after = order.next(i);
     if (before < n && joined_[before]) t += (ray.end - rays_[before].end).normalized();
     if (after < n && joined_[i]) t += (rays_[after].end - ray.end).normalized();
     if (t.squaredNorm() == 0.0 && before < n && after < n && rays_[before].hit && rays_[after].hit) {
@@ -378,26 +394,28 @@ bool OccupancyGrid::insert(const Pose2D& pose, const std::vector<T>& ranges, dou
     }
     ray.tangent = t.norm() > 1e-9 ? Eigen::Vector2d(t.normalized()) : Eigen::Vector2d::Zero();
   }
-  // The direction of the surface through both returns when one's known surface, extended, passes
-  // through the other's (a surface seen too grazing, or too sparsely, to be joined); else zero.
-  const auto sharedTangent = [&](const Ray& a, const Ray& b) -> Eigen::Vector2d {
-    const auto passes = [&](const Ray& s, const Ray& o) {
-      const double d = (o.end - s.end).norm();
-      return s.tangent.squaredNorm() > 0.0 &&
-             std::abs(laser_features::cross2(s.tangent, o.end - s.end)) <= margin + kTangentSlope * d;
-    };
-    if (passes(a, b)) return a.tangent;
-    if (passes(b, a)) return b.tangent;
-    return Eigen::Vector2d::Zero();
-  };
-  // How far before a's return free space must stop so that no cell the surface through it (of
-  // direction t; unknown: facing the sensor) may cross is marked free.
-  const double clearance = kSurfaceClearance * res;
-  const auto pullback = [&](const Ray& a, const Eigen::Vector2d& t) {
-    const double sin_grazing = t.squaredNorm() > 0.0 ? std::abs(laser_features::cross2(a.dir, t)) : 1.0;
-    return sin_grazing * a.length > clearance ? clearance / sin_grazing : a.length;
-  };
+}
 
+Eigen::Vector2d OccupancyGrid::sharedTangent(const Ray& a, const Ray& b) const {
+  const double margin = params_.breakpoint_margin;
+  const auto passes = [&](const Ray& s, const Ray& o) {
+    const double d = (o.end - s.end).norm();
+    return s.tangent.squaredNorm() > 0.0 &&
+           std::abs(laser_features::cross2(s.tangent, o.end - s.end)) <= margin + kTangentSlope * d;
+  };
+  if (passes(a, b)) return a.tangent;
+  if (passes(b, a)) return b.tangent;
+  return Eigen::Vector2d::Zero();
+}
+
+double OccupancyGrid::pullback(const Ray& a, const Eigen::Vector2d& t) const {
+  const double clearance = kSurfaceClearance * params_.resolution;
+  const double sin_grazing = t.squaredNorm() > 0.0 ? std::abs(laser_features::cross2(a.dir, t)) : 1.0;
+  return sin_grazing * a.length > clearance ? clearance / sin_grazing : a.length;
+}
+
+void OccupancyGrid::traceBeams(const BeamOrder& order, const Eigen::Vector2d& sensor, const CellIndex& origin) {
+  const std::size_t n = order.n;
   for (std::size_t i = 0; i < n; ++i) {
     const Ray& ray = rays_[i];
     if (!ray.valid) continue;
@@ -409,7 +427,7 @@ bool OccupancyGrid::insert(const Pose2D& pose, const std::vector<T>& ranges, dou
     // A nearer neighbour not joined but on the same surface (a wall seen grazing): the beam skims
     // that surface before its return, stop short of it (else it erases the wall).
     double stop = 0.0;
-    const std::size_t before = prev(i), after = next(i);
+    const std::size_t before = order.prev(i), after = order.next(i);
     for (const std::size_t k : {before, after}) {
       if (k >= n || (k == before ? joined_[before] : joined_[i])) continue;
       const Ray& other = rays_[k];
@@ -424,37 +442,34 @@ bool OccupancyGrid::insert(const Pose2D& pose, const std::vector<T>& ranges, dou
       traceFree(origin, c, c != ray.cell);
     }
   }
+}
 
-  // The wedges between adjacent beams.
-  if (params_.fill_gaps) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::size_t j = next(i);
-      if (j >= n || !rays_[i].valid || !rays_[j].valid) continue;
-      const Ray& a = rays_[i];
-      const Ray& b = rays_[j];
-      if (joined_[i]) {
-        // One surface: free up to it, and the surface between the returns is occupied.
-        fillTriangle(sensor, a.end, b.end);
-        traceHits(a.cell, b.cell);
-        continue;
-      }
-      const Eigen::Vector2d t = a.hit && b.hit ? sharedTangent(a, b) : Eigen::Vector2d::Zero();
-      if (t.squaredNorm() > 0.0) {
-        // One surface not joined: free up to a cell and a bit short of it.
-        const double ra = a.length - pullback(a, t), rb = b.length - pullback(b, t);
-        if (ra > 0.0 || rb > 0.0)
-          fillTriangle(sensor, sensor + std::max(ra, 0.0) * a.dir, sensor + std::max(rb, 0.0) * b.dir);
-        continue;
-      }
-      // A break: free up to the nearer return, short of its surface (which ends between the beams).
-      const Ray& nearer = a.length <= b.length ? a : b;
-      const double reach = nearer.hit ? nearer.length - pullback(nearer, nearer.tangent) : nearer.length;
-      if (reach > 0.0) fillTriangle(sensor, sensor + reach * a.dir, sensor + reach * b.dir);
+void OccupancyGrid::fillWedges(const BeamOrder& order, const Eigen::Vector2d& sensor) {
+  const std::size_t n = order.n;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = order.next(i);
+    if (j >= n || !rays_[i].valid || !rays_[j].valid) continue;
+    const Ray& a = rays_[i];
+    const Ray& b = rays_[j];
+    if (joined_[i]) {
+      // One surface: free up to it, and the surface between the returns is occupied.
+      fillTriangle(sensor, a.end, b.end);
+      traceHits(a.cell, b.cell);
+      continue;
     }
+    const Eigen::Vector2d t = a.hit && b.hit ? sharedTangent(a, b) : Eigen::Vector2d::Zero();
+    if (t.squaredNorm() > 0.0) {
+      // One surface not joined: free up to a cell and a bit short of it.
+      const double ra = a.length - pullback(a, t), rb = b.length - pullback(b, t);
+      if (ra > 0.0 || rb > 0.0)
+        fillTriangle(sensor, sensor + std::max(ra, 0.0) * a.dir, sensor + std::max(rb, 0.0) * b.dir);
+      continue;
+    }
+    // A break: free up to the nearer return, short of its surface (which ends between the beams).
+    const Ray& nearer = a.length <= b.length ? a : b;
+    const double reach = nearer.hit ? nearer.length - pullback(nearer, nearer.tangent) : nearer.length;
+    if (reach > 0.0) fillTriangle(sensor, sensor + reach * a.dir, sensor + reach * b.dir);
   }
-  applyUpdates();
-  ++scans_;
-  return true;
 }
 
 // ---------------------------------------------------------------------------------------------

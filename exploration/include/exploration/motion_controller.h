@@ -144,6 +144,13 @@ class MotionController {
   void placeScan();
   double freeDistance(double heading) const;
   Command drive(const laser_features::Pose2D& pose, double dt);
+  Command driveHeading(const laser_features::Pose2D& pose, double dt);  // the final heading, in place
+  /// A goal a few centimetres behind, approached backwards; none where that does not apply.
+  std::optional<Command> reverseApproach(const laser_features::Pose2D& pose, double goal_direction, double distance,
+                                         double dt);
+  /// The candidate heading to drive along (index: k = 0, 1, -1, 2, ... spacings off the goal's
+  /// direction): the cheapest free one, else the freest (`none_free`).
+  int chooseHeading(double goal_direction, double distance, bool* none_free);
   double turnRate(double heading_error) const;
   bool notStuck(double value, double step, double dt);
 

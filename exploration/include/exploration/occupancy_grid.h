@@ -177,6 +177,20 @@ class OccupancyGrid {
   void applyUpdates();
   CellState classify(std::int8_t v) const;
 
+  // The pieces of insert(), in order, on the scan's rays_.
+  struct Ray;
+  struct BeamOrder;
+  void joinSurfaces(const BeamOrder& order, double angle_increment);  // joined_
+  void surfaceTangents(const BeamOrder& order);  // each return's Ray::tangent
+  /// The direction of the surface through both returns when one's known surface, extended, passes
+  /// through the other's (a surface seen too grazing, or too sparsely, to be joined); else zero.
+  Eigen::Vector2d sharedTangent(const Ray& a, const Ray& b) const;
+  /// How far before a's return free space must stop so that no cell the surface through it (of
+  /// direction t; unknown: facing the sensor) may cross is marked free.
+  double pullback(const Ray& a, const Eigen::Vector2d& t) const;
+  void traceBeams(const BeamOrder& order, const Eigen::Vector2d& sensor, const CellIndex& origin);  // each beam
+  void fillWedges(const BeamOrder& order, const Eigen::Vector2d& sensor);  // between adjacent beams (fill_gaps)
+
   OccupancyGridParams params_;
   bool fixed_ = false;
   double step_ = 0.0;                                  // log-odds per quantization level
@@ -198,6 +212,13 @@ class OccupancyGrid {
     CellIndex cell;                                   // of `end`
     Eigen::Vector2d tangent = Eigen::Vector2d::Zero();  // the surface's direction at the return
                                                         // (unit; zero: not joined to any)
+  };
+  // The beams' order in a scan: the next and the previous beam (`n`: none); a full turn wraps round.
+  struct BeamOrder {
+    std::size_t n = 0;
+    bool wraps = false;
+    std::size_t next(std::size_t i) const { return i + 1 < n ? i + 1 : (wraps ? 0 : n); }
+    std::size_t prev(std::size_t i) const { return i > 0 ? i - 1 : (wraps ? n - 1 : n); }
   };
   std::vector<Ray> rays_;
   std::vector<std::uint8_t> joined_;  // joined_[i]: beam i and the next are one surface
