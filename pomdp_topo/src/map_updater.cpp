@@ -111,89 +111,111 @@ void MapUpdater::updateKnownEdge(const ScanRecord& scan) {
   }
   TopoEdge* e = map_->edge(st.id);
   if (e == nullptr) return;
-  const double dir = st.forward ? 1.0 : -1.0;
   if (last_edge_ != int(st.id) || last_forward_ != st.forward) {
     matched_recently_.clear();
     last_offset_ = st.offset;
   }
   bool changed = false;
   for (const PassedLandmark& p : scan.passed) {
-    if (bins_.heading(p.heading_bin) != bins_.heading(bins_.bin(st.heading))) continue;
-    if (p.landmark.type == LandmarkType::Corner && p.landmark.confidence < params_->corner_min_confidence) continue;
-    // Where on the edge it was passed.
-    const double along = p.landmark.along - (scan.travel - p.travel);
-    const double d = st.offset + dir * along;
-    const double lateral = dir * p.landmark.lateral;
-    if (d < -params_->match_distance || d > e->length + params_->match_distance) continue;
-    EdgeLandmark* best = nullptr;
-    double best_gap = params_->match_distance;
-    for (EdgeLandmark& l : e->landmarks) {
-      if (l.type != p.landmark.type || sideOf(l.lateral) != sideOf(lateral)) continue;
-      const double gap = std::abs(l.distance - d);
-      if (gap <= best_gap) {
-        best_gap = gap;
-        best = &l;
-      }
-    }
-    if (best != nullptr) {
-      // Eq. 4: p_lmap is the running average of the confidences it was observed with.
-      best->p_lmap = (best->p_lmap * best->observations + std::min(1.0, p.landmark.confidence)) / (best->observations + 1);
-      best->observations += 1;
-      matched_recently_.push_back(uint32_t(std::lround(best->distance * 1000.0)));
-      continue;
-    }
-    const bool near_end = d < params_->min_node_separation || d > e->length - params_->min_node_separation;
-    if (p.landmark.type == LandmarkType::Corner) {
-      if (p.landmark.confidence < params_->landmark_add_confidence) continue;
-      EdgeLandmark l;
-      l.type = LandmarkType::Corner;
-      l.distance = std::min(std::max(d, 0.0), e->length);
-      l.lateral = lateral;
-      l.orientation = normalizeAngle(p.landmark.orientation + (st.forward ? 0.0 : kPi));
-      l.p_lmap = std::min(1.0, p.landmark.confidence);
-      l.observations = 1;
-      e->landmarks.push_back(l);
-      e->sortLandmarks();
-      matched_recently_.push_back(uint32_t(std::lround(l.distance * 1000.0)));
-      changed = true;
-      event(TopoEvent::Kind::LandmarkAdded, "corner landmark added to edge " + std::to_string(e->id), -1, -1, int(e->id));
-    } else if (!near_end && !p.landmark.door) {
-      // A wide opening in the middle of a known stretch: a junction the first pass did not see is
-      // unlikely (hallway branches are seen from afar); a gap beside a pillar or a wide view into
-      // a room is not. Not a node.
-      continue;
-    } else if (knownOpeningNear(*e, d, p, scan, sideOpening(st.heading, p).bearing, p.landmark.width)) {
-      // A door a node near here already has: the belief is a little off along the edge (institute:
-      // office_10's door, 0.84 m from seminar's across the hallway, was added to seminar's node as
-      // a second, unexplored opening, and the room was explored twice).
-      continue;
-    } else if (!near_end) {
-      // A new opening creates a new node (an unknown door on a known stretch), where the dead
-      // reckoning agrees.
-      Eigen::Vector2d believed;
-      if (map_->pointOnEdge(*e, d, &believed) &&
-          gate_->farFromDeadReckoning(*params_, bins_, believed, p, scan.pose, scan.travel)) {
-        continue;
-      }
-      const double heading = st.heading;
-      splitEdgeWithDoor(e->id, d, sideOpening(heading, p), p.landmark.door);
-      return;
-    } else {
-      // An opening at an end node that the node does not know yet.
-      const uint32_t nid = d < 0.5 * e->length ? e->source : e->target;
-      TopoNode* n = map_->node(nid);
-      // A wide one at a door node is a view into a room or a gap beside furniture (as in the middle
-      // of a stretch, above), not a branch: institute's hall_north got 1.8-2.1 m "openings" at two
-      // door nodes, which the exploration turned round for five times before giving them up.
-      if (n->type != NodeType::Junction && !p.landmark.door) continue;
-      const NodeOpening o = sideOpening(st.heading, p);
-      if (!map_->hasOpeningToward(nid, o.bearing) && !gate_->farFromNode(*params_, bins_, *n, p, scan.pose, scan.travel)) {
-        n->openings.push_back(o);
-        changed = true;
-        event(TopoEvent::Kind::OpeningAdded, "opening added to node " + std::to_string(nid), int(nid));
-      }
+    const Passed passed = passedOnEdge(e, st, p, scan);
+    if (passed == Passed::Split) return;  // the edge is gone: the next scan starts afresh
+    if (passed == Passed::Changed) changed = true;
+  }
+  if (missedOnEdge(e, st)) changed = true;
+  last_edge_ = int(st.id);
+  last_forward_ = st.forward;
+  last_offset_ = st.offset;
+  if (changed) {
+    map_->touch();
+    localizer_->setMap(*map_);
+  }
+}
+
+MapUpdater::Passed MapUpdater::passedOnEdge(TopoEdge* e, const PomdpLocalizer::State& st, const PassedLandmark& p,
+                                             const ScanRecord& scan) {
+  const double dir = st.forward ? 1.0 : -1.0;
+  if (bins_.heading(p.heading_bin) != bins_.heading(bins_.bin(st.heading))) return Passed::Nothing;
+  if (p.landmark.type == LandmarkType::Corner && p.landmark.confidence < params_->corner_min_confidence)
+    return Passed::Nothing;
+  // Where on the edge it was passed.
+  const double along = p.landmark.along - (scan.travel - p.travel);
+  const double d = st.offset + dir * along;
+  const double lateral = dir * p.landmark.lateral;
+  if (d < -params_->match_distance || d > e->length + params_->match_distance) return Passed::Nothing;
+  EdgeLandmark* best = nullptr;
+  double best_gap = params_->match_distance;
+  for (EdgeLandmark& l : e->landmarks) {
+    if (l.type != p.landmark.type || sideOf(l.lateral) != sideOf(lateral)) continue;
+    const double gap = std::abs(l.distance - d);
+    if (gap <= best_gap) {
+      best_gap = gap;
+      best = &l;
     }
   }
+  if (best != nullptr) {
+    // Eq. 4: p_lmap is the running average of the confidences it was observed with.
+    best->p_lmap = (best->p_lmap * best->observations + std::min(1.0, p.landmark.confidence)) / (best->observations + 1);
+    best->observations += 1;
+    matched_recently_.push_back(uint32_t(std::lround(best->distance * 1000.0)));
+    return Passed::Nothing;
+  }
+  const bool near_end = d < params_->min_node_separation || d > e->length - params_->min_node_separation;
+  if (p.landmark.type == LandmarkType::Corner) {
+    if (p.landmark.confidence < params_->landmark_add_confidence) return Passed::Nothing;
+    EdgeLandmark l;
+    l.type = LandmarkType::Corner;
+    l.distance = std::min(std::max(d, 0.0), e->length);
+    l.lateral = lateral;
+    l.orientation = normalizeAngle(p.landmark.orientation + (st.forward ? 0.0 : kPi));
+    l.p_lmap = std::min(1.0, p.landmark.confidence);
+    l.observations = 1;
+    e->landmarks.push_back(l);
+    e->sortLandmarks();
+    matched_recently_.push_back(uint32_t(std::lround(l.distance * 1000.0)));
+    event(TopoEvent::Kind::LandmarkAdded, "corner landmark added to edge " + std::to_string(e->id), -1, -1, int(e->id));
+    return Passed::Changed;
+  } else if (!near_end && !p.landmark.door) {
+    // A wide opening in the middle of a known stretch: a junction the first pass did not see is
+    // unlikely (hallway branches are seen from afar); a gap beside a pillar or a wide view into
+    // a room is not. Not a node.
+    return Passed::Nothing;
+  } else if (knownOpeningNear(*e, d, p, scan, sideOpening(st.heading, p).bearing, p.landmark.width)) {
+    // A door a node near here already has: the belief is a little off along the edge (institute:
+    // office_10's door, 0.84 m from seminar's across the hallway, was added to seminar's node as
+    // a second, unexplored opening, and the room was explored twice).
+    return Passed::Nothing;
+  } else if (!near_end) {
+    // A new opening creates a new node (an unknown door on a known stretch), where the dead
+    // reckoning agrees.
+    Eigen::Vector2d believed;
+    if (map_->pointOnEdge(*e, d, &believed) &&
+        gate_->farFromDeadReckoning(*params_, bins_, believed, p, scan.pose, scan.travel)) {
+      return Passed::Nothing;
+    }
+    const double heading = st.heading;
+    splitEdgeWithDoor(e->id, d, sideOpening(heading, p), p.landmark.door);
+    return Passed::Split;
+  } else {
+    // An opening at an end node that the node does not know yet.
+    const uint32_t nid = d < 0.5 * e->length ? e->source : e->target;
+    TopoNode* n = map_->node(nid);
+    // A wide one at a door node is a view into a room or a gap beside furniture (as in the middle
+    // of a stretch, above), not a branch: institute's hall_north got 1.8-2.1 m "openings" at two
+    // door nodes, which the exploration turned round for five times before giving them up.
+    if (n->type != NodeType::Junction && !p.landmark.door) return Passed::Nothing;
+    const NodeOpening o = sideOpening(st.heading, p);
+    if (!map_->hasOpeningToward(nid, o.bearing) && !gate_->farFromNode(*params_, bins_, *n, p, scan.pose, scan.travel)) {
+      n->openings.push_back(o);
+      event(TopoEvent::Kind::OpeningAdded, "opening added to node " + std::to_string(nid), int(nid));
+      return Passed::Changed;
+    }
+  }
+  return Passed::Nothing;
+}
+
+bool MapUpdater::missedOnEdge(TopoEdge* e, const PomdpLocalizer::State& st) {
+  const double dir = st.forward ? 1.0 : -1.0;
+  bool changed = false;
   // Eq. 5: expected landmarks passed without being seen: observed confidence 0.
   const double lag = pass_lag_ + params_->match_distance;
   const double from = last_offset_ - dir * lag;
@@ -219,13 +241,7 @@ void MapUpdater::updateKnownEdge(const ScanRecord& scan) {
       ++it;
     }
   }
-  last_edge_ = int(st.id);
-  last_forward_ = st.forward;
-  last_offset_ = st.offset;
-  if (changed) {
-    map_->touch();
-    localizer_->setMap(*map_);
-  }
+  return changed;
 }
 
 void MapUpdater::splitEdgeWithDoor(uint32_t edge_id, double distance, const NodeOpening& opening, bool is_door) {

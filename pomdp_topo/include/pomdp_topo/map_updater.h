@@ -43,6 +43,12 @@ class MapUpdater {
 
  private:
   void updateKnownEdge(const ScanRecord& scan);
+  /// What a landmark passed on a known edge came to: matched (Eq. 4) or dropped, the map changed (a
+  /// corner landmark or an end node's opening added), or the edge split at a new door's node.
+  enum class Passed { Nothing, Changed, Split };
+  Passed passedOnEdge(TopoEdge* e, const PomdpLocalizer::State& st, const PassedLandmark& p, const ScanRecord& scan);
+  /// Eq. 5: the landmarks of `e` passed since the last scan without being seen; true if one was deleted.
+  bool missedOnEdge(TopoEdge* e, const PomdpLocalizer::State& st);
   /// A node within min_node_separation + match_distance of `d` along edge `e` (either way, through
   /// short edges), or of where the dead reckoning puts the passed opening `p`, has an opening at
   /// `bearing` (map frame) of a compatible `width`.
