@@ -82,20 +82,13 @@ double freeDistance(const std::vector<Eigen::Vector2d>& points, double bearing, 
   return best;
 }
 
-HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
-                        const std::vector<laser_features::LineSegment>& lines, double direction,
-                        const HallwayViewParams& params, double range_cap) {
-  HallwayView v;
-  v.free_ahead = freeDistance(points, direction, params.ahead_sector, range_cap);
-  // A side is open where a hallway's mouth is, and only there: a door lets a side sector see into
-  // the room behind it whenever it is wider than the sector's chord at the wall (a 1.2 m door at
-  // 0.75 m, in a 1.5 m hallway, subtends 77 deg), but no door is as wide as the narrowest hallway.
-  const auto open = [&](const Eigen::Vector2d& origin, int side) {
-    return mouthBeside(points, origin, direction, side, params.clearance, params.min_mouth, params.side_open_distance);
-  };
-  v.open_left = open(Eigen::Vector2d::Zero(), 1);
-  v.open_right = open(Eigen::Vector2d::Zero(), -1);
+namespace {
 
+// The walls beside the robot along `direction` (the nearest each side within wall_max_lateral), how
+// far they reach ahead, their mean direction and the hallway's centre between them.
+void viewSideWalls(const std::vector<laser_features::LineSegment>& lines, double direction,
+                   const HallwayViewParams& params, HallwayView* view) {
+  HallwayView& v = *view;
   const Eigen::Vector2d u(std::cos(direction), std::sin(direction));
   const Eigen::Vector2d n(-u.y(), u.x());  // left
   double weight = 0.0, sin_sum = 0.0, cos_sum = 0.0;
@@ -139,6 +132,11 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
   } else if (v.right_wall) {
     v.centre_offset = std::max(0.0, v.right_lateral + params.min_wall_clearance);
   }
+}
+
+void keepToOpenAreaWall(const std::vector<Eigen::Vector2d>& points, const std::vector<laser_features::LineSegment>& lines,
+                        double direction, const HallwayViewParams& params, HallwayView* view) {
+  HallwayView& v = *view;
   // Along an open area's wall (a lobby, a hall, a hallway open on one side to either): the doors and
   // the hallways leaving the area are along its walls, and from its middle the robot sees none of
   // them. The robot keeps to the wall it sees as to a hallway's (the one-wall distance) rather than
@@ -152,6 +150,13 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
     v.centre_offset = *wall > 0.0 ? *wall - params.min_wall_clearance : *wall + params.min_wall_clearance;
     v.open_area_beside = true;
   }
+}
+
+// How far ahead a lane as wide as the narrowest hallway's mouth is free (the freest lane tried; -1
+// where none is tried).
+double hallwayFreeAhead(const std::vector<Eigen::Vector2d>& points, double direction, const HallwayViewParams& params,
+                        double range_cap, const HallwayView& v) {
+  const Eigen::Vector2d n(-std::sin(direction), std::cos(direction));  // left
   // A hallway goes on only through a mouth as wide as the narrowest hallway's. Where no lane is free
   // that wide, either an obstacle stands in it (a pillar, furniture: the hallway's walls run on
   // beside it unbroken) or a wall crosses it: its end wall, with a door in it or not, or a room's
@@ -177,6 +182,28 @@ HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
     if (i < 0 || i >= lanes) continue;
     hallway_free = std::max(hallway_free, corridorFree(points, laterals[i] * n, direction, mouth_half, range_cap));
   }
+  return hallway_free;
+}
+
+}  // namespace
+
+HallwayView viewHallway(const std::vector<Eigen::Vector2d>& points,
+                        const std::vector<laser_features::LineSegment>& lines, double direction,
+                        const HallwayViewParams& params, double range_cap) {
+  HallwayView v;
+  v.free_ahead = freeDistance(points, direction, params.ahead_sector, range_cap);
+  // A side is open where a hallway's mouth is, and only there: a door lets a side sector see into
+  // the room behind it whenever it is wider than the sector's chord at the wall (a 1.2 m door at
+  // 0.75 m, in a 1.5 m hallway, subtends 77 deg), but no door is as wide as the narrowest hallway.
+  const auto open = [&](const Eigen::Vector2d& origin, int side) {
+    return mouthBeside(points, origin, direction, side, params.clearance, params.min_mouth, params.side_open_distance);
+  };
+  v.open_left = open(Eigen::Vector2d::Zero(), 1);
+  v.open_right = open(Eigen::Vector2d::Zero(), -1);
+
+  viewSideWalls(lines, direction, params, &v);
+  keepToOpenAreaWall(points, lines, direction, params, &v);
+  const double hallway_free = hallwayFreeAhead(points, direction, params, range_cap, v);
   if (hallway_free > params.clearance && hallway_free < v.free_ahead &&
       !wallsSpan(points, lines, v, direction, hallway_free - params.clearance, hallway_free + params.clearance, params)) {
     endWallAt(points, lines, direction, params, hallway_free, &v);
