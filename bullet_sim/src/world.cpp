@@ -295,6 +295,113 @@ double distanceToObstacles(const World& world, const Vec2& p) {
   return d;
 }
 
+namespace {
+
+// The lists of a world file, each into `world` (its defaults, such as wall_thickness, already read).
+void parseWalls(const ErrorContext& ctx, const YAML::Node& walls, World* world) {
+  World& w = *world;
+  if (!walls.IsSequence()) ctx.fail(walls, "walls", "must be a list");
+  for (size_t i = 0; i < walls.size(); ++i) {
+    const std::string key = indexed("walls", i);
+    ctx.allowKeys(walls[i], key, {"points", "thickness", "color", "stripes"});
+    WallPolyline poly;
+    const YAML::Node pts = ctx.required(walls[i], key, "points");
+    poly.points = ctx.points(pts, key + ".points");
+    if (poly.points.size() < 2) ctx.fail(pts, key + ".points", "a wall polyline needs at least two points");
+    poly.thickness = walls[i]["thickness"] ? ctx.positive(walls[i]["thickness"], key + ".thickness") : w.wall_thickness;
+    if (walls[i]["color"]) poly.color = ctx.color(walls[i]["color"], key + ".color");
+    if (const YAML::Node stripes = walls[i]["stripes"]) poly.stripes = parseStripes(ctx, stripes, key + ".stripes", poly, w);
+    w.walls.push_back(poly);
+  }
+}
+
+void parseBoxes(const ErrorContext& ctx, const YAML::Node& boxes, World* world) {
+  World& w = *world;
+  if (!boxes.IsSequence()) ctx.fail(boxes, "boxes", "must be a list");
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const std::string key = indexed("boxes", i);
+    ctx.allowKeys(boxes[i], key, {"center", "size", "yaw", "height", "color"});
+    OrientedBox b;
+    b.center = ctx.point(ctx.required(boxes[i], key, "center"), key + ".center");
+    const YAML::Node size = ctx.required(boxes[i], key, "size");
+    const auto sz = ctx.numbers(size, key + ".size", 2);
+    if (sz[0] <= 0.0 || sz[1] <= 0.0) ctx.fail(size, key + ".size", "sizes must be positive");
+    b.half_x = sz[0] / 2;
+    b.half_y = sz[1] / 2;
+    if (boxes[i]["yaw"]) b.yaw = ctx.number(boxes[i]["yaw"], key + ".yaw");
+    b.height = boxes[i]["height"] ? ctx.positive(boxes[i]["height"], key + ".height") : kFurnitureHeight;
+    if (boxes[i]["color"]) b.color = ctx.color(boxes[i]["color"], key + ".color");
+    w.boxes.push_back(b);
+  }
+}
+
+void parseCylinders(const ErrorContext& ctx, const YAML::Node& cyls, World* world) {
+  World& w = *world;
+  if (!cyls.IsSequence()) ctx.fail(cyls, "cylinders", "must be a list");
+  for (size_t i = 0; i < cyls.size(); ++i) {
+    const std::string key = indexed("cylinders", i);
+    ctx.allowKeys(cyls[i], key, {"center", "radius", "height", "color"});
+    Cylinder c;
+    c.center = ctx.point(ctx.required(cyls[i], key, "center"), key + ".center");
+    c.radius = ctx.positive(ctx.required(cyls[i], key, "radius"), key + ".radius");
+    c.height = cyls[i]["height"] ? ctx.positive(cyls[i]["height"], key + ".height") : w.wall_height;
+    if (cyls[i]["color"]) c.color = ctx.color(cyls[i]["color"], key + ".color");
+    w.cylinders.push_back(c);
+  }
+}
+
+// Ground truth: the regions (names unique) and the doors between them.
+void parseRegions(const ErrorContext& ctx, const YAML::Node& regions, std::set<std::string>* names, World* world) {
+  World& w = *world;
+  std::set<std::string>& region_names = *names;
+  if (!regions.IsSequence()) ctx.fail(regions, "regions", "must be a list");
+  for (size_t i = 0; i < regions.size(); ++i) {
+    const std::string key = indexed("regions", i);
+    ctx.allowKeys(regions[i], key, {"name", "kind", "polygon"});
+    Region r;
+    r.name = ctx.text(ctx.required(regions[i], key, "name"), key + ".name");
+    const YAML::Node kind = ctx.required(regions[i], key, "kind");
+    const std::string k = ctx.text(kind, key + ".kind");
+    if (k != "room" && k != "hallway") ctx.fail(kind, key + ".kind", "must be 'room' or 'hallway', got '" + k + "'");
+    r.hallway = k == "hallway";
+    const YAML::Node poly = ctx.required(regions[i], key, "polygon");
+    r.polygon = ctx.points(poly, key + ".polygon");
+    if (r.polygon.size() < 3) ctx.fail(poly, key + ".polygon", "a polygon needs at least three points");
+    if (!region_names.insert(r.name).second) ctx.fail(regions[i], key + ".name", "duplicate region name '" + r.name + "'");
+    w.regions.push_back(r);
+  }
+}
+
+void parseDoors(const ErrorContext& ctx, const YAML::Node& doors, const std::set<std::string>& region_names,
+                World* world) {
+  World& w = *world;
+  if (!doors.IsSequence()) ctx.fail(doors, "doors", "must be a list");
+  for (size_t i = 0; i < doors.size(); ++i) {
+    const std::string key = indexed("doors", i);
+    ctx.allowKeys(doors[i], key, {"between", "center", "width", "closed"});
+    Door d;
+    const YAML::Node between = ctx.required(doors[i], key, "between");
+    if (!between.IsSequence() || between.size() != 2) ctx.fail(between, key + ".between", "must name two regions");
+    for (size_t j = 0; j < 2; ++j) {
+      d.between[j] = ctx.text(between[j], key + ".between");
+      if (!region_names.count(d.between[j])) ctx.fail(between[j], key + ".between", "unknown region '" + d.between[j] + "'");
+    }
+    d.center = ctx.point(ctx.required(doors[i], key, "center"), key + ".center");
+    d.width = ctx.positive(ctx.required(doors[i], key, "width"), key + ".width");
+    if (const YAML::Node closed = doors[i]["closed"]) d.closed = ctx.boolean(closed, key + ".closed");
+    w.doors.push_back(d);
+    if (d.closed) {
+      try {
+        w.doorLeaf(d);  // fail at load time, with the line, if the door cannot be closed
+      } catch (const WorldError&) {
+        ctx.fail(doors[i], key + ".closed", "cannot close this door: no edge of its regions passes within 0.3 m of its centre");
+      }
+    }
+  }
+}
+
+}  // namespace
+
 World parseWorld(const std::string& yaml_text, const std::string& source) {
   const ErrorContext ctx(source);
   YAML::Node root;
@@ -323,52 +430,9 @@ World parseWorld(const std::string& yaml_text, const std::string& source) {
     if (colors["wall_ends"]) w.wall_ends_color = ctx.color(colors["wall_ends"], "colors.wall_ends");
   }
 
-  if (const YAML::Node walls = root["walls"]) {
-    if (!walls.IsSequence()) ctx.fail(walls, "walls", "must be a list");
-    for (size_t i = 0; i < walls.size(); ++i) {
-      const std::string key = indexed("walls", i);
-      ctx.allowKeys(walls[i], key, {"points", "thickness", "color", "stripes"});
-      WallPolyline poly;
-      const YAML::Node pts = ctx.required(walls[i], key, "points");
-      poly.points = ctx.points(pts, key + ".points");
-      if (poly.points.size() < 2) ctx.fail(pts, key + ".points", "a wall polyline needs at least two points");
-      poly.thickness = walls[i]["thickness"] ? ctx.positive(walls[i]["thickness"], key + ".thickness") : w.wall_thickness;
-      if (walls[i]["color"]) poly.color = ctx.color(walls[i]["color"], key + ".color");
-      if (const YAML::Node stripes = walls[i]["stripes"]) poly.stripes = parseStripes(ctx, stripes, key + ".stripes", poly, w);
-      w.walls.push_back(poly);
-    }
-  }
-  if (const YAML::Node boxes = root["boxes"]) {
-    if (!boxes.IsSequence()) ctx.fail(boxes, "boxes", "must be a list");
-    for (size_t i = 0; i < boxes.size(); ++i) {
-      const std::string key = indexed("boxes", i);
-      ctx.allowKeys(boxes[i], key, {"center", "size", "yaw", "height", "color"});
-      OrientedBox b;
-      b.center = ctx.point(ctx.required(boxes[i], key, "center"), key + ".center");
-      const YAML::Node size = ctx.required(boxes[i], key, "size");
-      const auto sz = ctx.numbers(size, key + ".size", 2);
-      if (sz[0] <= 0.0 || sz[1] <= 0.0) ctx.fail(size, key + ".size", "sizes must be positive");
-      b.half_x = sz[0] / 2;
-      b.half_y = sz[1] / 2;
-      if (boxes[i]["yaw"]) b.yaw = ctx.number(boxes[i]["yaw"], key + ".yaw");
-      b.height = boxes[i]["height"] ? ctx.positive(boxes[i]["height"], key + ".height") : kFurnitureHeight;
-      if (boxes[i]["color"]) b.color = ctx.color(boxes[i]["color"], key + ".color");
-      w.boxes.push_back(b);
-    }
-  }
-  if (const YAML::Node cyls = root["cylinders"]) {
-    if (!cyls.IsSequence()) ctx.fail(cyls, "cylinders", "must be a list");
-    for (size_t i = 0; i < cyls.size(); ++i) {
-      const std::string key = indexed("cylinders", i);
-      ctx.allowKeys(cyls[i], key, {"center", "radius", "height", "color"});
-      Cylinder c;
-      c.center = ctx.point(ctx.required(cyls[i], key, "center"), key + ".center");
-      c.radius = ctx.positive(ctx.required(cyls[i], key, "radius"), key + ".radius");
-      c.height = cyls[i]["height"] ? ctx.positive(cyls[i]["height"], key + ".height") : w.wall_height;
-      if (cyls[i]["color"]) c.color = ctx.color(cyls[i]["color"], key + ".color");
-      w.cylinders.push_back(c);
-    }
-  }
+  if (const YAML::Node walls = root["walls"]) parseWalls(ctx, walls, &w);
+  if (const YAML::Node boxes = root["boxes"]) parseBoxes(ctx, boxes, &w);
+  if (const YAML::Node cyls = root["cylinders"]) parseCylinders(ctx, cyls, &w);
   const YAML::Node robot = ctx.required(root, "", "robot");
   ctx.allowKeys(robot, "robot", {"start"});
   const YAML::Node start = ctx.required(robot, "robot", "start");
@@ -378,49 +442,8 @@ World parseWorld(const std::string& yaml_text, const std::string& source) {
     ctx.fail(start, "robot.start", "start pose is inside an obstacle");
 
   std::set<std::string> region_names;
-  if (const YAML::Node regions = root["regions"]) {
-    if (!regions.IsSequence()) ctx.fail(regions, "regions", "must be a list");
-    for (size_t i = 0; i < regions.size(); ++i) {
-      const std::string key = indexed("regions", i);
-      ctx.allowKeys(regions[i], key, {"name", "kind", "polygon"});
-      Region r;
-      r.name = ctx.text(ctx.required(regions[i], key, "name"), key + ".name");
-      const YAML::Node kind = ctx.required(regions[i], key, "kind");
-      const std::string k = ctx.text(kind, key + ".kind");
-      if (k != "room" && k != "hallway") ctx.fail(kind, key + ".kind", "must be 'room' or 'hallway', got '" + k + "'");
-      r.hallway = k == "hallway";
-      const YAML::Node poly = ctx.required(regions[i], key, "polygon");
-      r.polygon = ctx.points(poly, key + ".polygon");
-      if (r.polygon.size() < 3) ctx.fail(poly, key + ".polygon", "a polygon needs at least three points");
-      if (!region_names.insert(r.name).second) ctx.fail(regions[i], key + ".name", "duplicate region name '" + r.name + "'");
-      w.regions.push_back(r);
-    }
-  }
-  if (const YAML::Node doors = root["doors"]) {
-    if (!doors.IsSequence()) ctx.fail(doors, "doors", "must be a list");
-    for (size_t i = 0; i < doors.size(); ++i) {
-      const std::string key = indexed("doors", i);
-      ctx.allowKeys(doors[i], key, {"between", "center", "width", "closed"});
-      Door d;
-      const YAML::Node between = ctx.required(doors[i], key, "between");
-      if (!between.IsSequence() || between.size() != 2) ctx.fail(between, key + ".between", "must name two regions");
-      for (size_t j = 0; j < 2; ++j) {
-        d.between[j] = ctx.text(between[j], key + ".between");
-        if (!region_names.count(d.between[j])) ctx.fail(between[j], key + ".between", "unknown region '" + d.between[j] + "'");
-      }
-      d.center = ctx.point(ctx.required(doors[i], key, "center"), key + ".center");
-      d.width = ctx.positive(ctx.required(doors[i], key, "width"), key + ".width");
-      if (const YAML::Node closed = doors[i]["closed"]) d.closed = ctx.boolean(closed, key + ".closed");
-      w.doors.push_back(d);
-      if (d.closed) {
-        try {
-          w.doorLeaf(d);  // fail at load time, with the line, if the door cannot be closed
-        } catch (const WorldError&) {
-          ctx.fail(doors[i], key + ".closed", "cannot close this door: no edge of its regions passes within 0.3 m of its centre");
-        }
-      }
-    }
-  }
+  if (const YAML::Node regions = root["regions"]) parseRegions(ctx, regions, &region_names, &w);
+  if (const YAML::Node doors = root["doors"]) parseDoors(ctx, doors, region_names, &w);
   return w;
 }
 

@@ -276,8 +276,9 @@ struct Decoded {
 };
 
 /// Decodes the whole file; returns the problem (without the file's name), empty when valid.
-std::string decode(const std::string& bytes, Decoded* out) {
-  // Magic line, then the version line (checked before the checksum: a newer format may differ).
+// The magic line and the version line (checked before the checksum: a newer format may differ):
+// an error, or none with the version and where the body starts.
+std::string decodeHeader(const std::string& bytes, unsigned long* version_out, size_t* body_out) {
   const std::string magic = std::string(kTopoMapMagic) + "\n";
   if (bytes.compare(0, magic.size(), magic) != 0) {
     return std::string("not a topological map file (the first line is not '") + kTopoMapMagic + "')";
@@ -302,12 +303,15 @@ std::string decode(const std::string& bytes, Decoded* out) {
     return "format version " + std::to_string(version) + " is older than this build reads (1.." +
            std::to_string(kTopoMapFormatVersion) + ") and has no migration; build the map again";
   }
-  const size_t body = version_end + 1;
-  if (bytes.size() < body + 4) return "the file ends early (truncated?) before the checksum";
-  const size_t checksum_at = bytes.size() - 4;
+  *version_out = version;
+  *body_out = version_end + 1;
+  return std::string();
+}
 
-  Reader in(bytes, body, checksum_at, Layout(uint32_t(version)));
-  std::string error;
+// The nodes, then the edges (each on nodes read): into `out`, or the first error into `error`.
+void decodeNodes(Reader* reader, Decoded* out, std::string* error_out) {
+  Reader& in = *reader;
+  std::string& error = *error_out;
   const uint32_t num_nodes = in.u32("the node count");
   const size_t min_node_bytes = in.layout().minNode();
   if (in.ok() && uint64_t(num_nodes) * min_node_bytes > in.remaining()) {
@@ -320,6 +324,11 @@ std::string decode(const std::string& bytes, Decoded* out) {
     const uint32_t id = node.id;
     if (!out->nodes.emplace(id, std::move(node)).second) error = "node id " + std::to_string(id) + " appears twice";
   }
+}
+
+void decodeEdges(Reader* reader, Decoded* out, std::string* error_out) {
+  Reader& in = *reader;
+  std::string& error = *error_out;
   const uint32_t num_edges = error.empty() ? in.u32("the edge count") : 0;
   const size_t min_edge_bytes = in.layout().minEdge();
   if (in.ok() && error.empty() && uint64_t(num_edges) * min_edge_bytes > in.remaining()) {
@@ -340,6 +349,20 @@ std::string decode(const std::string& bytes, Decoded* out) {
       if (!out->edges.emplace(id, std::move(edge)).second) error = "edge id " + std::to_string(id) + " appears twice";
     }
   }
+}
+
+std::string decode(const std::string& bytes, Decoded* out) {
+  unsigned long version = 0;
+  size_t body = 0;
+  const std::string header_error = decodeHeader(bytes, &version, &body);
+  if (!header_error.empty()) return header_error;
+  if (bytes.size() < body + 4) return "the file ends early (truncated?) before the checksum";
+  const size_t checksum_at = bytes.size() - 4;
+
+  Reader in(bytes, body, checksum_at, Layout(uint32_t(version)));
+  std::string error;
+  decodeNodes(&in, out, &error);
+  decodeEdges(&in, out, &error);
   if (error.empty()) {
     out->next_node_id = in.u32("the next node id");
     out->next_edge_id = in.u32("the next edge id");
