@@ -1,9 +1,12 @@
 #!/usr/bin/python3
 """rostest: the evaluation's rules on hand-made input: the door rule on nodes, lockstep stalls in
-a log (see the .test)."""
+a log, the benchmark's figures over draws of noise (see the .test)."""
+import json
 import math
 import os
+import subprocess
 import sys
+import tempfile
 import types
 import unittest
 
@@ -64,9 +67,57 @@ class LockstepStalls(unittest.TestCase):
         self.assertEqual(stalls(log[2:]), [])
 
 
+class BenchmarkDraws(unittest.TestCase):
+    """scripts/benchmark_draws on two hand-made draws of two buildings."""
+
+    SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'scripts', 'benchmark_draws')
+    WORLD = ('regions:\n'
+             '  - {name: hall, kind: hallway, polygon: [[0, 0], [1, 0], [1, 1]]}\n'
+             '  - {name: a, kind: room, polygon: [[0, 0], [1, 0], [1, 1]]}\n'
+             '  - {name: b, kind: room, polygon: [[0, 0], [1, 0], [1, 1]]}\n'
+             'doors:\n  - {between: [a, hall]}\n  - {between: [b, a]}\n')
+
+    def draw(self, root, label, runs):
+        d = os.path.join(root, label)
+        os.makedirs(os.path.join(d, 'worlds'))
+        buildings = {}
+        for name, (mapped, complete, once, start_given_up) in runs.items():
+            with open(os.path.join(d, 'worlds', name + '.yaml'), 'w') as f:
+                f.write(self.WORLD)
+            with open(os.path.join(d, name + '.log'), 'w') as f:
+                f.write('exploration: TOPOLOGICAL - missed an opening of node %d: given up\n' % (0 if start_given_up else 3))
+            buildings[name] = {
+                'explore': {'evaluation': {'rooms_missed': [] if mapped == 2 else ['b']}},
+                'score': {'rooms_mapped': mapped, 'rooms': 2, 'rooms_twice': 0, 'doors_found': 1, 'doors': 1,
+                          'spurious_door_nodes': 0, 'complete': complete, 'every_room_once': once,
+                          'travel_m': 30.0, 'oracle_m': 10.0}}
+        with open(os.path.join(d, 'benchmark.json'), 'w') as f:
+            json.dump({'buildings': buildings}, f)
+        return d
+
+    def test_the_draws_distribution_and_what_the_draw_alone_does(self):
+        with tempfile.TemporaryDirectory() as root:
+            d0 = self.draw(root, 'draw0', {'building_medium_1': (2, True, True, False),
+                                            'building_medium_2': (1, False, False, True)})
+            d1 = self.draw(root, 'draw1', {'building_medium_1': (2, True, True, False),
+                                            'building_medium_2': (2, True, True, False)})
+            out = subprocess.run([sys.executable, self.SCRIPT, d0, d1], capture_output=True, text=True, check=True).stdout
+        self.assertIn('| %s | 3 of 4 | 0.75 / 0.50 (building 2: 1 of 2) / 1.00 | 0 | 1 of 2 | 2 of 2 | 0 | 1 | 1 of 2 |' % d0, out)
+        self.assertIn("start node's opening given up on 1", out)
+        self.assertIn('all 4 runs: rooms 7 of 8; share per run median 1.00, tenth percentile 0.50, worst 0.50 (building 2, %s)' % d0, out)
+        self.assertIn('complete 3, every room once 3 (buildings: some draw 1, 2; every draw 1)', out)
+        self.assertIn('"complete" differs on 1, every room once on 1, rooms mapped by more than 2 on 0', out)
+
+    def test_a_folder_without_results_is_refused(self):
+        with tempfile.TemporaryDirectory() as root:
+            r = subprocess.run([sys.executable, self.SCRIPT, root], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn('has no benchmark.json', r.stderr)
+
+
 def suite():
     load = unittest.defaultTestLoader.loadTestsFromTestCase
-    return unittest.TestSuite([load(DoorRule), load(LockstepStalls)])
+    return unittest.TestSuite([load(DoorRule), load(LockstepStalls), load(BenchmarkDraws)])
 
 
 if __name__ == '__main__':
