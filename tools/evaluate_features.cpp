@@ -336,35 +336,118 @@ bool parse(int argc, char** argv, Options* o) {
   return !o->bag.empty();
 }
 
+void usage() {
+  std::fprintf(stderr,
+               "usage: evaluate_features --bag BAG [--world WORLD.yaml] [--stride N] [--max-scans N] [--lines FILE]\n"
+               "       [--dump-scans FILE] [--label NAME] [--config YAML] [--scan-topic T] [--plot FILE] [--plot-scans N]\n"
+               "  with --world: scores against the simulator's ground truth (bag from sim.launch record:=...)\n"
+               "  without: features per scan and time on any bag, one Markdown table row\n");
+}
+
+// A scan as a line of text: angle_min, angle_increment, range_min, range_max, count, the ranges.
+void dumpScan(const sensor_msgs::LaserScan& scan, std::ofstream* dump) {
+  *dump << scan.angle_min << " " << scan.angle_increment << " " << scan.range_min << " " << scan.range_max << " "
+        << scan.ranges.size();
+  for (float r : scan.ranges) *dump << " " << r;
+  *dump << "\n";
+}
+
+// The node's YAML (config/laser_features.yaml format): every parameter it names.
+bool loadParams(const std::string& config, lf::FeatureExtractor::Params* params) {
+  try {
+    const YAML::Node root = YAML::LoadFile(config);
+    lf::visitParams(params, [&](const char* name, auto* value) {
+      YAML::Node node = YAML::Clone(root);
+      std::stringstream path(name);
+      std::string part;
+      while (std::getline(path, part, '/') && node.IsMap()) node = node[part];
+      if (node.IsDefined() && node.IsScalar()) *value = node.as<std::remove_pointer_t<decltype(value)>>();
+    });
+  } catch (const YAML::Exception& e) {
+    std::fprintf(stderr, "evaluate_features: %s: %s\n", config.c_str(), e.what());
+    return false;
+  }
+  return true;
+}
+
+// Lines extracted by another tool, a line each: scan index, alpha, r, covariance (4), start, end.
+bool readExternalLines(const std::string& file, std::map<int, std::vector<Segment>>* external) {
+  std::ifstream in(file);
+  if (!in) {
+    std::fprintf(stderr, "evaluate_features: cannot read %s\n", file.c_str());
+    return false;
+  }
+  int idx;
+  Segment s;
+  while (in >> idx >> s.line.alpha >> s.line.r >> s.line.cov(0, 0) >> s.line.cov(0, 1) >> s.line.cov(1, 0) >>
+         s.line.cov(1, 1) >> s.start.x() >> s.start.y() >> s.end.x() >> s.end.y())
+    (*external)[idx].push_back(s);
+  return true;
+}
+
+std::vector<std::pair<double, lf::Pose2D>> truthTrack(rosbag::Bag* bag) {
+  std::vector<std::pair<double, lf::Pose2D>> track;
+  for (const rosbag::MessageInstance& m : rosbag::View(*bag, rosbag::TopicQuery("/ground_truth")))
+    if (auto t = m.instantiate<nav_msgs::Odometry>()) track.emplace_back(t->header.stamp.toSec(), yawPose(*t));
+  return track;
+}
+
+// The scan's place type against the region the laser is in (scans outside every region not counted).
+void scorePlaceType(lf::PlaceType type, const bs::World& world, const lf::Pose2D& laser, Stats* s) {
+  const int region = world.regionAt({laser.x, laser.y});
+  if (region < 0) return;
+  ++s->place_total;
+  const bool hallway = world.regions[region].hallway;
+  const bool right = type != lf::PlaceType::kUnknown && (type == lf::PlaceType::kHallway) == hallway;
+  if (type == lf::PlaceType::kUnknown) ++s->place_unknown;
+  s->place_right += right;
+  (hallway ? s->hallway_scans : s->room_scans)++;
+  (hallway ? s->hallway_right : s->room_right) += right;
+}
+
+void printReport(const Options& opt, const Stats& s) {
+  const double deg = 180.0 / M_PI;
+  std::printf("## %s on %s (%d scans)\n\n", opt.label.c_str(), opt.bag.c_str(), s.scans);
+  std::printf("| lines | |\n|---|---|\n");
+  std::printf("| mean / p95 |dα| | %.3f° / %.3f° |\n", mean(s.d_alpha) * deg, percentile(s.d_alpha, 0.95) * deg);
+  std::printf("| mean / p95 |dr| | %.1f mm / %.1f mm |\n", mean(s.d_r) * 1e3, percentile(s.d_r, 0.95) * 1e3);
+  std::printf("| mean / p95 distance of the segment's midpoint from the wall | %.1f mm / %.1f mm |\n",
+              mean(s.d_mid) * 1e3, percentile(s.d_mid, 0.95) * 1e3);
+  std::printf("| mean NEES (2 dof: ~2) | %.2f (median %.2f) |\n", mean(s.nees), percentile(s.nees, 0.5));
+  std::printf("| recall (faces ≥ 6 beams, ≥ 0.2 m) | %.1f%% (%d / %d) |\n", 100.0 * s.found_lines / std::max(1, s.expected_lines),
+              s.found_lines, s.expected_lines);
+  std::printf("| false lines | %.1f%% (%d / %d) |\n", 100.0 * s.false_lines / std::max(1, s.extracted_lines), s.false_lines,
+              s.extracted_lines);
+  std::printf("| lines per scan | %.1f |\n", static_cast<double>(s.extracted_lines) / std::max(1, s.scans));
+  if (opt.lines_file.empty()) {
+    std::printf("| corner recall / false | %.1f%% (%d / %d) / %.1f%% (%d / %d) |\n",
+                100.0 * s.found_corners / std::max(1, s.expected_corners), s.found_corners, s.expected_corners,
+                100.0 * s.false_corners / std::max(1, s.extracted_corners), s.false_corners, s.extracted_corners);
+    std::printf("| door recall / false openings | %.1f%% (%d / %d) / %.1f%% (%d / %d) |\n",
+                100.0 * s.found_doors / std::max(1, s.visible_doors), s.found_doors, s.visible_doors,
+                100.0 * s.false_openings / std::max(1, s.extracted_openings), s.false_openings, s.extracted_openings);
+    std::printf("| extraction time per scan, median / mean | %.1f µs / %.1f µs |\n", percentile(s.micros, 0.5), mean(s.micros));
+    std::printf("| false openings of kind DOOR or JUNCTION | %.1f%% (%d / %d) |\n",
+                100.0 * s.false_typed_openings / std::max(1, s.typed_openings), s.false_typed_openings, s.typed_openings);
+    std::printf("| place type right / unknown | %.1f%% / %.1f%% (%d scans in a region) |\n",
+                100.0 * s.place_right / std::max(1, s.place_total), 100.0 * s.place_unknown / std::max(1, s.place_total),
+                s.place_total);
+    std::printf("| place type right in hallways / in rooms | %.1f%% (%d) / %.1f%% (%d) |\n",
+                100.0 * s.hallway_right / std::max(1, s.hallway_scans), s.hallway_scans,
+                100.0 * s.room_right / std::max(1, s.room_scans), s.room_scans);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   Options opt;
   if (!parse(argc, argv, &opt)) {
-    std::fprintf(stderr,
-                 "usage: evaluate_features --bag BAG [--world WORLD.yaml] [--stride N] [--max-scans N] [--lines FILE]\n"
-                 "       [--dump-scans FILE] [--label NAME] [--config YAML] [--scan-topic T] [--plot FILE] [--plot-scans N]\n"
-                 "  with --world: scores against the simulator's ground truth (bag from sim.launch record:=...)\n"
-                 "  without: features per scan and time on any bag, one Markdown table row\n");
+    usage();
     return 2;
   }
   lf::FeatureExtractor::Params params;
-  if (!opt.config.empty()) {
-    // The node's YAML (config/laser_features.yaml format): every parameter it names.
-    try {
-      const YAML::Node root = YAML::LoadFile(opt.config);
-      lf::visitParams(&params, [&](const char* name, auto* value) {
-        YAML::Node node = YAML::Clone(root);
-        std::stringstream path(name);
-        std::string part;
-        while (std::getline(path, part, '/') && node.IsMap()) node = node[part];
-        if (node.IsDefined() && node.IsScalar()) *value = node.as<std::remove_pointer_t<decltype(value)>>();
-      });
-    } catch (const YAML::Exception& e) {
-      std::fprintf(stderr, "evaluate_features: %s: %s\n", opt.config.c_str(), e.what());
-      return 1;
-    }
-  }
+  if (!opt.config.empty() && !loadParams(opt.config, &params)) return 1;
   rosbag::Bag bag;
   try {
     bag.open(opt.bag, rosbag::bagmode::Read);
@@ -385,25 +468,12 @@ int main(int argc, char** argv) {
 
   // External lines, keyed by evaluated-scan index.
   std::map<int, std::vector<Segment>> external;
-  if (!opt.lines_file.empty()) {
-    std::ifstream in(opt.lines_file);
-    if (!in) {
-      std::fprintf(stderr, "evaluate_features: cannot read %s\n", opt.lines_file.c_str());
-      return 1;
-    }
-    int idx;
-    Segment s;
-    while (in >> idx >> s.line.alpha >> s.line.r >> s.line.cov(0, 0) >> s.line.cov(0, 1) >> s.line.cov(1, 0) >>
-           s.line.cov(1, 1) >> s.start.x() >> s.start.y() >> s.end.x() >> s.end.y())
-      external[idx].push_back(s);
-  }
+  if (!opt.lines_file.empty() && !readExternalLines(opt.lines_file, &external)) return 1;
   std::ofstream dump;
   if (!opt.dump_file.empty()) dump.open(opt.dump_file);
 
   // Ground truth first (it may be recorded just after the scan of the same instant).
-  std::vector<std::pair<double, lf::Pose2D>> truth_track;
-  for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery("/ground_truth")))
-    if (auto t = m.instantiate<nav_msgs::Odometry>()) truth_track.emplace_back(t->header.stamp.toSec(), yawPose(*t));
+  const std::vector<std::pair<double, lf::Pose2D>> truth_track = truthTrack(&bag);
   if (truth_track.empty()) {
     std::fprintf(stderr, "evaluate_features: %s has no /ground_truth: record it with sim.launch record:=...\n",
                  opt.bag.c_str());
@@ -437,60 +507,16 @@ int main(int argc, char** argv) {
       s.micros.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
       for (const auto& l : features.lines) lines.push_back({l.line, l.start, l.end});
     }
-    if (dump.is_open()) {
-      dump << scan->angle_min << " " << scan->angle_increment << " " << scan->range_min << " " << scan->range_max << " "
-           << scan->ranges.size();
-      for (float r : scan->ranges) dump << " " << r;
-      dump << "\n";
-    }
+    if (dump.is_open()) dumpScan(*scan, &dump);
     scoreLines(lines, truth, &s);
     if (opt.lines_file.empty()) {
       scoreCorners(features.corners, truth, &s);
       scoreOpenings(features.openings, world, caster, laser, &s);
-      const int region = world.regionAt({laser.x, laser.y});
-      if (region >= 0) {
-        ++s.place_total;
-        const bool hallway = world.regions[region].hallway;
-        const bool right = features.place_type != lf::PlaceType::kUnknown &&
-                           (features.place_type == lf::PlaceType::kHallway) == hallway;
-        if (features.place_type == lf::PlaceType::kUnknown) ++s.place_unknown;
-        s.place_right += right;
-        (hallway ? s.hallway_scans : s.room_scans)++;
-        (hallway ? s.hallway_right : s.room_right) += right;
-      }
+      scorePlaceType(features.place_type, world, laser, &s);
     }
     ++evaluated;
   }
   s.scans = evaluated;
-  const double deg = 180.0 / M_PI;
-  std::printf("## %s on %s (%d scans)\n\n", opt.label.c_str(), opt.bag.c_str(), s.scans);
-  std::printf("| lines | |\n|---|---|\n");
-  std::printf("| mean / p95 |dα| | %.3f° / %.3f° |\n", mean(s.d_alpha) * deg, percentile(s.d_alpha, 0.95) * deg);
-  std::printf("| mean / p95 |dr| | %.1f mm / %.1f mm |\n", mean(s.d_r) * 1e3, percentile(s.d_r, 0.95) * 1e3);
-  std::printf("| mean / p95 distance of the segment's midpoint from the wall | %.1f mm / %.1f mm |\n",
-              mean(s.d_mid) * 1e3, percentile(s.d_mid, 0.95) * 1e3);
-  std::printf("| mean NEES (2 dof: ~2) | %.2f (median %.2f) |\n", mean(s.nees), percentile(s.nees, 0.5));
-  std::printf("| recall (faces ≥ 6 beams, ≥ 0.2 m) | %.1f%% (%d / %d) |\n", 100.0 * s.found_lines / std::max(1, s.expected_lines),
-              s.found_lines, s.expected_lines);
-  std::printf("| false lines | %.1f%% (%d / %d) |\n", 100.0 * s.false_lines / std::max(1, s.extracted_lines), s.false_lines,
-              s.extracted_lines);
-  std::printf("| lines per scan | %.1f |\n", static_cast<double>(s.extracted_lines) / std::max(1, s.scans));
-  if (opt.lines_file.empty()) {
-    std::printf("| corner recall / false | %.1f%% (%d / %d) / %.1f%% (%d / %d) |\n",
-                100.0 * s.found_corners / std::max(1, s.expected_corners), s.found_corners, s.expected_corners,
-                100.0 * s.false_corners / std::max(1, s.extracted_corners), s.false_corners, s.extracted_corners);
-    std::printf("| door recall / false openings | %.1f%% (%d / %d) / %.1f%% (%d / %d) |\n",
-                100.0 * s.found_doors / std::max(1, s.visible_doors), s.found_doors, s.visible_doors,
-                100.0 * s.false_openings / std::max(1, s.extracted_openings), s.false_openings, s.extracted_openings);
-    std::printf("| extraction time per scan, median / mean | %.1f µs / %.1f µs |\n", percentile(s.micros, 0.5), mean(s.micros));
-    std::printf("| false openings of kind DOOR or JUNCTION | %.1f%% (%d / %d) |\n",
-                100.0 * s.false_typed_openings / std::max(1, s.typed_openings), s.false_typed_openings, s.typed_openings);
-    std::printf("| place type right / unknown | %.1f%% / %.1f%% (%d scans in a region) |\n",
-                100.0 * s.place_right / std::max(1, s.place_total), 100.0 * s.place_unknown / std::max(1, s.place_total),
-                s.place_total);
-    std::printf("| place type right in hallways / in rooms | %.1f%% (%d) / %.1f%% (%d) |\n",
-                100.0 * s.hallway_right / std::max(1, s.hallway_scans), s.hallway_scans,
-                100.0 * s.room_right / std::max(1, s.room_scans), s.room_scans);
-  }
+  printReport(opt, s);
   return 0;
 }
