@@ -61,27 +61,35 @@ struct Score {
   int tests = 0, right = 0, near = 0;
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
+struct Options {
   std::string bag_path;
   double spacing = 1.5, near = 0.75, revisit = 60.0, right_radius = 1.5;
+};
+
+// The command line; false (the error printed) on an unknown option or without --bag.
+bool parseOptions(int argc, char** argv, Options* o) {
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
-    if (k == "--bag") bag_path = argv[i + 1];
-    else if (k == "--spacing") spacing = std::atof(argv[i + 1]);
-    else if (k == "--near") near = std::atof(argv[i + 1]);
-    else if (k == "--revisit") revisit = std::atof(argv[i + 1]);
-    else if (k == "--right") right_radius = std::atof(argv[i + 1]);
+    if (k == "--bag") o->bag_path = argv[i + 1];
+    else if (k == "--spacing") o->spacing = std::atof(argv[i + 1]);
+    else if (k == "--near") o->near = std::atof(argv[i + 1]);
+    else if (k == "--revisit") o->revisit = std::atof(argv[i + 1]);
+    else if (k == "--right") o->right_radius = std::atof(argv[i + 1]);
     else {
       std::fprintf(stderr, "evaluate_fingerprints: unknown option %s\n", k.c_str());
-      return 2;
+      return false;
     }
   }
-  if (bag_path.empty()) {
+  if (o->bag_path.empty()) {
     std::fprintf(stderr, "usage: evaluate_fingerprints --bag B [--spacing M] [--near M] [--revisit S] [--right M]\n");
-    return 2;
+    return false;
   }
+  return true;
+}
+
+// The bag's fingerprints with an image, each with the true position at its stamp; false (the error
+// printed) if the bag cannot be read.
+bool readSamples(const std::string& bag_path, std::vector<Sample>* samples) {
   std::map<double, std::pair<double, double>> truth;  // t -> (x, y)
   std::vector<std::pair<double, hybrid_slam_msgs::Fingerprint::ConstPtr>> prints;
   try {
@@ -95,32 +103,62 @@ int main(int argc, char** argv) {
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "evaluate_fingerprints: %s: %s\n", bag_path.c_str(), e.what());
-    return 1;
+    return false;
   }
-  std::vector<Sample> samples;
   for (const auto& [t, f] : prints) {
     auto it = truth.lower_bound(t - 1e-6);
     if (it == truth.end() || std::abs(it->first - t) > 0.05) continue;  // no true pose at its stamp
-    samples.push_back(Sample{t, it->second.first, it->second.second, fromMessage(*f)});
+    samples->push_back(Sample{t, it->second.first, it->second.second, fromMessage(*f)});
   }
-  if (samples.empty()) {
-    std::fprintf(stderr, "evaluate_fingerprints: %s: no fingerprint with an image and a true pose (camera:=true?)\n",
-                 bag_path.c_str());
-    return 1;
-  }
-  // References along the tour, and the tests: later passes near a reference.
-  std::vector<size_t> refs;
-  std::vector<std::pair<size_t, size_t>> tests;  // (sample, its nearest reference)
+  return true;
+}
+
+// References along the tour (`refs`), and the tests: later passes near a reference (sample, its
+// nearest reference).
+void referencesAndTests(const std::vector<Sample>& samples, const Options& opt, std::vector<size_t>* refs,
+                        std::vector<std::pair<size_t, size_t>>* tests) {
   for (size_t i = 0; i < samples.size(); ++i) {
     double best = 1e18;
     size_t nearest = 0;
-    for (size_t r : refs) {
+    for (size_t r : *refs) {
       const double d = std::hypot(samples[r].x - samples[i].x, samples[r].y - samples[i].y);
       if (d < best) best = d, nearest = r;
     }
-    if (refs.empty() || best > spacing) refs.push_back(i);
-    else if (best <= near && samples[i].t - samples[nearest].t >= revisit) tests.emplace_back(i, nearest);
+    if (refs->empty() || best > opt.spacing) refs->push_back(i);
+    else if (best <= opt.near && samples[i].t - samples[nearest].t >= opt.revisit) tests->emplace_back(i, nearest);
   }
+}
+
+void printReport(size_t samples, size_t refs, size_t tests, double features_sum, double laser_sum, const Score& all,
+                 const Score& laser, double right_radius) {
+  auto pct = [](int a, int n) { return n ? 100.0 * a / n : 0.0; };
+  std::printf("evaluate_fingerprints: %zu fingerprints with an image, %zu references (%.1f features each, %.1f the laser's), %zu tests\n",
+              samples, refs, features_sum / refs, laser_sum / refs, tests);
+  std::printf("  camera + laser: %d of %d right (%.1f %%), %d within %.1f m (%.1f %%)\n", all.right, all.tests,
+              pct(all.right, all.tests), all.near, right_radius, pct(all.near, all.tests));
+  std::printf("  laser alone:    %d of %d right (%.1f %%), %d within %.1f m (%.1f %%)\n", laser.right, laser.tests,
+              pct(laser.right, laser.tests), laser.near, right_radius, pct(laser.near, laser.tests));
+  std::printf("{\"fingerprints\": %zu, \"references\": %zu, \"tests\": %d, \"right\": %d, \"near\": %d, "
+              "\"laser_right\": %d, \"laser_near\": %d, \"right_pct\": %.1f, \"laser_right_pct\": %.1f}\n",
+              samples, refs, all.tests, all.right, all.near, laser.right, laser.near, pct(all.right, all.tests),
+              pct(laser.right, laser.tests));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options opt;
+  if (!parseOptions(argc, argv, &opt)) return 2;
+  std::vector<Sample> samples;
+  if (!readSamples(opt.bag_path, &samples)) return 1;
+  if (samples.empty()) {
+    std::fprintf(stderr, "evaluate_fingerprints: %s: no fingerprint with an image and a true pose (camera:=true?)\n",
+                 opt.bag_path.c_str());
+    return 1;
+  }
+  std::vector<size_t> refs;
+  std::vector<std::pair<size_t, size_t>> tests;
+  referencesAndTests(samples, opt, &refs, &tests);
   const fingerprint::FingerprintMatcher matcher;
   Score all, laser;
   double features_sum = 0.0, laser_sum = 0.0;
@@ -142,19 +180,9 @@ int main(int argc, char** argv) {
       Score& s = mode == 0 ? all : laser;
       ++s.tests;
       s.right += answer == nearest;
-      s.near += std::hypot(samples[answer].x - samples[i].x, samples[answer].y - samples[i].y) <= right_radius;
+      s.near += std::hypot(samples[answer].x - samples[i].x, samples[answer].y - samples[i].y) <= opt.right_radius;
     }
   }
-  auto pct = [](int a, int n) { return n ? 100.0 * a / n : 0.0; };
-  std::printf("evaluate_fingerprints: %zu fingerprints with an image, %zu references (%.1f features each, %.1f the laser's), %zu tests\n",
-              samples.size(), refs.size(), features_sum / refs.size(), laser_sum / refs.size(), tests.size());
-  std::printf("  camera + laser: %d of %d right (%.1f %%), %d within %.1f m (%.1f %%)\n", all.right, all.tests,
-              pct(all.right, all.tests), all.near, right_radius, pct(all.near, all.tests));
-  std::printf("  laser alone:    %d of %d right (%.1f %%), %d within %.1f m (%.1f %%)\n", laser.right, laser.tests,
-              pct(laser.right, laser.tests), laser.near, right_radius, pct(laser.near, laser.tests));
-  std::printf("{\"fingerprints\": %zu, \"references\": %zu, \"tests\": %d, \"right\": %d, \"near\": %d, "
-              "\"laser_right\": %d, \"laser_near\": %d, \"right_pct\": %.1f, \"laser_right_pct\": %.1f}\n",
-              samples.size(), refs.size(), all.tests, all.right, all.near, laser.right, laser.near,
-              pct(all.right, all.tests), pct(laser.right, laser.tests));
+  printReport(samples.size(), refs.size(), tests.size(), features_sum, laser_sum, all, laser, opt.right_radius);
   return 0;
 }
