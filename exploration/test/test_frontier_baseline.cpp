@@ -426,15 +426,20 @@ TEST(GridPlanner, PathsKeepClearOfInflatedObstacles) {
   GridPlanner planner;
   planner.setMap(grid);
   const double res = grid.resolution(), inflation = planner.inflationRadius();
-  // The test's own check against the grid: no sample of the path is nearer than the inflation
-  // (less the half diagonal of a cell: samples lie between cell centres) to an Occupied cell.
+  // The test's own check against the grid: no sample of the path is nearer than the controller's
+  // clearance to an Occupied cell's centre. The inflation adds half a cell's diagonal to it
+  // (GridPlanner::inflationRadius): a line-of-sight segment passes that much nearer to an obstacle
+  // than the centres of the cells it touches, and the controller, which needs the clearance along
+  // its heading, turned to and fro before a passage planned by less (a robot among a table's legs,
+  // for 360 s).
+  EXPECT_NEAR(inflation, planner.clearance() + 0.5 * std::sqrt(2.0) * res, 1e-9);
   const int reach = static_cast<int>(std::ceil(inflation / res)) + 1;
   const auto tooClose = [&](const Vector2d& p) {
     const CellIndex c = grid.worldToCell(p);
     for (int dy = -reach; dy <= reach; ++dy)
       for (int dx = -reach; dx <= reach; ++dx)
         if (grid.cellState(c.x + dx, c.y + dy) == CellState::Occupied &&
-            (grid.cellCenter(c.x + dx, c.y + dy) - p).norm() < inflation - 0.71 * res)
+            (grid.cellCenter(c.x + dx, c.y + dy) - p).norm() < planner.clearance() - 1e-9)
           return true;
     return false;
   };
@@ -516,20 +521,21 @@ TEST(GridPlanner, ObstaclesOfTheScanTheGridLostAreKeptClearOf) {
   planner.addObstacles(legs);
   const auto seen = planner.plan({1.0, 2.0}, {5.0, 2.0});
   ASSERT_TRUE(seen);
-  EXPECT_GE(nearest(*seen), planner.inflationRadius() - 0.71 * grid.resolution());
+  EXPECT_GE(nearest(*seen), planner.clearance() - 1e-9);
   EXPECT_FALSE(planner.clearLine({1.0, 2.0}, {5.0, 2.0}));
 }
 
-// A seen point covers every cell whose centre lies within the inflation radius of the point itself:
-// two legs 0.652 m apart (less than twice the radius) whose cells' centres are 0.70 m apart leave no
-// way between them, as the controller, which measures its clearance from the points, leaves none.
+// A seen point covers every cell whose centre lies within the inflation radius (0.385 m) of
+// the point itself: two legs 0.750 m apart (less than twice the radius) whose cells' centres are
+// 0.80 m apart leave no way between them, as the controller, which measures its clearance from the
+// points, leaves none.
 TEST(GridPlanner, ASeenPointInflatesFromWhereItIsNotFromItsCell) {
   const OccupancyGrid grid = roomMappedFromTwoPoses();
-  const std::vector<Vector2d> legs = {{3.0, 1.699}, {3.0, 2.351}};  // each at its cell's edge facing the other
-  ASSERT_LT((legs[1] - legs[0]).norm(), 2.0 * GridPlanner().inflationRadius());
+  const std::vector<Vector2d> legs = {{3.0, 1.6499}, {3.0, 2.4001}};  // each at its cell's edge facing the other
   GridPlanner planner;
   planner.setMap(grid);
-  // The cell centred at (2.975, 2.025): 0.327 m from each leg, 0.354 m from each leg's cell centre.
+  ASSERT_LT((legs[1] - legs[0]).norm(), 2.0 * planner.inflationRadius());
+  // The cell centred at (2.975, 2.025): 0.376 m from each leg, 0.403 m from each leg's cell centre.
   const int ix = 59, iy = 40;
   ASSERT_TRUE(planner.traversable(ix, iy));
   planner.addObstacles(legs);

@@ -1,9 +1,10 @@
 // GridPlanner, the grid path planner of the room explorer, the hallway navigator and the
 // frontier-exploration baseline: A* / Dijkstra, 8-connected without corner cutting, on a snapshot
 // of the grid where a cell is traversable when it is Free (or Unknown, with allow_unknown) and no
-// Occupied cell's centre lies within robot_radius + safety_margin of its centre (the robot inflated
-// into the obstacles; by default the Unknown cells bordering Free ones too), nor within that of a
-// point given by addObstacles() (the scan's returns).
+// Occupied cell's centre lies within inflationRadius() (robot_radius + safety_margin and half a
+// cell's diagonal) of its centre (the robot inflated into the obstacles; by default the Unknown
+// cells bordering Free ones too), nor within that of a point given by addObstacles() (the scan's
+// returns).
 // A start inside the inflation (the robot close to a wall, as the motion controller allows) leaves
 // it through free cells within start_escape_distance (never nearer to a point of addObstacles()
 // whose inflation it is in); no path ever enters the inflation after that. The escape is one
@@ -47,11 +48,20 @@ struct Path {
 
 class GridPlanner {
  public:
+  static constexpr double kHalfDiagonal = 0.70710678118;  // cells: half a cell's diagonal (inflationRadius())
   /// Throws std::invalid_argument when validate() refuses `params`.
   explicit GridPlanner(const PlannerParams& params = PlannerParams());
   static bool validate(const PlannerParams& params, std::string* error = nullptr);
   const PlannerParams& params() const { return params_; }
-  double inflationRadius() const { return params_.robot_radius + params_.safety_margin; }
+  /// m, what the motion controller keeps from every scan point: robot_radius + safety_margin.
+  double clearance() const { return params_.robot_radius + params_.safety_margin; }
+  /// m, the inflation around an Occupied cell's centre and a point of addObstacles(): clearance()
+  /// and half a cell's diagonal, once a map is set. A path's line-of-sight segment passes up to
+  /// half a diagonal nearer to an obstacle than the centres of the traversable cells it touches:
+  /// with it, every point of a path keeps the controller's clearance. A passage planned by less
+  /// (between a table's legs) leaves the controller, which needs that clearance along its heading,
+  /// turning to and fro before it.
+  double inflationRadius() const { return clearance() + kHalfDiagonal * resolution_; }
 
   /// Takes a snapshot of `grid`'s traversability (the inflation); later changes of the grid are
   /// not seen until the next call. O(cells + boundary cells * inflation disk).
