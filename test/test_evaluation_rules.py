@@ -115,9 +115,68 @@ class BenchmarkDraws(unittest.TestCase):
         self.assertIn('has no benchmark.json', r.stderr)
 
 
+class BenchmarkMisses(unittest.TestCase):
+    """scripts/benchmark_misses on a hand-made floor: a hallway along y = 0 the robot drove from x = 0
+    to x = 10, a room whose door it passed (x 5), one whose door lies beyond its path (x 20), a room
+    behind the first and one behind the second."""
+
+    SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', 'scripts', 'benchmark_misses')
+    WORLD = ('regions:\n'
+             '  - {name: hall_3, kind: hallway, polygon: [[0, 0], [1, 0], [1, 1]]}\n' +
+             ''.join('  - {name: %s, kind: room, polygon: [[0, 0], [1, 0], [1, 1]]}\n' % r for r in 'abcd') +
+             'doors:\n'
+             '  - {between: [a, hall_3], center: [5, 1.5], width: 0.9}\n'
+             '  - {between: [b, hall_3], center: [20, 1.0], width: 0.9}\n'
+             '  - {between: [c, a], center: [5, 6], width: 0.9}\n'
+             '  - {between: [d, b], center: [20, 6], width: 0.9}\n')
+
+    def run_script(self, root, *draws):
+        """The script on one folder per draw, each with the rooms mapped in it."""
+        folders = [self.folder(os.path.join(root, 'draw%d' % k), mapped) for k, mapped in enumerate(draws)]
+        return subprocess.run([sys.executable, self.SCRIPT] + folders + ['--list'], capture_output=True, text=True,
+                              check=True).stdout
+
+    def folder(self, d, mapped):
+        os.makedirs(os.path.join(d, 'worlds'))
+        with open(os.path.join(d, 'worlds', 'building_medium_1.yaml'), 'w') as f:
+            f.write(self.WORLD)
+        evaluation = os.path.join(d, 'building_medium_1.evaluation.json')
+        with open(evaluation, 'w') as f:
+            json.dump({'rooms_missed': [r for r in 'abcd' if r not in mapped],
+                       'place_rooms': {str(k): r for k, r in enumerate(mapped)}}, f)
+        with open(evaluation + '.trace.csv', 'w') as f:
+            f.write('t,true_x,true_y,true_yaw,region,mode,place,node,state\n'
+                    '0.0,0.0,0.0,0.0,hall_3,0,-1,0,"following a new hallway"\n'
+                    '20.0,10.0,0.0,0.0,hall_3,0,-1,0,"following a new hallway"\n')
+        with open(os.path.join(d, 'benchmark.json'), 'w') as f:
+            json.dump({'buildings': {'building_medium_1': {'score': {}}}}, f)
+        return d
+
+    def test_each_missed_room_has_its_cause(self):
+        with tempfile.TemporaryDirectory() as root:
+            out = self.run_script(root, [])
+        self.assertIn('A door counts as passed within 2.0 m', out)
+        self.assertIn('a: door passed: hall (hall_3, 1.5 m)', out)
+        self.assertIn('b: never near (10.0 m from its door)', out)
+        self.assertIn('c: behind a room, host missed (a)', out)
+        self.assertIn('all: 4 missed | behind a room, host missed 2, door passed: hall 1, never near 1', out)
+
+    def test_a_room_behind_a_mapped_room_is_its_inner_door_not_taken(self):
+        with tempfile.TemporaryDirectory() as root:
+            out = self.run_script(root, ['a', 'b'])
+        self.assertIn('c: behind a room, host mapped (a)', out)
+        self.assertIn('all: 2 missed | behind a room, host mapped 2', out)
+
+    def test_the_rooms_missed_in_every_draw(self):
+        with tempfile.TemporaryDirectory() as root:
+            out = self.run_script(root, ['a', 'b'], ['a', 'b', 'd'])
+        self.assertIn('all: 3 missed | behind a room, host mapped 3', out)
+        self.assertIn('missed in every folder with its building: 1 rooms | behind a room, host mapped 1', out)
+
+
 def suite():
     load = unittest.defaultTestLoader.loadTestsFromTestCase
-    return unittest.TestSuite([load(DoorRule), load(LockstepStalls), load(BenchmarkDraws)])
+    return unittest.TestSuite([load(DoorRule), load(LockstepStalls), load(BenchmarkDraws), load(BenchmarkMisses)])
 
 
 if __name__ == '__main__':
