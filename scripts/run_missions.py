@@ -38,7 +38,7 @@ from actionlib_msgs.msg import GoalStatus
 from lockstep import Participant, ScriptClock
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from visualization_msgs.msg import MarkerArray
-from world_geometry import compose, inside, inverse, yaw_of
+from world_geometry import compose, inside, inverse, segment_distance, yaw_of
 from hybrid_slam_msgs.msg import (ExplorationStatus, GoToPlaceAction, GoToPlaceActionResult, GoToPlaceGoal,
                                   RelocationResult, TopologicalBelief, TopologicalMap)
 from nav_msgs.msg import Odometry
@@ -46,13 +46,6 @@ from nav_msgs.msg import Odometry
 DONE, TOPOLOGICAL = 3, 0
 TERMINAL = (GoalStatus.PREEMPTED, GoalStatus.SUCCEEDED, GoalStatus.ABORTED, GoalStatus.REJECTED, GoalStatus.RECALLED,
             GoalStatus.LOST)
-
-
-def segment_distance(p, a, b):
-    ax, ay = b[0] - a[0], b[1] - a[1]
-    L = ax * ax + ay * ay
-    t = 0.0 if L == 0 else max(0.0, min(1.0, ((p[0] - a[0]) * ax + (p[1] - a[1]) * ay) / L))
-    return math.hypot(p[0] - a[0] - t * ax, p[1] - a[1] - t * ay)
 
 
 class World:
