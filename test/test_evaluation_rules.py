@@ -167,6 +167,14 @@ class BenchmarkMisses(unittest.TestCase):
         self.assertIn('c: behind a room, host mapped (a)', out)
         self.assertIn('all: 2 missed | behind a room, host mapped 2', out)
 
+    def test_a_run_without_its_trace_is_refused(self):
+        with tempfile.TemporaryDirectory() as root:
+            d = self.folder(os.path.join(root, 'draw0'), [])
+            os.remove(os.path.join(d, 'building_medium_1.evaluation.json.trace.csv'))
+            r = subprocess.run([sys.executable, self.SCRIPT, d], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 1)
+        self.assertIn('building_medium_1: no trace', r.stderr)
+
     def test_the_rooms_missed_in_every_draw(self):
         with tempfile.TemporaryDirectory() as root:
             out = self.run_script(root, ['a', 'b'], ['a', 'b', 'd'])
