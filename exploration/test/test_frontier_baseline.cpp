@@ -574,7 +574,7 @@ TEST(GridPlanner, AStartNearASeenPointLeavesItOnlyMovingAway) {
       for (std::size_t k = 0; k < legs.size(); ++k) {
         const double d = (q - legs[k]).norm();
         if (left) {
-          EXPECT_GE(d, r - 0.71 * grid.resolution()) << "back near leg " << k << " at " << q.transpose();
+          EXPECT_GE(d, planner.clearance()) << "back near leg " << k << " at " << q.transpose();
         } else if (d < r) {
           EXPECT_GE(d, last[k] - 1e-9) << "nearer to leg " << k << " at " << q.transpose();
         }

@@ -484,8 +484,8 @@ TEST(RoomExplorer, AWayOutFromAmongTableLegsIsTheGridsWhenTheScanLeavesNone) {
   const auto among = rx.pathToExit(robot, legs);
   ASSERT_TRUE(among.has_value()) << "no way out from under the table";
   EXPECT_NEAR(among->length, grid_only->length, 1e-9);
-  // Two legs 0.60 m apart across the straight way out, not around the robot: kept clear of (the
-  // inflation radius, less the cells' half diagonal), round them.
+  // Two legs 0.60 m apart across the straight way out, not around the robot: kept clear of by the
+  // planner's clearance (the robot's radius and safety margin), round them.
   const Vector2d from = robot + Vector2d(0.0, 0.3);
   const std::vector<Vector2d> across = {robot + Vector2d(0.30, -0.4), robot + Vector2d(-0.30, -0.4)};
   const auto straight = rx.pathToExit(from);
@@ -494,7 +494,7 @@ TEST(RoomExplorer, AWayOutFromAmongTableLegsIsTheGridsWhenTheScanLeavesNone) {
   const auto around = rx.pathToExit(from, across);
   ASSERT_TRUE(around.has_value());
   EXPECT_GT(around->length, straight->length);
-  const double clear = GridPlanner(RoomExplorerParams().planner).inflationRadius() - 0.71 * rx.grid().resolution();
+  const double clear = GridPlanner(RoomExplorerParams().planner).clearance();
   for (std::size_t i = 1; i < around->waypoints.size(); ++i) {
     const Vector2d a = around->waypoints[i - 1], b = around->waypoints[i];
     for (double t = 0.0; t <= 1.0; t += 0.02)

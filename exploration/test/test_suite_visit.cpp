@@ -418,8 +418,7 @@ TEST(SuiteVisit, AWayToAnInnerDoorIsPlannedAgainClearOfLegsTheGridLost) {
   const std::vector<Eigen::Vector2d> legs = {{0.9, 3.2}, {0.9, 3.9}, {1.6, 3.2}, {1.6, 3.9}};
   exploration::test::SegmentWorld with_table = suite(false, false);
   for (const Eigen::Vector2d& l : legs) with_table.box(l.x() - 0.025, l.y() - 0.025, l.x() + 0.025, l.y() + 0.025);
-  const double clear =
-      exploration::GridPlanner(exploration::RoomExplorerParams().planner).inflationRadius() - 0.71 * 0.05;
+  const double clear = exploration::GridPlanner(exploration::RoomExplorerParams().planner).clearance();
   const auto nearest_leg = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
     double m = std::numeric_limits<double>::infinity();
     for (double t = 0.0; t <= 1.0; t += 0.01)
