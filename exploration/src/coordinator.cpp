@@ -310,7 +310,7 @@ void Coordinator::backOnHallway(bool exact, Decision* d) {
     }
   }
   place_origin_map_.reset();
-  hallway_.backFromRoom(entry_hallway_, room_.host().doorOdom(), others, travel_);
+  hallway_.backFromRoom(entry_hallway_, room_.host().doorOdom(), others, travel_, room_.host().odometryDrift());
   mode_ = CoordinatorMode::Topological;
   if (mission_.active()) {
     // A mission leaving a room: back on the hallway, on to the goal's door (nothing to record).

@@ -198,12 +198,12 @@ void HallwayDoorStops::nextAtEnd() {
 }
 
 void HallwayDoorStops::backFromRoom(const DoorTrack& door_left, const std::vector<DoorTrack>& other_doors,
-                                    double travel) {
+                                    double travel, const std::optional<laser_features::Pose2D>& drift) {
   after_turn_.reset();
   end_travel_ = travel;
   nextAtEnd();
   entry_.leftBy(door_left, other_doors, travel);
-  doors_.roomVisited();
+  doors_.roomVisited(drift);
 }
 
 std::optional<EntryOpening> HallwayDoorStops::mayEnter(const TopoView& topo, const HallwayContext& at,

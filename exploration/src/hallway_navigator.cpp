@@ -344,9 +344,10 @@ bool HallwayNavigator::turn(const Perception& p, bool motion_reached, bool motio
 }
 
 void HallwayNavigator::backFromRoom(const HallwayDirection& direction, const DoorTrack& door_left,
-                                    const std::vector<DoorTrack>& other_doors, double travel) {
+                                    const std::vector<DoorTrack>& other_doors, double travel,
+                                    const std::optional<laser_features::Pose2D>& drift) {
   way_line_.reset();
-  door_stops_.backFromRoom(door_left, other_doors, travel);
+  door_stops_.backFromRoom(door_left, other_doors, travel, drift);
   follower_.setDirection(direction);
   follower_.forgetGoal();
   route_.backOnHallway(travel);

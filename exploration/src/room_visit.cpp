@@ -40,6 +40,7 @@ void RoomVisit::beginNewRoom(const Pose2D& robot_odom, const DoorTrack& door, do
   new_room_ = true;
   door_width_ = door.width;
   place_origin_odom_ = robot_odom;
+  first_origin_odom_.reset();
   hallway_in_place_ = Eigen::Vector2d::Zero();
   const Eigen::Vector2d c = transformPoint(inverse(robot_odom), door.centre_odom);
   door_in_place_ = Pose2D{c.x(), c.y(), normalizeAngle(door.into_odom - robot_odom.theta)};
@@ -61,6 +62,7 @@ void RoomVisit::beginKnownRoom(const Perception& p, const Pose2D& hallway_stop_o
   hallway_in_place_ = Eigen::Vector2d(stop.x, stop.y);
   exit_theta_place_ = normalizeAngle(p.room_pose.theta + hallway_heading_odom - p.odom.theta);
   place_origin_odom_ = compose(p.odom, inverse(p.room_pose));  // stands in for missing EKF poses (see inPlace())
+  first_origin_odom_.reset();
   other_doors_.clear();
   door_in_place_ = Pose2D{door.door_in_place[0], door.door_in_place[1], door.door_in_place[2]};
   explorer_.start(door_in_place_, door.width > 0.0 ? door.width : door_width);
@@ -77,8 +79,16 @@ Perception RoomVisit::inPlace(const Perception& p) {
     // The place in the odometry frame as the EKF places it now, not as at the place's creation or
     // relocation: a goal in the place moves with the EKF's corrections.
     place_origin_odom_ = compose(p.odom, inverse(p.room_pose));
+    if (!first_origin_odom_) first_origin_odom_ = place_origin_odom_;
   }
   return q;
+}
+
+std::optional<Pose2D> RoomVisit::odometryDrift() const {
+  // The place stands still in the building: its origin moves in the odometry frame by the odometry's
+  // drift alone (the EKF's corrections).
+  if (!first_origin_odom_) return std::nullopt;
+  return compose(place_origin_odom_, inverse(*first_origin_odom_));
 }
 
 void RoomVisit::observe(const Perception& q, bool approaching, Decision* d) {

@@ -92,3 +92,42 @@ TEST(RoomVisit, ANarrowDoorIsLeftFromItsAxisFacingOutAsSeenFromInside) {
   ASSERT_TRUE(through.passage_width.has_value());
   EXPECT_NEAR(*through.passage_width, kDoorWidth, 1e-6) << "the clearance of the door as seen";
 }
+
+// The place stands still in the building, so its origin moves in the odometry frame by the
+// odometry's drift alone: the drift over a visit is the origin as the EKF last placed it against
+// where the visit's first EKF pose placed it (HallwayDoors moves the doors tracked before by it).
+TEST(RoomVisit, TheOdometrysDriftOverAVisitIsWhereTheEKFMovedThePlacesOrigin) {
+  RoomVisit visit{exploration::RoomVisitParams(), exploration::RoomExplorerParams(), BuildingRules(),
+                  HallwayDoorParams()};
+  DoorTrack door;
+  door.centre_odom = Eigen::Vector2d(3.0, 3.0);
+  door.into_odom = 0.5 * kPi;
+  door.width = 0.9;
+  door.sightings = 10;
+  const Pose2D origin{3.0, 2.0, 0.3};
+  visit.beginNewRoom(origin, door, 0.0);
+  EXPECT_FALSE(visit.odometryDrift().has_value()) << "no EKF pose yet: unmeasured";
+  Perception q;
+  q.room_pose_valid = false;
+  q.odom = laser_features::compose(origin, Pose2D{0.5, 0.0, 0.0});
+  visit.inPlace(q);
+  EXPECT_FALSE(visit.odometryDrift().has_value()) << "the odometry stood in: still unmeasured";
+  q.room_pose_valid = true;
+  q.room_pose = Pose2D{1.0, 0.2, 0.1};
+  q.odom = laser_features::compose(origin, q.room_pose);  // no drift yet
+  visit.inPlace(q);
+  ASSERT_TRUE(visit.odometryDrift().has_value());
+  EXPECT_NEAR(visit.odometryDrift()->translation().norm(), 0.0, 1e-9);
+  // 20 m later the odometry has drifted by `drift` (in the odometry frame); the EKF's pose has not.
+  const Pose2D drift{0.25, -0.1, 0.04};
+  q.room_pose = Pose2D{2.0, 3.0, -1.2};
+  q.odom = laser_features::compose(drift, laser_features::compose(origin, q.room_pose));
+  visit.inPlace(q);
+  ASSERT_TRUE(visit.odometryDrift().has_value());
+  EXPECT_NEAR(visit.odometryDrift()->x, drift.x, 1e-9);
+  EXPECT_NEAR(visit.odometryDrift()->y, drift.y, 1e-9);
+  EXPECT_NEAR(visit.odometryDrift()->theta, drift.theta, 1e-9);
+  // A new visit starts unmeasured again.
+  visit.beginNewRoom(origin, door, 0.0);
+  EXPECT_FALSE(visit.odometryDrift().has_value());
+}

@@ -97,8 +97,10 @@ class HallwayDoorStops {
   /// A turn begins: the doors and walls seen so far belong to the hallway being left.
   void turned();
   /// Out of a room by `door_left` at `travel` (m), back on the hallway: neither it nor the room's
-  /// `other_doors` are entered again; the next door left at the end turned at is offered.
-  void backFromRoom(const DoorTrack& door_left, const std::vector<DoorTrack>& other_doors, double travel);
+  /// `other_doors` are entered again; the next door left at the end turned at is offered. The doors
+  /// tracked before move by the odometry's `drift` in the room (HallwayDoors::roomVisited).
+  void backFromRoom(const DoorTrack& door_left, const std::vector<DoorTrack>& other_doors, double travel,
+                    const std::optional<laser_features::Pose2D>& drift);
   /// The room of place `place_id` is mapped (DoorEntry::roomMapped).
   void roomMapped(int place_id, const laser_features::Pose2D& origin_map,
                   const std::vector<laser_features::Pose2D>& doors_in_place) {

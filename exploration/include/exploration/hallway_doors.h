@@ -42,7 +42,8 @@ struct DoorTrack {
   bool taken = false;       // passed and offered for entering (entered, or refused as known)
   double wall_lateral = -1.0;  // m, its side's wall line from the robot when last seen (-1: no wall known)
   // Its centre known to within its half-width in the odometry frame now: seen within 45 deg of
-  // abeam (HallwayDoors::kAbeam), and no room visited since (the odometry drifts inside a room).
+  // abeam (HallwayDoors::kAbeam), and the odometry's drift in each room visited since measured
+  // (HallwayDoors::roomVisited).
   bool located = false;
 };
 
@@ -50,7 +51,7 @@ class HallwayDoors {
  public:
   // m, two tracks of one door: sightings from afar (grazing) lie up to about 1 m off the later ones
   // (ADoorTrackedTwiceIsEnteredOnce), and tracks from before a room's visit lie off by the
-  // odometry's drift inside it (TheDoorJustLeftIsNotEnteredAgain). Two tracks both located
+  // odometry's drift inside it where that was not measured (TheDoorJustLeftIsNotEnteredAgain). Two tracks both located
   // (DoorTrack::located) are one door only where their spans overlap (two doors in one wall
   // cannot): doors 1.2 m apart on one wall, where two share a divider, are two.
   static constexpr double kSameDoorSpan = 1.3;
@@ -87,10 +88,10 @@ class HallwayDoors {
   std::optional<DoorTrack> inEndWall(const laser_features::Pose2D& odom,
                                      const std::vector<laser_features::Opening>& openings, double dir_robot,
                                      const HallwayView& v) const;
-  /// Back from a room: the doors tracked before lie off by the odometry's drift in it.
-  void roomVisited() {
-    for (DoorTrack& t : tracks_) t.located = false;
-  }
+  /// Back from a room, where the odometry drifted: by `drift` as the EKF measured it in the room's
+  /// place (RoomVisit::odometryDrift), the doors tracked before are moved by it and stay located;
+  /// unmeasured, they lie off by an unknown drift and none is located any more.
+  void roomVisited(const std::optional<laser_features::Pose2D>& drift);
   /// Forgets the doors and the walls: they belong to the hallway being left.
   void clear() {
     tracks_.clear();

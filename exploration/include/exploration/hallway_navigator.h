@@ -94,9 +94,11 @@ class HallwayNavigator {
   }
   /// Out of a room by `door_left` (RoomVisit::doorOdom) at `travel` (m), back on the hallway along
   /// `direction`: a new goal on the mid-line; neither the door nor the room's `other_doors` (seen
-  /// from inside it) are entered again from the hallway; the route's turns count from here.
+  /// from inside it) are entered again from the hallway; the route's turns count from here. `drift`:
+  /// the odometry's in the room as the EKF measured it (RoomVisit::odometryDrift; none: unmeasured).
   void backFromRoom(const HallwayDirection& direction, const DoorTrack& door_left,
-                    const std::vector<DoorTrack>& other_doors, double travel);
+                    const std::vector<DoorTrack>& other_doors, double travel,
+                    const std::optional<laser_features::Pose2D>& drift);
   /// The room of place `place_id` is mapped (DoorEntry::roomMapped): none of its doors is entered
   /// again from a hallway.
   void roomMapped(int place_id, const laser_features::Pose2D& origin_map,

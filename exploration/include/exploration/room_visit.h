@@ -139,6 +139,11 @@ class RoomVisit {
   std::optional<RoomExtent> extentOdom() const;
   /// The place's origin in the odometry frame, as the EKF last placed it.
   const laser_features::Pose2D& placeOriginOdom() const { return place_origin_odom_; }
+  /// The odometry's drift over the visit as the EKF measured it: the place's origin in the odometry
+  /// frame as last placed, composed with the inverse of where the visit's first EKF pose placed it.
+  /// A point of the building at `x` in the odometry frame before the visit is at drift · x after it.
+  /// None where no EKF pose came during the visit.
+  std::optional<laser_features::Pose2D> odometryDrift() const;
   /// The door entered by, in the odometry frame as the EKF last placed the place (the odometry's
   /// drift inside the room taken out): centre, direction into the room, width as tracked.
   DoorTrack doorOdom() const;
@@ -181,6 +186,7 @@ class RoomVisit {
   bool new_room_ = false;           // begun by beginNewRoom (its door is refined on the approach)
   double door_width_ = 0.0;         // m, the door as tracked from the hallway
   laser_features::Pose2D place_origin_odom_;  // the place's origin in the odometry frame (as the EKF last placed it)
+  std::optional<laser_features::Pose2D> first_origin_odom_;  // as the visit's first EKF pose placed it
   laser_features::Pose2D door_in_place_;
   Eigen::Vector2d door_tracked_in_place_ = Eigen::Vector2d::Zero();  // a new room's door as tracked from the hallway
   Eigen::Vector2d door_seen_sum_ = Eigen::Vector2d::Zero();  // its sightings on the approach (place frame)
