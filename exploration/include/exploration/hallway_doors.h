@@ -51,9 +51,9 @@ class HallwayDoors {
  public:
   // m, two tracks of one door: sightings from afar (grazing) lie up to about 1 m off the later ones
   // (ADoorTrackedTwiceIsEnteredOnce), and tracks from before a room's visit lie off by the
-  // odometry's drift inside it where that was not measured (TheDoorJustLeftIsNotEnteredAgain). Two tracks both located
-  // (DoorTrack::located) are one door only where their spans overlap (two doors in one wall
-  // cannot): doors 1.2 m apart on one wall, where two share a divider, are two.
+  // odometry's drift inside it where that was not measured (TheDoorJustLeftIsNotEnteredAgain).
+  // Two tracks both located (DoorTrack::located) are one door only where their spans overlap (two
+  // doors in one wall cannot): doors 1.2 m apart on one wall, where two share a divider, are two.
   static constexpr double kSameDoorSpan = 1.3;
   // An opening seen within 45 deg of abeam (|along| <= |lateral|) has both jambs in view: its
   // centre is found to within its half-width. At a grazing angle the near jamb hides the far one.
