@@ -122,17 +122,16 @@ void HallwayDoors::roomVisited(const std::optional<Pose2D>& drift) {
   // The EKF's pose in a room is good to centimetres (its lines are metres long and seen from a few
   // metres), so a track moved by the drift it measured is where the track was before the visit: a
   // door beside the one entered (centres 1.2 m apart on one wall) stays another door when passed.
-  for (DoorTrack& t : tracks_) {
-    if (drift) {
-      t.centre_odom = transformPoint(*drift, t.centre_odom);
-      t.into_odom = normalizeAngle(t.into_odom + drift->theta);
-    } else {
-      t.located = false;
-    }
+  if (!drift) {
+    for (DoorTrack& t : tracks_) t.located = false;
+    return;
   }
-  if (drift)
-    for (std::optional<Eigen::Vector2d>& w : wall_seen_odom_)
-      if (w) w = transformPoint(*drift, *w);
+  for (DoorTrack& t : tracks_) {
+    t.centre_odom = transformPoint(*drift, t.centre_odom);
+    t.into_odom = normalizeAngle(t.into_odom + drift->theta);
+  }
+  for (std::optional<Eigen::Vector2d>& w : wall_seen_odom_)
+    if (w) w = transformPoint(*drift, *w);
 }
 
 std::optional<DoorTrack> HallwayDoors::abeam(const Pose2D& odom, double dir_robot, double side) const {
